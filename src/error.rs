@@ -1,0 +1,171 @@
+//! Typed errors. Every failure a user can cause — a bad file, a bad mesh, a bad argument — is one
+//! of these, with a message that says what and where; nothing in the library panics on input.
+
+use std::path::PathBuf;
+
+use crate::mesh::Association;
+
+/// Any error cylvol reports.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// An operating-system error on a named file.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file involved.
+        path: PathBuf,
+        /// What the operating system said.
+        source: std::io::Error,
+    },
+    /// A file's content could not be read.
+    #[error(transparent)]
+    Read(#[from] ReadError),
+    /// The mesh (from a file, a dataset or caller arrays) is not usable.
+    #[error("invalid mesh: {0}")]
+    Mesh(#[from] MeshError),
+    /// An error while handling a named file: the path, then the error.
+    #[error("{path}: {source}")]
+    InFile {
+        /// The file involved.
+        path: PathBuf,
+        /// What went wrong in it.
+        source: Box<Error>,
+    },
+    /// A request that cannot be carried out as asked (an unknown dataset name, a bad option).
+    #[error("{0}")]
+    Invalid(String),
+}
+
+impl Error {
+    /// Wraps this error with the path of the file it concerns.
+    pub fn in_file(self, path: impl Into<PathBuf>) -> Error {
+        Error::InFile {
+            path: path.into(),
+            source: Box::new(self),
+        }
+    }
+}
+
+/// A file that could not be parsed: the format, where in the file, and what was expected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{format}: {message} (at byte {offset}{})", line.map(|l| format!(", line {l}")).unwrap_or_default())]
+pub struct ReadError {
+    /// The format being read, e.g. `"legacy VTK"`, `"VTU"`, `"PLOT3D"`.
+    pub format: &'static str,
+    /// Byte offset in the file where the problem was found.
+    pub offset: u64,
+    /// Line number (1-based) for text formats, where known.
+    pub line: Option<usize>,
+    /// What was wrong.
+    pub message: String,
+}
+
+impl ReadError {
+    /// A new read error at a byte offset.
+    pub fn new(format: &'static str, offset: u64, message: impl Into<String>) -> ReadError {
+        ReadError {
+            format,
+            offset,
+            line: None,
+            message: message.into(),
+        }
+    }
+
+    /// The same error with a line number.
+    pub fn at_line(mut self, line: usize) -> ReadError {
+        self.line = Some(line);
+        self
+    }
+}
+
+/// Why a mesh is not usable. Produced by [`crate::Mesh::from_parts`] and the VTK cell-array
+/// conversion, whatever the mesh came from.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    /// No points or no cells.
+    #[error("the mesh is empty ({points} points, {cells} cells)")]
+    Empty {
+        /// Number of points.
+        points: usize,
+        /// Number of cells.
+        cells: usize,
+    },
+    /// A point coordinate is NaN or infinite.
+    #[error("point {index} has a non-finite coordinate {coordinates:?}")]
+    NonFinitePoint {
+        /// Index of the first such point.
+        index: usize,
+        /// Its coordinates.
+        coordinates: [f64; 3],
+    },
+    /// A cell refers to a point that does not exist.
+    #[error("cell {cell} refers to point {index}, but the mesh has {points} points")]
+    IndexOutOfRange {
+        /// Index of the first such cell.
+        cell: usize,
+        /// The offending point index (as given, possibly negative).
+        index: i64,
+        /// Number of points.
+        points: usize,
+    },
+    /// Cells of types cylvol cannot render.
+    #[error("unsupported cell types: {}", list_types(.types))]
+    UnsupportedCellTypes {
+        /// `(VTK type code, type name, number of cells)` for each unsupported type.
+        types: Vec<(u8, &'static str, usize)>,
+    },
+    /// A cell has the wrong number of vertices for its type.
+    #[error("cell {cell} is a {kind} but has {got} vertices (expected {expected})")]
+    WrongVertexCount {
+        /// Index of the cell.
+        cell: usize,
+        /// Its type name.
+        kind: &'static str,
+        /// Vertices a cell of that type has.
+        expected: usize,
+        /// Vertices given.
+        got: usize,
+    },
+    /// Connectivity, offsets and types arrays disagree.
+    #[error("inconsistent cell arrays: {0}")]
+    CellArrays(String),
+    /// A data array has the wrong number of values.
+    #[error("{association} array '{name}' has {got} values, expected {expected}")]
+    ArrayLength {
+        /// Array name.
+        name: String,
+        /// Point or cell data.
+        association: Association,
+        /// `tuples × components` expected.
+        expected: usize,
+        /// Values given.
+        got: usize,
+    },
+    /// A data array holds NaN or an infinity.
+    #[error("{association} array '{name}' has a non-finite value {value} at index {index}")]
+    NonFiniteScalar {
+        /// Array name.
+        name: String,
+        /// Point or cell data.
+        association: Association,
+        /// Index of the first such value.
+        index: usize,
+        /// The value.
+        value: f64,
+    },
+    /// Cells whose trilinear map has a negative Jacobian determinant at a corner.
+    #[error("{count} inverted cell(s) (negative corner Jacobian), first is cell {first}")]
+    InvertedCells {
+        /// How many cells are inverted.
+        count: usize,
+        /// Index of the first.
+        first: usize,
+    },
+}
+
+fn list_types(types: &[(u8, &'static str, usize)]) -> String {
+    types
+        .iter()
+        .map(|(code, name, count)| format!("{count} × {name} (VTK type {code})"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}

@@ -1,0 +1,3 @@
+//! Cell geometry: the trilinear map of a (possibly collapsed) hexahedron and its Jacobian.
+
+pub mod trilinear;

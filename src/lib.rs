@@ -1,0 +1,27 @@
+//! cylvol: ray casting of large unstructured hexahedral volume meshes (the CFD meshes of pumps,
+//! turbines, combustors) with acceleration structures in Cartesian and cylindrical coordinates.
+//!
+//! The crate is organised by concern:
+//! - [`mesh`]: the mesh model (points, cells as collapsed hexahedra, named data arrays) and its
+//!   validation;
+//! - [`geometry`]: cell geometry — the trilinear map, its Jacobian and inverse, containment,
+//!   Cartesian and cylindrical bounds;
+//! - [`axis`]: detection of the axis a machine turns about;
+//! - [`io`]: readers and writers for legacy VTK, VTU and PLOT3D files;
+//! - [`datasets`]: the deterministic synthetic pump datasets;
+//! - [`input`]: resolution of a command-line `INPUT` (a file or a synthetic dataset name).
+#![deny(missing_docs)]
+
+pub mod axis;
+pub mod datasets;
+pub mod error;
+pub mod geometry;
+pub mod input;
+pub mod io;
+pub mod mesh;
+
+pub use error::{Error, MeshError, ReadError};
+pub use mesh::{Association, CellKind, Component, DataArray, Mesh, MeshParts};
+
+/// The version of this crate, as in `Cargo.toml`.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

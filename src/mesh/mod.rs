@@ -1,0 +1,258 @@
+//! The mesh model: points in `f64`, cells as collapsed hexahedra in VTK order, named point and
+//! cell data arrays with one active scalar. A [`Mesh`] is always valid: the only way to make one
+//! is [`Mesh::from_parts`], which checks everything the renderer relies on.
+//!
+//! Points are stored in `f64` so a mesh placed 10⁶ units from the origin keeps its cells' shape
+//! to well below a micro-unit (an `f32` there resolves only 0.06 units).
+
+mod cell_kind;
+mod data;
+mod validate;
+mod vtk_cells;
+
+pub use cell_kind::{
+    vtk_type_name, CellKind, VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_VOXEL, VTK_WEDGE,
+};
+pub use data::{ActiveScalar, Association, Component, DataArray};
+pub use vtk_cells::{cells_from_vtk, ConvertedCells, OffsetStyle};
+
+use glam::DVec3;
+
+use crate::error::{Error, MeshError};
+
+/// The unchecked contents of a mesh, as readers and generators assemble them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshParts {
+    /// Point coordinates.
+    pub points: Vec<DVec3>,
+    /// Eight point indices per cell, VTK hexahedron order (collapsed for other kinds).
+    pub cells: Vec<[u32; 8]>,
+    /// The kind of each cell (same length as `cells`).
+    pub kinds: Vec<CellKind>,
+    /// Arrays with one tuple per point.
+    pub point_data: Vec<DataArray>,
+    /// Arrays with one tuple per cell.
+    pub cell_data: Vec<DataArray>,
+}
+
+/// A validated hexahedral mesh with data arrays.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    points: Vec<DVec3>,
+    cells: Vec<[u32; 8]>,
+    kinds: Vec<CellKind>,
+    point_data: Vec<DataArray>,
+    cell_data: Vec<DataArray>,
+    active: Option<ActiveScalar>,
+}
+
+impl Mesh {
+    /// Validates the parts and makes a mesh, choosing the default active scalar: the first point
+    /// array whose range is not constant, else the first non-constant cell array, else the first
+    /// point array, else the first cell array.
+    ///
+    /// Errors: empty mesh, non-finite coordinates or values, out-of-range indices, arrays of
+    /// the wrong length, inverted cells (see [`MeshError`]).
+    pub fn from_parts(parts: MeshParts) -> Result<Mesh, MeshError> {
+        validate::validate(&parts)?;
+        let MeshParts {
+            points,
+            cells,
+            kinds,
+            point_data,
+            cell_data,
+        } = parts;
+        let mut mesh = Mesh {
+            points,
+            cells,
+            kinds,
+            point_data,
+            cell_data,
+            active: None,
+        };
+        mesh.active = mesh.default_active();
+        Ok(mesh)
+    }
+
+    /// The parts this mesh was made of (for writers and transformations).
+    pub fn into_parts(self) -> MeshParts {
+        MeshParts {
+            points: self.points,
+            cells: self.cells,
+            kinds: self.kinds,
+            point_data: self.point_data,
+            cell_data: self.cell_data,
+        }
+    }
+
+    fn default_active(&self) -> Option<ActiveScalar> {
+        let pick = |association: Association, arrays: &[DataArray], need_varying: bool| {
+            arrays.iter().enumerate().find_map(|(i, a)| {
+                let component = a.default_component();
+                let varying = a.range(component).is_some_and(|[lo, hi]| hi > lo);
+                (varying || !need_varying).then_some(ActiveScalar {
+                    association,
+                    array: i,
+                    component,
+                })
+            })
+        };
+        pick(Association::Point, &self.point_data, true)
+            .or_else(|| pick(Association::Cell, &self.cell_data, true))
+            .or_else(|| pick(Association::Point, &self.point_data, false))
+            .or_else(|| pick(Association::Cell, &self.cell_data, false))
+    }
+
+    /// Point coordinates.
+    pub fn points(&self) -> &[DVec3] {
+        &self.points
+    }
+
+    /// Cells as eight point indices each (VTK hexahedron order, collapsed for other kinds).
+    pub fn cells(&self) -> &[[u32; 8]] {
+        &self.cells
+    }
+
+    /// The kind of each cell.
+    pub fn kinds(&self) -> &[CellKind] {
+        &self.kinds
+    }
+
+    /// Number of points.
+    pub fn point_count(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Number of cells.
+    pub fn cell_count(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// The eight corner positions of cell `c`.
+    pub fn cell_corners(&self, c: usize) -> [DVec3; 8] {
+        self.cells[c].map(|i| self.points[i as usize])
+    }
+
+    /// Number of cells of each kind, in [`CellKind::ALL`] order.
+    pub fn kind_counts(&self) -> [(CellKind, usize); 4] {
+        let mut counts = [0usize; 4];
+        for k in &self.kinds {
+            counts[*k as usize] += 1;
+        }
+        CellKind::ALL.map(|k| (k, counts[k as usize]))
+    }
+
+    /// Arrays with one tuple per point.
+    pub fn point_data(&self) -> &[DataArray] {
+        &self.point_data
+    }
+
+    /// Arrays with one tuple per cell.
+    pub fn cell_data(&self) -> &[DataArray] {
+        &self.cell_data
+    }
+
+    /// The arrays of one association.
+    pub fn arrays(&self, association: Association) -> &[DataArray] {
+        match association {
+            Association::Point => &self.point_data,
+            Association::Cell => &self.cell_data,
+        }
+    }
+
+    /// The active scalar selection, if the mesh has any array.
+    pub fn active_scalar(&self) -> Option<&ActiveScalar> {
+        self.active.as_ref()
+    }
+
+    /// The array the active scalar comes from.
+    pub fn active_array(&self) -> Option<&DataArray> {
+        self.active
+            .as_ref()
+            .map(|a| &self.arrays(a.association)[a.array])
+    }
+
+    /// Chooses the active scalar by name. `name` may be prefixed `point:` or `cell:`; without a
+    /// prefix point arrays are searched first. A suffix `[k]` picks component `k` of a vector
+    /// (its magnitude otherwise).
+    pub fn set_active_scalar(&mut self, name: &str) -> Result<(), Error> {
+        let (assocs, rest): (&[Association], &str) = if let Some(r) = name.strip_prefix("point:") {
+            (&[Association::Point], r)
+        } else if let Some(r) = name.strip_prefix("cell:") {
+            (&[Association::Cell], r)
+        } else {
+            (&[Association::Point, Association::Cell], name)
+        };
+        let (base, component) = match rest.strip_suffix(']').and_then(|r| r.rsplit_once('[')) {
+            Some((base, k)) => {
+                let k: usize = k.parse().map_err(|_| {
+                    Error::Invalid(format!("bad component in scalar name '{name}'"))
+                })?;
+                (base, Some(k))
+            }
+            None => (rest, None),
+        };
+        for &association in assocs {
+            if let Some(i) = self.arrays(association).iter().position(|a| a.name == base) {
+                let array = &self.arrays(association)[i];
+                let component = match component {
+                    Some(k) if k < array.components => Component::Index(k),
+                    Some(k) => {
+                        return Err(Error::Invalid(format!(
+                            "{association} array '{base}' has {} components; component {k} does not exist",
+                            array.components
+                        )))
+                    }
+                    None => array.default_component(),
+                };
+                self.active = Some(ActiveScalar {
+                    association,
+                    array: i,
+                    component,
+                });
+                return Ok(());
+            }
+        }
+        let names: Vec<&str> = self
+            .point_data
+            .iter()
+            .chain(&self.cell_data)
+            .map(|a| a.name.as_str())
+            .collect();
+        Err(Error::Invalid(format!(
+            "no scalar array named '{name}' (the mesh has: {})",
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
+        )))
+    }
+
+    /// The active scalar's values (per point or per cell), `None` if the mesh has no array.
+    pub fn active_scalars(&self) -> Option<(Association, Vec<f64>)> {
+        let a = self.active.as_ref()?;
+        Some((
+            a.association,
+            self.arrays(a.association)[a.array].scalars(a.component),
+        ))
+    }
+
+    /// `[min, max]` of the active scalar.
+    pub fn scalar_range(&self) -> Option<[f64; 2]> {
+        let a = self.active.as_ref()?;
+        self.arrays(a.association)[a.array].range(a.component)
+    }
+
+    /// Axis-aligned bounds `[xmin, xmax, ymin, ymax, zmin, zmax]` (VTK's order) of the points.
+    pub fn bounds(&self) -> [f64; 6] {
+        let (lo, hi) = self.points.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        [lo.x, hi.x, lo.y, hi.y, lo.z, hi.z]
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,149 @@
+use glam::DVec3;
+
+use super::*;
+
+fn unit_cube() -> MeshParts {
+    let points = (0..8)
+        .map(|i| {
+            let p = crate::geometry::trilinear::CORNER_PARAMETERS[i];
+            DVec3::new(p[0], p[1], p[2])
+        })
+        .collect();
+    MeshParts {
+        points,
+        cells: vec![[0, 1, 2, 3, 4, 5, 6, 7]],
+        kinds: vec![CellKind::Hexahedron],
+        point_data: vec![DataArray::scalar("s", (0..8).map(f64::from).collect())],
+        cell_data: vec![],
+    }
+}
+
+#[test]
+fn valid_cube_loads_with_active_scalar() {
+    let m = Mesh::from_parts(unit_cube()).unwrap();
+    assert_eq!(m.cell_count(), 1);
+    assert_eq!(m.scalar_range(), Some([0.0, 7.0]));
+    assert_eq!(m.bounds(), [0.0, 1.0, 0.0, 1.0, 0.0, 1.0]);
+}
+
+#[test]
+fn empty_mesh_is_an_error() {
+    let e = Mesh::from_parts(MeshParts::default()).unwrap_err();
+    assert_eq!(
+        e,
+        MeshError::Empty {
+            points: 0,
+            cells: 0
+        }
+    );
+}
+
+#[test]
+fn non_finite_point_is_an_error() {
+    let mut p = unit_cube();
+    p.points[3].y = f64::NAN;
+    assert!(matches!(
+        Mesh::from_parts(p).unwrap_err(),
+        MeshError::NonFinitePoint { index: 3, .. }
+    ));
+    let mut p = unit_cube();
+    p.points[5].x = f64::INFINITY;
+    assert!(matches!(
+        Mesh::from_parts(p).unwrap_err(),
+        MeshError::NonFinitePoint { index: 5, .. }
+    ));
+}
+
+#[test]
+fn out_of_range_index_is_an_error() {
+    let mut p = unit_cube();
+    p.cells[0][6] = 8;
+    assert!(matches!(
+        Mesh::from_parts(p).unwrap_err(),
+        MeshError::IndexOutOfRange {
+            cell: 0,
+            index: 8,
+            points: 8
+        }
+    ));
+}
+
+#[test]
+fn wrong_array_length_and_non_finite_values_are_errors() {
+    let mut p = unit_cube();
+    p.point_data[0].values.pop();
+    assert!(matches!(
+        Mesh::from_parts(p).unwrap_err(),
+        MeshError::ArrayLength {
+            expected: 8,
+            got: 7,
+            ..
+        }
+    ));
+    let mut p = unit_cube();
+    p.cell_data
+        .push(DataArray::scalar("c", vec![f64::NEG_INFINITY]));
+    assert!(matches!(
+        Mesh::from_parts(p).unwrap_err(),
+        MeshError::NonFiniteScalar { index: 0, .. }
+    ));
+}
+
+#[test]
+fn inverted_cell_is_an_error_and_mirrored_order_too() {
+    let mut p = unit_cube();
+    p.cells[0] = [4, 5, 6, 7, 0, 1, 2, 3];
+    assert_eq!(
+        Mesh::from_parts(p).unwrap_err(),
+        MeshError::InvertedCells { count: 1, first: 0 }
+    );
+    let mut p = unit_cube();
+    p.points[6] = DVec3::new(-1.0, -1.0, -1.0); // corner pulled through the cell
+    assert!(matches!(
+        Mesh::from_parts(p).unwrap_err(),
+        MeshError::InvertedCells { .. }
+    ));
+}
+
+#[test]
+fn collapsed_kinds_are_not_inverted() {
+    let pts = vec![
+        DVec3::ZERO,
+        DVec3::X,
+        DVec3::Y,
+        DVec3::Z,
+        DVec3::X + DVec3::Z,
+        DVec3::Y + DVec3::Z,
+    ];
+    let wedge = CellKind::Wedge.collapse(&[0, 1, 2, 3, 4, 5]);
+    let tet = CellKind::Tetrahedron.collapse(&[0, 1, 2, 3]);
+    let m = Mesh::from_parts(MeshParts {
+        points: pts,
+        cells: vec![wedge, tet],
+        kinds: vec![CellKind::Wedge, CellKind::Tetrahedron],
+        ..Default::default()
+    })
+    .unwrap();
+    assert_eq!(m.kind_counts()[1], (CellKind::Wedge, 1));
+}
+
+#[test]
+fn default_active_skips_constant_arrays_and_vectors_use_magnitude() {
+    let mut p = unit_cube();
+    p.point_data
+        .insert(0, DataArray::scalar("const", vec![1.0; 8]));
+    p.point_data
+        .push(DataArray::vector("U", vec![3.0, 4.0, 0.0].repeat(8)));
+    let mut m = Mesh::from_parts(p).unwrap();
+    assert_eq!(m.active_array().unwrap().name, "s");
+    m.set_active_scalar("U").unwrap();
+    assert_eq!(m.scalar_range(), Some([5.0, 5.0]));
+    m.set_active_scalar("point:U[1]").unwrap();
+    assert_eq!(m.scalar_range(), Some([4.0, 4.0]));
+    assert!(m.set_active_scalar("U[3]").is_err());
+    assert!(m
+        .set_active_scalar("nope")
+        .unwrap_err()
+        .to_string()
+        .contains("const, s, U"));
+}
