@@ -1,11 +1,8 @@
-//! The `cylvol` command-line program.
+//! The `cylvol` command-line program: see `cylvol --help`. JSON goes to standard output alone;
+//! progress and logs go to standard error; errors exit non-zero with a message on standard error.
+
+mod cli;
 
 fn main() {
-    std::process::exit(cylvol_cli::run());
-}
-
-mod cylvol_cli {
-    pub fn run() -> i32 {
-        0
-    }
+    std::process::exit(cli::run());
 }

@@ -1,4 +1,4 @@
-//! The synthetic pump datasets.
+//! The synthetic pump datasets (stub: replaced by the datasets branch).
 
 use crate::{Error, Mesh};
 
@@ -11,6 +11,22 @@ pub enum Dataset {
     PumpRotor,
     /// A widening annulus with vanes.
     PumpDiffuser,
+}
+
+impl Dataset {
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dataset::PumpInlet => "pump-inlet",
+            Dataset::PumpRotor => "pump-rotor",
+            Dataset::PumpDiffuser => "pump-diffuser",
+        }
+    }
+}
+
+/// Parses `NAME[:CELLS]`.
+pub fn parse_spec(_spec: &str) -> Result<Option<(Dataset, usize)>, Error> {
+    Ok(None)
 }
 
 /// Generates a dataset with about `cells` cells.

@@ -133,7 +133,7 @@ fn default_active_skips_constant_arrays_and_vectors_use_magnitude() {
     p.point_data
         .insert(0, DataArray::scalar("const", vec![1.0; 8]));
     p.point_data
-        .push(DataArray::vector("U", vec![3.0, 4.0, 0.0].repeat(8)));
+        .push(DataArray::vector("U", [3.0, 4.0, 0.0].repeat(8)));
     let mut m = Mesh::from_parts(p).unwrap();
     assert_eq!(m.active_array().unwrap().name, "s");
     m.set_active_scalar("U").unwrap();

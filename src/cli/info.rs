@@ -1,0 +1,114 @@
+//! `cylvol info INPUT [--json]`: counts, cell types, scalars, bounds and the machine axis.
+
+use serde::Serialize;
+
+use super::InputArgs;
+use cylvol::{Error, Mesh};
+
+/// Arguments of `cylvol info`.
+#[derive(clap::Args, Debug)]
+pub struct InfoArgs {
+    #[command(flatten)]
+    input: InputArgs,
+    /// Print JSON on standard output.
+    #[arg(long)]
+    json: bool,
+}
+
+/// What `cylvol info --json` prints.
+#[derive(Serialize, Debug)]
+pub struct Info {
+    points: usize,
+    cells: usize,
+    cell_types: serde_json::Map<String, serde_json::Value>,
+    scalars: Vec<String>,
+    point_scalars: Vec<String>,
+    cell_scalars: Vec<String>,
+    active_scalar: Option<String>,
+    active_association: Option<String>,
+    scalar_range: Option<[f64; 2]>,
+    bounds: [f64; 6],
+    axis: AxisJson,
+}
+
+#[derive(Serialize, Debug)]
+struct AxisJson {
+    origin: [f64; 3],
+    direction: [f64; 3],
+}
+
+/// Gathers the description of a mesh.
+pub fn describe(mesh: &Mesh) -> Info {
+    let names = |arrays: &[cylvol::DataArray]| -> Vec<String> {
+        arrays.iter().map(|a| a.name.clone()).collect()
+    };
+    let point_scalars = names(mesh.point_data());
+    let cell_scalars = names(mesh.cell_data());
+    let mut scalars = point_scalars.clone();
+    for n in &cell_scalars {
+        if !scalars.contains(n) {
+            scalars.push(n.clone());
+        }
+    }
+    let axis = cylvol::axis::detect(mesh);
+    Info {
+        points: mesh.point_count(),
+        cells: mesh.cell_count(),
+        cell_types: mesh
+            .kind_counts()
+            .iter()
+            .map(|(k, n)| (k.name().to_string(), (*n).into()))
+            .collect(),
+        scalars,
+        point_scalars,
+        cell_scalars,
+        active_scalar: mesh.active_array().map(|a| a.name.clone()),
+        active_association: mesh.active_scalar().map(|a| a.association.to_string()),
+        scalar_range: mesh.scalar_range(),
+        bounds: mesh.bounds(),
+        axis: AxisJson {
+            origin: axis.origin.to_array(),
+            direction: axis.direction.to_array(),
+        },
+    }
+}
+
+pub fn run(args: &InfoArgs) -> Result<(), Error> {
+    let mesh = args.input.load()?;
+    let info = describe(&mesh);
+    if args.json {
+        let text = serde_json::to_string_pretty(&info)
+            .map_err(|e| Error::Invalid(format!("JSON output failed: {e}")))?;
+        println!("{text}");
+        return Ok(());
+    }
+    let types: Vec<String> = mesh
+        .kind_counts()
+        .iter()
+        .filter(|(_, n)| *n > 0)
+        .map(|(k, n)| format!("{k} {n}"))
+        .collect();
+    println!("{}", args.input.input);
+    println!("  points         {}", info.points);
+    println!("  cells          {} ({})", info.cells, types.join(", "));
+    println!("  point scalars  {}", info.point_scalars.join(", "));
+    println!("  cell scalars   {}", info.cell_scalars.join(", "));
+    match (&info.active_scalar, info.scalar_range) {
+        (Some(name), Some([lo, hi])) => println!(
+            "  active scalar  {name} ({}) range [{lo}, {hi}]",
+            info.active_association.as_deref().unwrap_or("?")
+        ),
+        _ => println!("  active scalar  none"),
+    }
+    let b = info.bounds;
+    println!(
+        "  bounds         x [{}, {}]  y [{}, {}]  z [{}, {}]",
+        b[0], b[1], b[2], b[3], b[4], b[5]
+    );
+    let (o, d) = (info.axis.origin, info.axis.direction);
+    println!(
+        "  axis           origin ({:.6}, {:.6}, {:.6}) direction ({:.6}, {:.6}, {:.6})",
+        o[0], o[1], o[2], d[0], d[1], d[2]
+    );
+    Ok(())
+}

@@ -1,0 +1,185 @@
+//! The `cylvol` program as other tools use it: `info` and `gen` on real files and synthetic
+//! datasets, JSON alone on standard output, errors on standard error with a non-zero exit.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/data")
+        .join(name)
+}
+
+fn cylvol(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cylvol"))
+        .args(args)
+        .output()
+        .expect("cylvol runs")
+}
+
+/// Runs `cylvol info INPUT --json` and parses standard output, which must be JSON alone.
+fn info(input: &str) -> Value {
+    let out = cylvol(&["info", input, "--json"]);
+    assert!(
+        out.status.success(),
+        "cylvol info {input} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("standard output is JSON alone")
+}
+
+fn angle_to_deg(v: &Value, axis: [f64; 3]) -> f64 {
+    let d: Vec<f64> = v["axis"]["direction"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let dot: f64 = d.iter().zip(axis).map(|(a, b)| a * b).sum();
+    let norm = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+    (dot.abs() / norm).min(1.0).acos().to_degrees()
+}
+
+#[test]
+fn info_on_the_mixer_gives_counts_scalars_and_axis() {
+    let v = info(data("mixer.vtk").to_str().unwrap());
+    assert_eq!(v["points"], 37_843);
+    assert_eq!(v["cells"], 33_600);
+    assert_eq!(v["cell_types"]["hexahedron"], 33_600);
+    assert_eq!(v["cell_types"]["wedge"], 0);
+    assert_eq!(v["active_scalar"], "p");
+    let range = v["scalar_range"].as_array().unwrap();
+    assert!(
+        (range[0].as_f64().unwrap() + 44.25).abs() < 0.01,
+        "{range:?}"
+    );
+    assert!(
+        (range[1].as_f64().unwrap() - 74.65).abs() < 0.01,
+        "{range:?}"
+    );
+    let names: Vec<&str> = v["scalars"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_str().unwrap())
+        .collect();
+    for n in ["p", "k", "omega", "nut", "U", "Urel"] {
+        assert!(names.contains(&n), "{n} missing from {names:?}");
+    }
+    assert_eq!(v["bounds"].as_array().unwrap().len(), 6);
+    assert!(angle_to_deg(&v, [0.0, 0.0, 1.0]) < 1.0);
+}
+
+#[test]
+fn info_on_the_plot3d_files_finds_the_q_file_and_axis() {
+    let post = info(data("postxyz.bin").to_str().unwrap());
+    assert_eq!(post["cells"], 102_675);
+    assert!(post["scalars"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|s| s == "StagnationEnergy"));
+    assert!(angle_to_deg(&post, [0.0, 0.0, 1.0]) < 1.0);
+    let comb = info(data("combxyz.bin").to_str().unwrap());
+    assert_eq!(comb["cells"], 43_008);
+    assert!(angle_to_deg(&comb, [1.0, 0.0, 0.0]) < 1.0);
+    let cube = info(data("hexa.vtk").to_str().unwrap());
+    assert_eq!(cube["cells"], 10_648);
+}
+
+#[test]
+fn scalar_option_selects_an_array_and_rejects_unknown_names() {
+    let out = cylvol(&[
+        "info",
+        data("mixer.vtk").to_str().unwrap(),
+        "--json",
+        "--scalar",
+        "cell:k",
+    ]);
+    assert!(out.status.success());
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["active_scalar"], "k");
+    assert_eq!(v["active_association"], "cell");
+    let out = cylvol(&[
+        "info",
+        data("mixer.vtk").to_str().unwrap(),
+        "--scalar",
+        "nope",
+    ]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no scalar array named 'nope'"));
+}
+
+#[test]
+fn gen_writes_files_that_read_back_with_the_same_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let direct = info("pump-rotor:20000");
+    let n = direct["cells"].as_u64().unwrap();
+    assert!(
+        (19_000..=21_000).contains(&n),
+        "{n} cells for a request of 20000"
+    );
+    for ext in ["vtu", "vtk"] {
+        let path = dir.path().join(format!("rotor.{ext}"));
+        let out = cylvol(&["gen", "pump-rotor:20000", "-o", path.to_str().unwrap()]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            out.stdout.is_empty(),
+            "gen prints nothing on standard output"
+        );
+        let back = info(path.to_str().unwrap());
+        for key in [
+            "points",
+            "cells",
+            "cell_types",
+            "scalars",
+            "active_scalar",
+            "scalar_range",
+            "bounds",
+        ] {
+            assert_eq!(
+                back[key], direct[key],
+                "{key} differs after a .{ext} round trip"
+            );
+        }
+    }
+}
+
+#[test]
+fn errors_go_to_standard_error_with_a_non_zero_exit() {
+    let cases: [(&[&str], &str); 4] = [
+        (&["info", "no/such/file.vtk"], "no such file"),
+        (&["info", "mesh.unknown"], "no such file"),
+        (
+            &["gen", "pump-nothing:10", "-o", "x.vtu"],
+            "not a dataset name",
+        ),
+        (&["gen", "pump-rotor:10", "-o", "x.txt"], ""),
+    ];
+    for (args, expected) in cases {
+        let out = cylvol(args);
+        assert!(!out.status.success(), "{args:?} should fail");
+        assert!(out.stdout.is_empty(), "{args:?} printed on standard output");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("error"), "{args:?}: {err}");
+        assert!(err.contains(expected), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn a_truncated_file_is_reported_with_its_name_and_where() {
+    let dir = tempfile::tempdir().unwrap();
+    let bytes = std::fs::read(data("mixer.vtk")).unwrap();
+    let path = dir.path().join("cut.vtk");
+    std::fs::write(&path, &bytes[..bytes.len() / 2]).unwrap();
+    let out = cylvol(&["info", path.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("cut.vtk") && err.contains("byte"), "{err}");
+}
