@@ -11,8 +11,8 @@
 //! - vane thickness `0.035 · 2.598 √c (1 − c)` along the chord fraction `c`;
 //! - 10 % of the radial cells upstream of the vanes (the vaneless gap), 18 % downstream;
 //!   clustering 2.0 / 2.5 / 3.0 (radial / azimuthal / axial); resolution shape
-//!   `nr : nt : nz = 1 : 0.9 : 0.3` (`nt` per passage): 3.4 M cells are about
-//!   105 × 11·94 × 31.
+//!   `nr : nt : nz = 1 : 0.9 : 0.3` (`nt` per passage): 3.4 M cells are
+//!   (11 + 75 + 19) × 11·92 × 32 = 3,400,320.
 //!
 //! Fields: `pressure` recovers with radius (`0.60 + 0.40 (1 − (r_in/r)²)/(1 − (r_in/r_out)²)`),
 //! carries the 7 impeller wakes spiralling out with the flow and fading with radius, the vane

@@ -20,7 +20,8 @@
 //!   65 % of the length): there the axis passes through the interior of one cell per layer
 //!   (it **straddles** it).
 //! - resolution shape `n : m : l = 1 : 0.6 : 2` (`n` even): cells are `l · n (n + 4m)`;
-//!   0.9 M cells are about 52 × 31 × 104.
+//!   0.9 M cells are
+//!   `n, m, l` = 52, 29, 103: 899,808 cells.
 //!
 //! Fields: `pressure` falls towards the eye (the flow accelerates), rises with radius (swirl),
 //! carries a 7-lobed upstream imprint of the impeller blades near the eye and a slight

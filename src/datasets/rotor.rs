@@ -7,14 +7,15 @@
 //! - hub `z = 0.10 (1 − s)²`, shroud `z = 0.10 + 0.35 (1 − s)²`: the channel is 0.35 high at
 //!   the eye and 0.10 at the rim; all points lie in `0 ≤ z ≤ 0.45`;
 //! - blade camber `θ_c(r, ζ) = −(1.7 ln(r/0.30) + 0.3 s²) + 0.35 (ζ − 0.5)(1 − s)²`: a
-//!   backward-swept spiral (about 135° of wrap, blade angle 28°–30° from the tangent) twisted
+//!   backward-swept spiral (about 135° of wrap; blade angle from 30° to the tangent at the
+//!   eye to 21° at the rim) twisted
 //!   from hub (`ζ = 0`) to shroud (`ζ = 1`), most near the eye;
 //! - blade thickness `0.028 · 2.598 √c (1 − c)` along the chord fraction `c` (round leading
 //!   edge, sharp trailing edge, 0.028 at most);
 //! - 12 % of the radial cells upstream of the blades, 12 % downstream; clustering strengths
 //!   2.0 (radial, towards the blade edges), 2.5 (azimuthal, towards the blades), 3.0 (axial,
 //!   towards hub and shroud); resolution shape `nr : nt : nz = 1 : 0.85 : 0.35` (`nt` per
-//!   passage): 2.1 M cells are 100 × 7·85 × 35.
+//!   passage): 2.1 M cells are (12 + 78 + 12) × 7·84 × 35 = 2,099,160.
 //!
 //! Fields: `pressure` rises with radius (centrifugal, `0.10 + 0.50 (r² − r_in²)/(r_out² − r_in²)`),
 //! with blade loading (pressure side above suction side, `±0.10 sin²(π c)`), blade wakes
