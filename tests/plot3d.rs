@@ -569,3 +569,23 @@ fn garbage_is_an_error() {
         "{msg}"
     );
 }
+
+#[test]
+fn fuzz_seeds_are_valid_files() {
+    // The seeds in fuzz/seeds/read_plot3d are a 2-byte grid length, the grid, then the Q file
+    // (the split the fuzz target makes): each must read to the unit cube with its Q arrays.
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/fuzz/seeds/read_plot3d");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(dir).expect("seed folder") {
+        let path = entry.unwrap().path();
+        let b = std::fs::read(&path).unwrap();
+        let at = usize::from(u16::from_le_bytes([b[0], b[1]]));
+        let (xyz, q) = b[2..].split_at(at);
+        let mesh = plot3d::read(xyz, Some(q)).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+        assert_eq!((mesh.point_count(), mesh.cell_count()), (8, 1), "{path:?}");
+        assert_eq!(mesh.bounds(), [0.0, 1.0, 0.0, 1.0, 0.0, 1.0], "{path:?}");
+        assert_eq!(range(&mesh, "StagnationEnergy"), [2.5, 2.5], "{path:?}");
+        seen += 1;
+    }
+    assert_eq!(seen, 5);
+}
