@@ -122,8 +122,8 @@ mod tests {
     #[test]
     fn collapsed_apex_is_inside() {
         let mut c = CORNER_PARAMETERS.map(DVec3::from_array);
-        for k in 4..8 {
-            c[k] = DVec3::new(0.3, 0.6, 1.2);
+        for ck in c.iter_mut().skip(4) {
+            *ck = DVec3::new(0.3, 0.6, 1.2);
         }
         assert!(contains(&c, DVec3::new(0.3, 0.6, 1.2)));
         assert!(!contains(&c, DVec3::new(0.3, 0.6, 1.2 + 1e-6)));

@@ -281,8 +281,8 @@ mod tests {
     fn gradient_is_none_on_a_collapsed_apex() {
         // A pyramid: the top face collapsed to one apex.
         let mut c = unit();
-        for k in 4..8 {
-            c[k] = DVec3::new(0.5, 0.5, 1.0);
+        for ck in c.iter_mut().skip(4) {
+            *ck = DVec3::new(0.5, 0.5, 1.0);
         }
         let values = c.map(|x| x.z);
         assert!(physical_gradient(&c, &values, DVec3::new(0.5, 0.5, 1.0)).is_none());
