@@ -1,0 +1,417 @@
+//! The inverse of the trilinear map: the parametric coordinates `(u, v, w)` of a physical point
+//! in a (possibly collapsed, twisted, skewed or needle-thin) hexahedron.
+//!
+//! # Method
+//! 1. **Rebase.** Everything is computed relative to corner 0 (`xᵢ − x₀`, `target − x₀`), so a
+//!    cell 10⁶ units from the origin is solved with the precision of its own size.
+//! 2. **Damped Newton.** From the guess (or the cell centre), `Δp = −J⁻¹ r` with the residual
+//!    `r = x(p) − target`; where `J` is singular (collapsed edges and apexes) the step is the
+//!    Levenberg–Marquardt one, `(JᵀJ + μI) Δp = −Jᵀ r`. A backtracking line search halves the
+//!    step until `|r|` decreases. Iterates stay in the search box `[−1, 2]³` (the cell extended
+//!    by its own size on every side).
+//! 3. **Fallback.** If Newton does not converge, or converges outside the cell across a fold of
+//!    the map (where a root inside the cell may hide), the cell's parameter cube is subdivided
+//!    recursively; a sub-cube is rejected when the box of its eight mapped corners (which holds
+//!    it: a sub-cube of a trilinear map is a trilinear cell) does not hold the target, and Newton
+//!    is run from the centre of every sub-cube that survives.
+//! 4. **Verify.** A result is returned only if it maps back to the target within the
+//!    acceptance tolerance; otherwise the call reports why it failed. A wrong answer is never
+//!    returned.
+//!
+//! # Tolerances (all relative to the cell size `L`, the diagonal of its corners' box)
+//! - [`STOP_TOLERANCE`] `= 1e-14`: Newton stops once `|r| ≤ 1e-14 L`, a few ulps of the
+//!   rebased coordinates — the parametric error is then at most `1e-14 L · ‖J⁻¹‖`, i.e. `1e-11`
+//!   even for a needle with aspect 1:1000.
+//! - [`ACCEPT_TOLERANCE`] `= 1e-10`: a result whose residual is larger is not returned. Newton
+//!   only ends between the two when it stagnates at rounding level, which happens where `J` is
+//!   singular (the target at a collapsed apex, where convergence is linear).
+//! - [`DEGENERATE_TOLERANCE`] `= 1e-12`: a cell whose `|det J|` at the corners and centre is at
+//!   most `1e-12 L³` everywhere (flat, a line or a point) is not inverted.
+
+use glam::{DMat3, DVec3};
+use std::ops::AddAssign;
+
+use super::trilinear::{relative_corners, relative_map, relative_map_and_jacobian};
+
+/// Newton stops once the physical residual is at most this times the cell size.
+pub const STOP_TOLERANCE: f64 = 1e-14;
+/// A solution is returned only if its physical residual is at most this times the cell size.
+pub const ACCEPT_TOLERANCE: f64 = 1e-10;
+/// A cell whose largest `|det J|` (corners and centre) is at most this times `L³` is degenerate.
+pub const DEGENERATE_TOLERANCE: f64 = 1e-12;
+/// Newton iterates stay in `[−SEARCH_MARGIN, 1 + SEARCH_MARGIN]³`.
+pub const SEARCH_MARGIN: f64 = 1.0;
+/// Parametric slack within which a result counts as inside the cell when deciding whether to
+/// search the cell for another root (the same value as the containment tolerance).
+pub const INSIDE_SLACK: f64 = 1e-9;
+
+const MAX_NEWTON_ITERATIONS: u32 = 60;
+const MAX_HALVINGS: u32 = 16;
+const SUB_NEWTON_ITERATIONS: u32 = 12;
+const MAX_SUBDIVISION_DEPTH: u32 = 12;
+const MAX_SUBCELLS: u64 = 4096;
+
+/// The cost of one or many inversions, for callers that report work done.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct InverseStats {
+    /// Calls to [`invert`].
+    pub inversions: u64,
+    /// Newton iterations (each a Jacobian evaluation and a 3×3 solve), fallback included.
+    pub newton_iterations: u64,
+    /// Evaluations of the forward map (line-search trials and checks).
+    pub map_evaluations: u64,
+    /// Inversions that needed the subdivision fallback.
+    pub fallbacks: u64,
+    /// Sub-cells examined by the fallback.
+    pub subcells: u64,
+    /// Inversions that returned a failure.
+    pub failures: u64,
+}
+
+impl AddAssign for InverseStats {
+    fn add_assign(&mut self, o: Self) {
+        self.inversions += o.inversions;
+        self.newton_iterations += o.newton_iterations;
+        self.map_evaluations += o.map_evaluations;
+        self.fallbacks += o.fallbacks;
+        self.subcells += o.subcells;
+        self.failures += o.failures;
+    }
+}
+
+/// Why an inversion gave no parametric coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InverseFailure {
+    /// A corner, the target or the guess is NaN or infinite.
+    NonFinite,
+    /// The cell has no volume: its corners coincide or lie on a line or in a plane.
+    Degenerate,
+    /// No parameter maps to the target: Newton found none in the search box `[−1, 2]³`, and the
+    /// exhaustive subdivision of the cell rejected every sub-cell. The target is outside the
+    /// cell (by more than the acceptance tolerance).
+    NotFound,
+    /// Undecided: Newton did not converge and the subdivision budget ran out with sub-cells
+    /// still holding the target in their boxes. Does not happen for valid cells in practice.
+    NoConvergence,
+}
+
+impl std::fmt::Display for InverseFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            InverseFailure::NonFinite => "non-finite corner, target or guess",
+            InverseFailure::Degenerate => "degenerate cell (no volume)",
+            InverseFailure::NotFound => "no parameter maps to the target",
+            InverseFailure::NoConvergence => "inverse map did not converge",
+        })
+    }
+}
+
+/// A converged inverse: `x(param)` lies within `residual` of the target.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Solution {
+    /// The parametric coordinates `(u, v, w)`; in `[0, 1]³` when the target is inside the cell,
+    /// possibly outside otherwise.
+    pub param: DVec3,
+    /// `|x(param) − target|`, at most [`ACCEPT_TOLERANCE`] times the cell size.
+    pub residual: f64,
+}
+
+/// The outcome of [`invert`] with its cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inversion {
+    /// The solution, or why there is none.
+    pub outcome: Result<Solution, InverseFailure>,
+    /// The work this inversion took.
+    pub stats: InverseStats,
+}
+
+impl Inversion {
+    /// The parametric coordinates, if the inversion converged.
+    pub fn param(&self) -> Option<DVec3> {
+        self.outcome.ok().map(|s| s.param)
+    }
+}
+
+/// The cell rebased to corner 0 with its size.
+struct Problem {
+    rel: [DVec3; 8],
+    target: DVec3,
+    stop: f64,
+    accept: f64,
+}
+
+struct NewtonEnd {
+    param: DVec3,
+    residual: f64,
+}
+
+fn in_cube(p: DVec3, lo: f64, hi: f64) -> bool {
+    p.cmpge(DVec3::splat(lo)).all() && p.cmple(DVec3::splat(hi)).all()
+}
+
+/// Solve `J Δ = −r`, falling back to a Levenberg–Marquardt step where `J` is singular.
+fn newton_step(j: &DMat3, r: DVec3) -> DVec3 {
+    let det = j.determinant();
+    let scale = j.x_axis.length() * j.y_axis.length() * j.z_axis.length();
+    if det.abs() > 1e-10 * scale {
+        let d = -(j.inverse() * r);
+        if d.is_finite() {
+            return d;
+        }
+    }
+    let jt = j.transpose();
+    let jtj = jt * *j;
+    let mu = 1e-10 * (jtj.x_axis.x + jtj.y_axis.y + jtj.z_axis.z) + f64::MIN_POSITIVE;
+    let a = jtj + DMat3::from_diagonal(DVec3::splat(mu));
+    let d = -(a.inverse() * (jt * r));
+    if d.is_finite() {
+        d
+    } else {
+        DVec3::ZERO
+    }
+}
+
+impl Problem {
+    /// Damped Newton from `start`, iterates clamped to `[lo, hi]³`.
+    fn newton(
+        &self,
+        start: DVec3,
+        lo: f64,
+        hi: f64,
+        max_iter: u32,
+        stats: &mut InverseStats,
+    ) -> NewtonEnd {
+        let mut p = start.clamp(DVec3::splat(lo), DVec3::splat(hi));
+        let (x, mut j) = relative_map_and_jacobian(&self.rel, p);
+        stats.map_evaluations += 1;
+        let mut r = x - self.target;
+        let mut rn = r.length();
+        for _ in 0..max_iter {
+            if rn <= self.stop {
+                break;
+            }
+            stats.newton_iterations += 1;
+            let d = newton_step(&j, r);
+            let mut t = 1.0;
+            let mut accepted = false;
+            for _ in 0..=MAX_HALVINGS {
+                let q = (p + d * t).clamp(DVec3::splat(lo), DVec3::splat(hi));
+                let (xq, jq) = relative_map_and_jacobian(&self.rel, q);
+                stats.map_evaluations += 1;
+                let rq = xq - self.target;
+                let rqn = rq.length();
+                if rqn < rn {
+                    let moved = (q - p).abs().max_element();
+                    p = q;
+                    j = jq;
+                    r = rq;
+                    rn = rqn;
+                    accepted = true;
+                    if moved <= 1e-15 {
+                        accepted = false; // stagnated at rounding level
+                    }
+                    break;
+                }
+                t *= 0.5;
+            }
+            if !accepted {
+                break;
+            }
+        }
+        NewtonEnd {
+            param: p,
+            residual: rn,
+        }
+    }
+
+    /// Recursive subdivision of `[0, 1]³` (padded by the slack), Newton on the surviving
+    /// sub-cells; the first solution inside the padded cube wins.
+    fn subdivide(&self, stats: &mut InverseStats) -> Result<NewtonEnd, InverseFailure> {
+        let lo0 = -INSIDE_SLACK;
+        let size0 = 1.0 + 2.0 * INSIDE_SLACK;
+        let mut stack: Vec<(DVec3, f64, u32)> = vec![(DVec3::splat(lo0), size0, 0)];
+        let mut exhausted = false;
+        let mut best: Option<NewtonEnd> = None;
+        while let Some((lo, size, depth)) = stack.pop() {
+            if stats.subcells >= MAX_SUBCELLS {
+                exhausted = true;
+                break;
+            }
+            stats.subcells += 1;
+            let mut bmin = DVec3::splat(f64::INFINITY);
+            let mut bmax = DVec3::splat(f64::NEG_INFINITY);
+            for c in super::trilinear::CORNER_PARAMETERS {
+                let x = relative_map(&self.rel, lo + DVec3::from_array(c) * size);
+                bmin = bmin.min(x);
+                bmax = bmax.max(x);
+            }
+            stats.map_evaluations += 8;
+            let pad = self.accept + 1e-12 * (bmax - bmin).max_element();
+            if !(self.target.cmpge(bmin - pad).all() && self.target.cmple(bmax + pad).all()) {
+                continue;
+            }
+            let centre = lo + DVec3::splat(0.5 * size);
+            let end = self.newton(
+                centre,
+                -SEARCH_MARGIN,
+                1.0 + SEARCH_MARGIN,
+                SUB_NEWTON_ITERATIONS,
+                stats,
+            );
+            if end.residual <= self.accept && in_cube(end.param, lo0, 1.0 + INSIDE_SLACK) {
+                return Ok(end);
+            }
+            if end.residual <= self.accept && best.is_none() {
+                best = Some(end);
+            }
+            if depth >= MAX_SUBDIVISION_DEPTH {
+                exhausted = true;
+                continue;
+            }
+            let half = 0.5 * size;
+            for k in 0..8u32 {
+                let off = DVec3::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64);
+                stack.push((lo + off * half, half, depth + 1));
+            }
+        }
+        match best {
+            Some(b) => Ok(b),
+            None if exhausted => Err(InverseFailure::NoConvergence),
+            None => Err(InverseFailure::NotFound),
+        }
+    }
+}
+
+/// The parametric coordinates of `target` in the cell, by damped Newton with a subdivision
+/// fallback (see the module documentation for the method and tolerances). `guess` is a
+/// starting point (e.g. the previous sample's coordinates in the same cell); the centre
+/// `(½, ½, ½)` otherwise.
+///
+/// When the target lies in the cell, the returned coordinates are in `[0, 1]³` (to rounding);
+/// on a collapsed edge or apex, where many coordinates map to the same point, one of them. When
+/// it lies outside, the result is a preimage outside `[0, 1]³` (in `[−1, 2]³`) or
+/// [`InverseFailure::NotFound`].
+///
+/// ```
+/// use cylvol::geometry::inverse::invert;
+/// use cylvol::geometry::trilinear::{map, CORNER_PARAMETERS};
+/// use glam::DVec3;
+/// let mut cell = CORNER_PARAMETERS.map(DVec3::from_array);
+/// cell[6] += DVec3::new(0.3, 0.2, 0.1);
+/// let p = DVec3::new(0.2, 0.7, 0.9);
+/// let inv = invert(&cell, map(&cell, p), None);
+/// assert!((inv.param().unwrap() - p).length() < 1e-12);
+/// assert!(inv.stats.newton_iterations < 10);
+/// ```
+pub fn invert(corners: &[DVec3; 8], target: DVec3, guess: Option<DVec3>) -> Inversion {
+    let mut stats = InverseStats {
+        inversions: 1,
+        ..Default::default()
+    };
+    let outcome = invert_inner(corners, target, guess, &mut stats);
+    if outcome.is_err() {
+        stats.failures += 1;
+    }
+    Inversion { outcome, stats }
+}
+
+fn invert_inner(
+    corners: &[DVec3; 8],
+    target: DVec3,
+    guess: Option<DVec3>,
+    stats: &mut InverseStats,
+) -> Result<Solution, InverseFailure> {
+    if !target.is_finite()
+        || corners.iter().any(|c| !c.is_finite())
+        || guess.is_some_and(|g| !g.is_finite())
+    {
+        return Err(InverseFailure::NonFinite);
+    }
+    let rel = relative_corners(corners);
+    let (mut bmin, mut bmax) = (DVec3::ZERO, DVec3::ZERO);
+    for c in &rel {
+        bmin = bmin.min(*c);
+        bmax = bmax.max(*c);
+    }
+    let size = (bmax - bmin).length();
+    if !(size > 0.0 && size.is_finite()) {
+        return Err(InverseFailure::Degenerate);
+    }
+    let max_det = super::trilinear::CORNER_PARAMETERS
+        .into_iter()
+        .map(DVec3::from_array)
+        .chain(std::iter::once(DVec3::splat(0.5)))
+        .map(|p| relative_map_and_jacobian(&rel, p).1.determinant().abs())
+        .fold(0.0, f64::max);
+    if max_det <= DEGENERATE_TOLERANCE * size * size * size {
+        return Err(InverseFailure::Degenerate);
+    }
+    let prob = Problem {
+        rel,
+        target: target - corners[0],
+        stop: STOP_TOLERANCE * size,
+        accept: ACCEPT_TOLERANCE * size,
+    };
+    let start = guess.unwrap_or(DVec3::splat(0.5));
+    let end = prob.newton(
+        start,
+        -SEARCH_MARGIN,
+        1.0 + SEARCH_MARGIN,
+        MAX_NEWTON_ITERATIONS,
+        stats,
+    );
+    let mut outside_root = None;
+    if end.residual <= prob.accept {
+        if in_cube(end.param, -INSIDE_SLACK, 1.0 + INSIDE_SLACK) {
+            return Ok(Solution {
+                param: end.param,
+                residual: end.residual,
+            });
+        }
+        // On a collapsed edge or apex other coordinates map to the same point: prefer the
+        // clamped ones if they do.
+        let clamped = end.param.clamp(DVec3::ZERO, DVec3::ONE);
+        let rc = (relative_map(&rel, clamped) - prob.target).length();
+        stats.map_evaluations += 1;
+        if rc <= prob.accept {
+            return Ok(Solution {
+                param: clamped,
+                residual: rc,
+            });
+        }
+        // A root outside the cell. If the map does not fold between the cell and the root
+        // (det J keeps its sign and stays away from zero), the root is the only one near the
+        // cell and the target is outside.
+        let det_root = relative_map_and_jacobian(&rel, end.param).1.determinant();
+        let det_centre = relative_map_and_jacobian(&rel, DVec3::splat(0.5))
+            .1
+            .determinant();
+        stats.map_evaluations += 2;
+        if det_root * det_centre > 0.0 && det_root.abs() > 1e-3 * max_det {
+            return Ok(Solution {
+                param: end.param,
+                residual: end.residual,
+            });
+        }
+        outside_root = Some(end);
+    }
+    stats.fallbacks += 1;
+    match prob.subdivide(stats) {
+        Ok(e) if in_cube(e.param, -INSIDE_SLACK, 1.0 + INSIDE_SLACK) || outside_root.is_none() => {
+            Ok(Solution {
+                param: e.param,
+                residual: e.residual,
+            })
+        }
+        other => match outside_root {
+            Some(e) => Ok(Solution {
+                param: e.param,
+                residual: e.residual,
+            }),
+            None => other.map(|e| Solution {
+                param: e.param,
+                residual: e.residual,
+            }),
+        },
+    }
+}
