@@ -224,9 +224,6 @@ fn lox_post_counts_and_fields() {
 }
 
 #[test]
-#[ignore = "Mesh::from_parts rejects two warped combustor cells (39,0,0) and (39,31,0) whose \
-            first corner Jacobian is negative (-6.5e-4, the others up to +2.2e-2); needs the \
-            inverted-cell test in src/mesh/validate.rs relaxed"]
 fn combustor_counts_and_fields() {
     let layout = plot3d::detect_layout(&bytes("combxyz.bin")).unwrap();
     assert_eq!(layout.dims, [57, 33, 25]);
@@ -338,9 +335,6 @@ fn lox_post_matches_vtk() {
 }
 
 #[test]
-#[ignore = "Mesh::from_parts rejects two warped combustor cells (39,0,0) and (39,31,0) whose \
-            first corner Jacobian is negative (-6.5e-4, the others up to +2.2e-2); needs the \
-            inverted-cell test in src/mesh/validate.rs relaxed"]
 fn combustor_matches_vtk() {
     compare_with_vtk("combxyz.bin", "combq.bin", &comb());
 }

@@ -7,7 +7,7 @@
 
 mod cell_kind;
 mod data;
-mod validate;
+pub mod validate;
 mod vtk_cells;
 
 pub use cell_kind::{

@@ -106,6 +106,20 @@ fn inverted_cell_is_an_error_and_mirrored_order_too() {
 }
 
 #[test]
+fn a_slightly_folded_corner_is_accepted_and_volume_is_exact() {
+    let mut p = unit_cube();
+    // Corner 6 pulled in so its Jacobian is -0.1 (the largest corner's is 1): a mild fold.
+    p.points[6] = DVec3::new(0.45, 0.45, 1.0);
+    let corners = p.cells[0].map(|i| p.points[i as usize]);
+    let dets = crate::geometry::trilinear::corner_jacobian_determinants(&corners);
+    assert!((dets[6] + 0.1).abs() < 1e-12);
+    assert!(Mesh::from_parts(p).is_ok());
+    let cube = unit_cube();
+    let corners = cube.cells[0].map(|i| cube.points[i as usize] * 2.0);
+    assert!((validate::cell_volume(&corners) - 8.0).abs() < 1e-12);
+}
+
+#[test]
 fn collapsed_kinds_are_not_inverted() {
     let pts = vec![
         DVec3::ZERO,
