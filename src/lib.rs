@@ -2,6 +2,7 @@
 //! turbines, combustors) with acceleration structures in Cartesian and cylindrical coordinates.
 //!
 //! The crate is organised by concern:
+//! - [`accel`]: the four acceleration structures behind one point-location interface;
 //! - [`mesh`]: the mesh model (points, cells as collapsed hexahedra, named data arrays) and its
 //!   validation;
 //! - [`geometry`]: cell geometry — the trilinear map, its Jacobian and inverse, containment,
@@ -12,6 +13,7 @@
 //! - [`input`]: resolution of a command-line `INPUT` (a file or a synthetic dataset name).
 #![deny(missing_docs)]
 
+pub mod accel;
 pub mod axis;
 pub mod datasets;
 pub mod error;

@@ -1,0 +1,136 @@
+//! The four acceleration structures — Cartesian and cylindrical two-level grids and BVHs —
+//! behind one point-location interface.
+//!
+//! A structure knows nothing of hexahedra: it indexes bounded [`space::Pieces`] of cells and,
+//! for a query point, offers candidate cells to a closure until the closure accepts one
+//! ([`Structure::find`]). [`Accel::locate`] supplies the closure that tests a cell with the
+//! inverse trilinear map. Counters record the work: hexahedra tested, internal and leaf nodes
+//! visited (for grids: top-level cells and second-level cells visited).
+
+pub mod bvh;
+pub mod grid;
+pub mod space;
+
+use std::fmt;
+use std::ops::AddAssign;
+use std::str::FromStr;
+
+use glam::DVec3;
+
+use crate::geometry::bounds::Aabb;
+use crate::geometry::cylindrical::CylBounds;
+
+pub use bvh::{Bvh, BvhParams};
+pub use grid::{GridParams, TwoLevelGrid};
+pub use space::{Coordinates, Pieces};
+
+/// Which structure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum StructureKind {
+    /// Two-level grid in `(x, y, z)`.
+    CartGrid,
+    /// Two-level grid in `(r, θ, h)` about the machine axis.
+    CylGrid,
+    /// Binned-SAH BVH of boxes.
+    CartBvh,
+    /// Binned-SAH BVH of cylindrical sectors.
+    CylBvh,
+}
+
+impl StructureKind {
+    /// All four, in report order.
+    pub const ALL: [StructureKind; 4] = [
+        StructureKind::CartGrid,
+        StructureKind::CylGrid,
+        StructureKind::CartBvh,
+        StructureKind::CylBvh,
+    ];
+
+    /// `cart-grid`, `cyl-grid`, `cart-bvh`, `cyl-bvh`.
+    pub fn name(self) -> &'static str {
+        match self {
+            StructureKind::CartGrid => "cart-grid",
+            StructureKind::CylGrid => "cyl-grid",
+            StructureKind::CartBvh => "cart-bvh",
+            StructureKind::CylBvh => "cyl-bvh",
+        }
+    }
+
+    /// Whether it works in cylindrical coordinates.
+    pub fn is_cylindrical(self) -> bool {
+        matches!(self, StructureKind::CylGrid | StructureKind::CylBvh)
+    }
+
+    /// Whether it is a grid (else a BVH).
+    pub fn is_grid(self) -> bool {
+        matches!(self, StructureKind::CartGrid | StructureKind::CylGrid)
+    }
+}
+
+impl fmt::Display for StructureKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for StructureKind {
+    type Err = crate::Error;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        StructureKind::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| {
+                crate::Error::Invalid(format!(
+                    "unknown structure '{s}' (expected cart-grid, cyl-grid, cart-bvh or cyl-bvh)"
+                ))
+            })
+    }
+}
+
+/// Work done by point location.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Cells tested with the inverse map (the talk's "hexahedra visited").
+    pub hex_tests: u64,
+    /// Internal nodes visited (grids: top-level cells visited).
+    pub internal_visits: u64,
+    /// Leaf nodes visited (grids: second-level cells visited).
+    pub leaf_visits: u64,
+}
+
+impl AddAssign for Counters {
+    fn add_assign(&mut self, o: Counters) {
+        self.hex_tests += o.hex_tests;
+        self.internal_visits += o.internal_visits;
+        self.leaf_visits += o.leaf_visits;
+    }
+}
+
+/// One of the four structures, built.
+#[derive(Clone, Debug)]
+pub enum Structure {
+    /// A grid over boxes in `(x, y, z)` or `(r, θ, h)`.
+    Grid(TwoLevelGrid),
+    /// A BVH of boxes.
+    CartBvh(Bvh<Aabb>),
+    /// A BVH of sectors.
+    CylBvh(Bvh<CylBounds>),
+}
+
+impl Structure {
+    /// Offers the cells whose pieces contain `q` (a point already in the structure's
+    /// coordinates) to `accept` until it returns `true`; returns that cell.
+    #[inline]
+    pub fn find(
+        &self,
+        q: DVec3,
+        counters: &mut Counters,
+        accept: impl FnMut(u32) -> bool,
+    ) -> Option<u32> {
+        match self {
+            Structure::Grid(g) => g.find(q, counters, accept),
+            Structure::CartBvh(b) => b.find(q, counters, accept),
+            Structure::CylBvh(b) => b.find(q, counters, accept),
+        }
+    }
+}

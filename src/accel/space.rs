@@ -1,0 +1,233 @@
+//! The coordinates a structure works in, and the bounded pieces of cells it indexes.
+//!
+//! Cartesian structures index each cell by its box. Cylindrical ones work in `(r, θ, h)` about
+//! the machine axis: a cell is bounded by a sector ([`CylBounds`]), and a cell that straddles
+//! the axis is cut into several sectors ([`straddle_sectors`]) so that no bound degenerates to
+//! the whole circle. A *piece* is one bound and the cell it belongs to; a cell may have several.
+//!
+//! Every bound is padded by the containment slack of [`crate::geometry::containment`], so a
+//! point that [`crate::geometry::containment::locate_in_cell`] accepts always lies in one of
+//! its cell's pieces — a structure never misses a cell that brute force finds.
+//!
+//! **The seam.** θ is periodic. For a sector mesh (a 90° mixer, an 18° combustor) the frame is
+//! rotated so that θ = ±π falls in the widest angular gap the mesh leaves, so no cell crosses
+//! the seam and the grid's θ range is the sector's own. For a full ring some cells cross it: a
+//! BVH keeps their arcs whole ([`crate::geometry::cylindrical::ThetaInterval`] unions on the
+//! circle); a grid references them on both sides ([`linear_boxes`]).
+
+use std::f64::consts::{PI, TAU};
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::axis::Axis;
+use crate::geometry::bounds::Aabb;
+use crate::geometry::containment::{reject_box, CONTAINMENT_TOLERANCE};
+use crate::geometry::cylindrical::{
+    normalize_angle, straddle_sectors, CylBounds, CylFrame, ThetaInterval,
+};
+use crate::Mesh;
+
+/// Sectors a cell straddling the axis is cut into, by default.
+pub const DEFAULT_STRADDLE_SECTORS: usize = 8;
+
+/// The coordinates of a structure: points are mapped by [`Coordinates::of`] before a query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Coordinates {
+    /// `(x, y, z)` as given.
+    Cartesian,
+    /// `(r, θ, h)` in this frame, `θ ∈ (−π, π]`.
+    Cylindrical(CylFrame),
+}
+
+impl Coordinates {
+    /// The point in these coordinates.
+    #[inline]
+    pub fn of(&self, p: DVec3) -> DVec3 {
+        match self {
+            Coordinates::Cartesian => p,
+            Coordinates::Cylindrical(frame) => {
+                let (r, theta, h) = frame.to_cylindrical(p);
+                DVec3::new(r, theta, h)
+            }
+        }
+    }
+}
+
+/// Bounded pieces of cells: `bounds[i]` bounds (part of) cell `cells[i]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pieces<B> {
+    /// The bounds of each piece.
+    pub bounds: Vec<B>,
+    /// The cell each piece belongs to.
+    pub cells: Vec<u32>,
+}
+
+impl<B> Default for Pieces<B> {
+    fn default() -> Self {
+        Pieces {
+            bounds: Vec::new(),
+            cells: Vec::new(),
+        }
+    }
+}
+
+impl<B> Pieces<B> {
+    /// Number of pieces.
+    pub fn len(&self) -> usize {
+        self.bounds.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.bounds.is_empty()
+    }
+}
+
+/// One piece per cell: its box, padded by the containment slack.
+pub fn cartesian_pieces(mesh: &Mesh) -> Pieces<Aabb> {
+    let bounds: Vec<Aabb> = (0..mesh.cell_count())
+        .into_par_iter()
+        .map(|c| reject_box(&mesh.cell_corners(c)))
+        .collect();
+    let cells = (0..bounds.len() as u32).collect();
+    Pieces { bounds, cells }
+}
+
+/// The padded sector pieces of every cell in `frame`: one per cell, or up to
+/// `straddle_sectors` for a cell straddling the axis.
+pub fn cylindrical_pieces(
+    mesh: &Mesh,
+    frame: &CylFrame,
+    straddle_sectors_k: usize,
+) -> Pieces<CylBounds> {
+    let per_cell: Vec<Vec<CylBounds>> = (0..mesh.cell_count())
+        .into_par_iter()
+        .map(|c| {
+            let corners = mesh.cell_corners(c);
+            let margin = 4.0 * CONTAINMENT_TOLERANCE * reject_box(&corners).diagonal();
+            straddle_sectors(&corners, frame, straddle_sectors_k)
+                .into_iter()
+                .map(|b| pad(b, margin))
+                .collect()
+        })
+        .collect();
+    let mut pieces = Pieces::default();
+    for (c, list) in per_cell.into_iter().enumerate() {
+        for b in list {
+            pieces.bounds.push(b);
+            pieces.cells.push(c as u32);
+        }
+    }
+    pieces
+}
+
+/// Pads a sector by a distance `m` in every direction (θ by the angle `m` subtends at `r_min`).
+fn pad(b: CylBounds, m: f64) -> CylBounds {
+    if b.is_empty() {
+        return b;
+    }
+    let r0 = b.r[0] - m;
+    let h = [b.h[0] - m, b.h[1] + m];
+    if r0 <= 0.0 && !b.theta.is_full() && b.theta.width() < PI && !b.straddles_axis {
+        // Padding reaches the axis: the padded set wraps around it.
+        return CylBounds {
+            r: [0.0, b.r[1] + m],
+            theta: ThetaInterval::FULL,
+            h,
+            straddles_axis: true,
+        };
+    }
+    let theta = if b.theta.is_full() || r0 <= 0.0 {
+        b.theta
+    } else {
+        b.theta.padded((m / r0).min(PI))
+    };
+    CylBounds {
+        r: [r0.max(0.0), b.r[1] + m],
+        theta,
+        h,
+        straddles_axis: b.straddles_axis,
+    }
+}
+
+/// The frame about `axis` rotated so that θ = ±π lies in the middle of the widest angular gap
+/// the pieces leave (none for a full ring: the seam then stays where the frame puts it).
+/// Returns the frame and the pieces rotated into it.
+pub fn seam_frame(axis: &Axis, pieces: Pieces<CylBounds>) -> Option<(CylFrame, Pieces<CylBounds>)> {
+    let frame = CylFrame::new(axis.origin, axis.direction)?;
+    const BINS: usize = 4096;
+    let bin_of = |t: f64| (((t + PI) / TAU * BINS as f64) as usize).min(BINS - 1);
+    let mut covered = vec![false; BINS];
+    for b in pieces.bounds.iter().filter(|b| !b.is_empty()) {
+        if b.theta.is_full() {
+            return Some((frame, pieces));
+        }
+        for [lo, hi] in b.theta.ranges() {
+            for slot in &mut covered[bin_of(lo)..=bin_of(hi)] {
+                *slot = true;
+            }
+        }
+    }
+    // Widest circular run of uncovered bins.
+    let (mut best_len, mut best_start) = (0usize, 0usize);
+    let mut run = 0usize;
+    for i in 0..2 * BINS {
+        if covered[i % BINS] {
+            run = 0;
+        } else {
+            run += 1;
+            if run > best_len && run <= BINS {
+                best_len = run;
+                best_start = i + 1 - run;
+            }
+        }
+    }
+    if best_len < 2 {
+        return Some((frame, pieces));
+    }
+    // θ at the gap's middle becomes ±π: rotate the frame by (gap middle − π).
+    let middle = -PI + (best_start as f64 + best_len as f64 / 2.0) * TAU / BINS as f64;
+    let shift = normalize_angle(middle - PI);
+    let (s, c) = shift.sin_cos();
+    let rotated = CylFrame {
+        origin: frame.origin,
+        axis: frame.axis,
+        e1: frame.e1 * c + frame.e2 * s,
+        e2: frame.e2 * c - frame.e1 * s,
+    };
+    let Pieces { bounds, cells } = pieces;
+    let bounds = bounds
+        .into_par_iter()
+        .map(|b| {
+            if b.is_empty() || b.theta.is_full() {
+                b
+            } else {
+                CylBounds {
+                    theta: ThetaInterval::new(
+                        normalize_angle(b.theta.start() - shift),
+                        b.theta.width(),
+                    ),
+                    ..b
+                }
+            }
+        })
+        .collect();
+    Some((rotated, Pieces { bounds, cells }))
+}
+
+/// Sector pieces as boxes in `(r, θ, h)` with θ in `[−π, π]`: an arc crossing the seam gives
+/// two boxes (the cell is referenced on both sides). For the grids.
+pub fn linear_boxes(pieces: &Pieces<CylBounds>) -> Pieces<Aabb> {
+    let mut out = Pieces::default();
+    for (b, &cell) in pieces.bounds.iter().zip(&pieces.cells) {
+        for [lo, hi] in b.theta.ranges() {
+            out.bounds.push(Aabb::new(
+                DVec3::new(b.r[0], lo, b.h[0]),
+                DVec3::new(b.r[1], hi, b.h[1]),
+            ));
+            out.cells.push(cell);
+        }
+    }
+    out
+}
