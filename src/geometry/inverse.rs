@@ -143,6 +143,7 @@ struct Problem {
 struct NewtonEnd {
     param: DVec3,
     residual: f64,
+    jacobian: DMat3,
 }
 
 fn in_cube(p: DVec3, lo: f64, hi: f64) -> bool {
@@ -151,10 +152,15 @@ fn in_cube(p: DVec3, lo: f64, hi: f64) -> bool {
 
 /// Solve `J Δ = −r`, falling back to a Levenberg–Marquardt step where `J` is singular.
 fn newton_step(j: &DMat3, r: DVec3) -> DVec3 {
-    let det = j.determinant();
-    let scale = j.x_axis.length() * j.y_axis.length() * j.z_axis.length();
-    if det.abs() > 1e-10 * scale {
-        let d = -(j.inverse() * r);
+    // Cramer's rule with the cofactors as cross products; det² compared with the product of
+    // the squared column lengths avoids square roots.
+    let (a, b, c) = (j.x_axis, j.y_axis, j.z_axis);
+    let bc = b.cross(c);
+    let det = a.dot(bc);
+    let scale2 = a.length_squared() * b.length_squared() * c.length_squared();
+    if det * det > 1e-20 * scale2 {
+        let inv_det = 1.0 / det;
+        let d = -DVec3::new(r.dot(bc), r.dot(c.cross(a)), r.dot(a.cross(b))) * inv_det;
         if d.is_finite() {
             return d;
         }
@@ -221,6 +227,7 @@ impl Problem {
         NewtonEnd {
             param: p,
             residual: rn,
+            jacobian: j,
         }
     }
 
@@ -337,15 +344,6 @@ fn invert_inner(
     if !(size > 0.0 && size.is_finite()) {
         return Err(InverseFailure::Degenerate);
     }
-    let max_det = super::trilinear::CORNER_PARAMETERS
-        .into_iter()
-        .map(DVec3::from_array)
-        .chain(std::iter::once(DVec3::splat(0.5)))
-        .map(|p| relative_map_and_jacobian(&rel, p).1.determinant().abs())
-        .fold(0.0, f64::max);
-    if max_det <= DEGENERATE_TOLERANCE * size * size * size {
-        return Err(InverseFailure::Degenerate);
-    }
     let prob = Problem {
         rel,
         target: target - corners[0],
@@ -360,6 +358,25 @@ fn invert_inner(
         MAX_NEWTON_ITERATIONS,
         stats,
     );
+    // A degenerate (flat) cell has a singular Jacobian everywhere; checking it only when Newton
+    // ends somewhere singular (or fails) keeps the check off the common path.
+    if end.residual > prob.accept || super::trilinear::is_singular(&end.jacobian) {
+        let max_det = super::trilinear::CORNER_PARAMETERS
+            .into_iter()
+            .map(DVec3::from_array)
+            .chain(std::iter::once(DVec3::splat(0.5)))
+            .map(|p| {
+                relative_map_and_jacobian(&prob.rel, p)
+                    .1
+                    .determinant()
+                    .abs()
+            })
+            .fold(0.0, f64::max);
+        stats.map_evaluations += 9;
+        if max_det <= DEGENERATE_TOLERANCE * size * size * size {
+            return Err(InverseFailure::Degenerate);
+        }
+    }
     let mut outside_root = None;
     if end.residual <= prob.accept {
         if in_cube(end.param, -INSIDE_SLACK, 1.0 + INSIDE_SLACK) {
@@ -371,7 +388,7 @@ fn invert_inner(
         // On a collapsed edge or apex other coordinates map to the same point: prefer the
         // clamped ones if they do.
         let clamped = end.param.clamp(DVec3::ZERO, DVec3::ONE);
-        let rc = (relative_map(&rel, clamped) - prob.target).length();
+        let rc = (relative_map(&prob.rel, clamped) - prob.target).length();
         stats.map_evaluations += 1;
         if rc <= prob.accept {
             return Ok(Solution {
@@ -382,12 +399,12 @@ fn invert_inner(
         // A root outside the cell. If the map does not fold between the cell and the root
         // (det J keeps its sign and stays away from zero), the root is the only one near the
         // cell and the target is outside.
-        let det_root = relative_map_and_jacobian(&rel, end.param).1.determinant();
-        let det_centre = relative_map_and_jacobian(&rel, DVec3::splat(0.5))
+        let det_root = end.jacobian.determinant();
+        let det_centre = relative_map_and_jacobian(&prob.rel, DVec3::splat(0.5))
             .1
             .determinant();
-        stats.map_evaluations += 2;
-        if det_root * det_centre > 0.0 && det_root.abs() > 1e-3 * max_det {
+        stats.map_evaluations += 1;
+        if det_root * det_centre > 0.0 && det_root.abs() > 1e-3 * det_centre.abs() {
             return Ok(Solution {
                 param: end.param,
                 residual: end.residual,
@@ -413,5 +430,79 @@ fn invert_inner(
                 residual: e.residual,
             }),
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::trilinear::{map, CORNER_PARAMETERS};
+
+    fn cell() -> [DVec3; 8] {
+        let mut c = CORNER_PARAMETERS.map(DVec3::from_array);
+        c[6] += DVec3::new(0.3, 0.2, 0.25);
+        c[1] += DVec3::new(0.1, -0.2, 0.05);
+        c
+    }
+
+    #[test]
+    fn converges_quadratically_and_counts() {
+        let c = cell();
+        let p = DVec3::new(0.1, 0.8, 0.35);
+        let inv = invert(&c, map(&c, p), None);
+        let s = inv.outcome.unwrap();
+        assert!((s.param - p).length() < 1e-13);
+        assert!(s.residual <= STOP_TOLERANCE * 2.0);
+        assert_eq!(inv.stats.inversions, 1);
+        assert_eq!(inv.stats.fallbacks, 0);
+        assert!((1..=8).contains(&inv.stats.newton_iterations));
+        // A good guess needs fewer iterations.
+        let warm = invert(&c, map(&c, p), Some(p + DVec3::splat(1e-4)));
+        assert!(warm.stats.newton_iterations < inv.stats.newton_iterations);
+        let mut total = InverseStats::default();
+        total += inv.stats;
+        total += warm.stats;
+        assert_eq!(total.inversions, 2);
+    }
+
+    #[test]
+    fn far_from_origin_keeps_precision() {
+        let c = cell().map(|x| x * 1e-3 + DVec3::new(1e6, -2e6, 3e6));
+        let p = DVec3::new(0.6, 0.3, 0.9);
+        let target = map(&c, p);
+        let q = invert(&c, target, None).param().unwrap();
+        // The target is rounded to ~2e-10 at 3e6; seen in a 1e-3 cell that is ~1e-6.
+        assert!((q - p).abs().max_element() < 2e-6);
+        assert!((map(&c, q) - target).length() <= 1e-9);
+    }
+
+    #[test]
+    fn tetrahedron_apex_and_collapsed_edge() {
+        // Tetrahedron stored as [0, 1, 2, 2, 3, 3, 3, 3].
+        let v = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        let c = [v[0], v[1], v[2], v[2], v[3], v[3], v[3], v[3]];
+        for target in [v[3], (v[2] + v[3]) * 0.5, DVec3::new(0.2, 0.2, 0.2)] {
+            let inv = invert(&c, target, None);
+            let q = inv.param().expect("found");
+            assert!(q.cmpge(DVec3::splat(-1e-9)).all() && q.cmple(DVec3::splat(1.0 + 1e-9)).all());
+            assert!(
+                (map(&c, q) - target).length() <= ACCEPT_TOLERANCE * 2.0,
+                "{target}: {inv:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn clean_failures() {
+        let flat = CORNER_PARAMETERS.map(|p| DVec3::new(p[0], p[1], 0.0));
+        let inv = invert(&flat, DVec3::new(0.3, 0.3, 0.0), None);
+        assert_eq!(inv.outcome, Err(InverseFailure::Degenerate));
+        assert_eq!(inv.stats.failures, 1);
+        assert_eq!(
+            invert(&cell(), DVec3::new(0.5, f64::NAN, 0.5), None).outcome,
+            Err(InverseFailure::NonFinite)
+        );
+        let far = invert(&cell(), DVec3::splat(1e3), None);
+        assert!(far.param().map_or(true, |q| q.max_element() > 1.0));
     }
 }
