@@ -38,8 +38,8 @@ fn lox_post_turns_about_z() {
 #[test]
 fn combustor_turns_about_x() {
     // An 18° sector whose interior grid lines are interpolated, not exact arcs: its axis is
-    // found to 0.11° but 1.6 units (6.6 % of the mesh's diagonal, 5 % of its radius) off the
-    // x axis towards the sector (see the axis module docs).
+    // found to 0.4° but 1.5 units (6 % of the mesh's diagonal, 5 % of its radius) off the x
+    // axis towards the sector (see `cylvol::axis::detect`'s module docs).
     check("combxyz.bin", Axis::X, 1.0, 0.1);
 }
 

@@ -58,12 +58,32 @@
 //! [`MIN_CLEAR_INLIERS`] of the edges are inliers. A Cartesian cube has all its edges inliers
 //! at infinity, so a gain of at most 1: no clear axis.
 //!
+//! # Measured
+//! With VTK's readers feeding [`Mesh::from_parts`](crate::Mesh::from_parts) (release build; angle to the true axis,
+//! distance of the detected origin from the true line ÷ bounding-box diagonal, inliers,
+//! inliers at infinity):
+//!
+//! | mesh | angle | offset | inliers | at infinity | clear |
+//! |---|---|---|---|---|---|
+//! | OpenFOAM mixer (z) | 0.00004° | 5.1·10⁻⁵ | 0.98 | 0.36 | yes |
+//! | LOX post (z) | < 10⁻⁵° | 1.4·10⁻⁹ | 1.00 | 0.34 | yes |
+//! | combustor (x) | 0.40° | 6.2·10⁻² | 0.70 | 0.11 | yes |
+//! | `hexa.vtk` cube | — | — | 1.00 | 1.00 | no |
+//!
+//! The same meshes moved by (10⁶, −10⁶, 10⁶) give the same lines. The combustor's line lies
+//! 1.5 units (5 % of its radius) towards the sector from the x axis: an 18° sector fixes
+//! the radial position of its axis only through its 18° of curvature, and its interior lines
+//! are not exact arcs. A 3.42 M-cell twisted ring takes about 150 ms of CPU time in all
+//! (the sample makes the cost independent of the mesh size, apart from one pass over the
+//! points for the bounds); the scans run on rayon's threads.
+//!
 //! The report also gives box fits: the geometric mean over the sample of (box volume ÷ cell
 //! volume) for cylindrical boxes about the axis and for axis-aligned boxes in the x, y, z
 //! frame the Cartesian structures use (1 is a perfect fit; larger is looser; each cell's log
 //! ratio clamped to [ln 0.5, ln 10⁴]).
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::optimize::{solve4, symmetric_eigen};
 use super::Axis;
@@ -590,7 +610,7 @@ fn refine(
     let mut chart = Chart::new(o, d, scale);
     let mut evals = 0usize;
     let (mut res, mut classes) = (Vec::new(), Vec::new());
-    let (mut plus, mut minus, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut plus, mut scratch) = (Vec::new(), Vec::new());
     // Loss and per-edge weights of a residual vector (2 values per edge).
     let robust = |res: &[f64]| -> (f64, Vec<f64>) {
         let mut total = 0.0;
@@ -606,24 +626,21 @@ fn refine(
     evals += 1;
     let (mut cost, mut weights) = robust(&res);
     let mut lambda = 1e-3;
-    const H: f64 = 1e-7;
+    const H: f64 = 1e-8;
     for _iter in 0..max_iter {
-        // Central-difference Jacobian of the weighted residuals, classes held fixed.
+        // Forward-difference Jacobian of the weighted residuals, classes held fixed.
         let mut cols: [Vec<f64>; 4] = Default::default();
         for (k, col) in cols.iter_mut().enumerate() {
             let mut xp = [0.0; 4];
             xp[k] = H;
             let (op, dp) = chart.line(&xp);
             sample.residuals(n, op, dp, Some(&classes), &mut plus, &mut scratch);
-            xp[k] = -H;
-            let (om, dm) = chart.line(&xp);
-            sample.residuals(n, om, dm, Some(&classes), &mut minus, &mut scratch);
-            evals += 2;
+            evals += 1;
             *col = plus
                 .iter()
-                .zip(&minus)
+                .zip(&res)
                 .enumerate()
-                .map(|(j, (p, q))| (p - q) / (2.0 * H) * weights[j / 2])
+                .map(|(j, (p, q))| (p - q) / H * weights[j / 2])
                 .collect();
         }
         let mut a = [[0.0; 4]; 4];
@@ -784,10 +801,14 @@ pub fn detect_with_report(mesh: &Mesh) -> Detection {
                 points.push((e1 * phi.cos() + e2 * phi.sin()) * (rho * half));
             }
         }
+        // Scored in parallel, the best taken in order (deterministic).
+        let costs: Vec<f64> = points
+            .par_iter()
+            .map(|&o| sample.robust_cost(n_coarse, o, d))
+            .collect();
+        evaluations += points.len();
         let mut best = (f64::INFINITY, DVec3::ZERO);
-        for o in points {
-            let v = sample.robust_cost(n_coarse, o, d);
-            evaluations += 1;
+        for (&v, &o) in costs.iter().zip(&points) {
             if v < best.0 {
                 best = (v, o);
             }
@@ -798,34 +819,49 @@ pub fn detect_with_report(mesh: &Mesh) -> Detection {
     // Local refinement of every start on the coarse sample; among the lines that explain
     // the edges about as well as the best, the one whose cylindrical boxes fit best wins
     // (lines far away sweep extruded meshes too, see the module docs).
-    let mut refined: Vec<(f64, f64, DVec3, DVec3)> = Vec::new();
-    for &(o, d) in &starts {
-        let (o, d, n) = refine(&sample, n_coarse, o, d, size, 20);
-        evaluations += n + 2;
-        let inliers = sample.stats(n_coarse, o, d).0;
-        let fit = sample.cylindrical_fit(n_coarse, o, d);
-        refined.push((inliers, fit, o, d));
-    }
+    let refined: Vec<(f64, f64, DVec3, DVec3, usize)> = starts
+        .par_iter()
+        .map(|&(o, d)| {
+            let (o, d, n) = refine(&sample, n_coarse, o, d, size, 15);
+            let inliers = sample.stats(n_coarse, o, d).0;
+            let fit = sample.cylindrical_fit(n_coarse, o, d);
+            (inliers, fit, o, d, n + 2)
+        })
+        .collect();
+    evaluations += refined.iter().map(|c| c.4).sum::<usize>();
     let top = refined.iter().map(|c| c.0).fold(0.0, f64::max);
-    let Some(&(_, _, o, d)) = refined
+    let Some(&(_, _, o, d, _)) = refined
         .iter()
         .filter(|c| c.0 >= 0.5 * top)
         .min_by(|a, b| a.1.total_cmp(&b.1))
     else {
         return undetected(fallback, n_full);
     };
-    let (o, d, n) = refine(&sample, n_full, o, d, size, 30);
+    let (o, d, n) = refine(&sample, n_full, o, d, size, 12);
     evaluations += n;
     let (inliers, residual) = sample.stats(n_full, o, d);
 
-    // Inliers at infinity: the best straight sweep along a direction normal to d.
+    // Inliers at infinity: the best straight sweep along a direction normal to d, scanned
+    // on the coarse sample every 1°, then counted on the full sample at the best angle and
+    // at eight angles around it.
     let (u, v) = plane_basis(d);
+    let along = |phi: f64| u * phi.cos() + v * phi.sin();
     const STEPS: usize = 180;
+    let step = std::f64::consts::PI / STEPS as f64;
+    let coarse: Vec<usize> = (0..STEPS)
+        .into_par_iter()
+        .map(|j| sample.straight_inliers(n_coarse, along(j as f64 * step)).0)
+        .collect();
+    let best_j = (0..STEPS)
+        .max_by_key(|&j| (coarse[j], std::cmp::Reverse(j)))
+        .unwrap_or(0);
+    let sweeps: Vec<(usize, usize)> = (-4i32..=4)
+        .into_par_iter()
+        .map(|k| sample.straight_inliers(n_full, along((best_j as f64 + k as f64 / 4.0) * step)))
+        .collect();
+    evaluations += STEPS + 9;
     let mut straight = (0usize, 1usize);
-    for j in 0..STEPS {
-        let phi = j as f64 * std::f64::consts::PI / STEPS as f64;
-        let s = sample.straight_inliers(n_full, u * phi.cos() + v * phi.sin());
-        evaluations += 1;
+    for s in sweeps {
         if s.0 > straight.0 {
             straight = s;
         }
