@@ -38,7 +38,8 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         mesh.cell_count(),
         started.elapsed().as_secs_f64()
     ));
-    let info = super::info::describe(&mesh);
+    let detection = cylvol::axis::detect_with_report(&mesh);
+    let info = super::info::describe(&mesh, detection.axis, Some(detection.clear));
     let text = serde_json::to_string_pretty(&info)
         .map_err(|e| Error::Invalid(format!("JSON output failed: {e}")))?;
     println!("{text}");

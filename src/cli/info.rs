@@ -3,6 +3,7 @@
 use serde::Serialize;
 
 use super::InputArgs;
+use cylvol::axis::Axis;
 use cylvol::{Error, Mesh};
 
 /// Arguments of `cylvol info`.
@@ -35,10 +36,16 @@ pub struct Info {
 struct AxisJson {
     origin: [f64; 3],
     direction: [f64; 3],
+    /// `detected` or `given`.
+    source: &'static str,
+    /// For a detected axis: whether the mesh clearly turns about it (false for a Cartesian box).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    clear: Option<bool>,
 }
 
-/// Gathers the description of a mesh.
-pub fn describe(mesh: &Mesh) -> Info {
+/// Gathers the description of a mesh, about the axis given or detected (`clear` as reported by
+/// detection, `None` for a given axis).
+pub fn describe(mesh: &Mesh, axis: Axis, clear: Option<bool>) -> Info {
     let names = |arrays: &[cylvol::DataArray]| -> Vec<String> {
         arrays.iter().map(|a| a.name.clone()).collect()
     };
@@ -50,7 +57,6 @@ pub fn describe(mesh: &Mesh) -> Info {
             scalars.push(n.clone());
         }
     }
-    let axis = cylvol::axis::detect(mesh);
     Info {
         points: mesh.point_count(),
         cells: mesh.cell_count(),
@@ -69,13 +75,16 @@ pub fn describe(mesh: &Mesh) -> Info {
         axis: AxisJson {
             origin: axis.origin.to_array(),
             direction: axis.direction.to_array(),
+            source: if clear.is_some() { "detected" } else { "given" },
+            clear,
         },
     }
 }
 
 pub fn run(args: &InfoArgs) -> Result<(), Error> {
     let mesh = args.input.load()?;
-    let info = describe(&mesh);
+    let (axis, clear) = args.input.axis(&mesh);
+    let info = describe(&mesh, axis, clear);
     if args.json {
         let text = serde_json::to_string_pretty(&info)
             .map_err(|e| Error::Invalid(format!("JSON output failed: {e}")))?;
@@ -107,8 +116,18 @@ pub fn run(args: &InfoArgs) -> Result<(), Error> {
     );
     let (o, d) = (info.axis.origin, info.axis.direction);
     println!(
-        "  axis           origin ({:.6}, {:.6}, {:.6}) direction ({:.6}, {:.6}, {:.6})",
-        o[0], o[1], o[2], d[0], d[1], d[2]
+        "  axis           origin ({:.6}, {:.6}, {:.6}) direction ({:.6}, {:.6}, {:.6}), {}",
+        o[0],
+        o[1],
+        o[2],
+        d[0],
+        d[1],
+        d[2],
+        match clear {
+            None => "given",
+            Some(true) => "detected",
+            Some(false) => "detected, but no clear axis: the mesh does not turn about one",
+        }
     );
     Ok(())
 }

@@ -37,6 +37,9 @@ pub struct InputArgs {
     /// Scalar array to use (`NAME`, `point:NAME`, `cell:NAME`, `NAME[k]` for a component).
     #[arg(long)]
     pub scalar: Option<String>,
+    /// Machine axis instead of the detected one: `x`, `y`, `z`, or `ox,oy,oz:dx,dy,dz`.
+    #[arg(long, value_name = "AXIS")]
+    pub axis: Option<cylvol::axis::Axis>,
 }
 
 impl InputArgs {
@@ -58,6 +61,18 @@ impl InputArgs {
             started.elapsed().as_secs_f64()
         ));
         Ok(mesh)
+    }
+
+    /// The axis given with `--axis`, or the one detected in the mesh, and whether the latter is
+    /// clear (`None` when given).
+    pub fn axis(&self, mesh: &cylvol::Mesh) -> (cylvol::axis::Axis, Option<bool>) {
+        match self.axis {
+            Some(axis) => (axis, None),
+            None => {
+                let d = cylvol::axis::detect_with_report(mesh);
+                (d.axis, Some(d.clear))
+            }
+        }
     }
 }
 
