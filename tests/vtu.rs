@@ -782,6 +782,13 @@ fn big_mesh_timings() {
     use std::time::Instant;
     let mesh = lattice([128, 128, 128]);
     println!("{} cells, {} points", mesh.cell_count(), mesh.point_count());
+    let t = Instant::now();
+    let again = Mesh::from_parts(mesh.clone().into_parts()).unwrap();
+    println!(
+        "Mesh::from_parts alone (validation): {:.2} s",
+        t.elapsed().as_secs_f64()
+    );
+    assert_eq!(again.cell_count(), mesh.cell_count());
     for (label, o) in [
         ("appended raw", VtuOptions::default()),
         (
@@ -817,5 +824,71 @@ fn big_mesh_timings() {
             "{label:>22}: {:7.1} MB, write {write_s:.2} s, read {read_s:.2} s",
             bytes.len() as f64 / 1e6
         );
+    }
+}
+
+/// Writes the fuzzing seeds under `fuzz/seeds/read_vtu/` (tiny files in each mode).
+#[test]
+#[ignore = "writes fuzz/seeds/read_vtu/; run by hand when the writer changes"]
+fn write_fuzz_seeds() {
+    let p = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+    let mesh = Mesh::from_parts(MeshParts {
+        points: vec![p(0., 0., 0.), p(1., 0., 0.), p(0., 1., 0.), p(0., 0., 1.)],
+        cells: vec![CellKind::Tetrahedron.collapse(&[0, 1, 2, 3])],
+        kinds: vec![CellKind::Tetrahedron],
+        point_data: vec![DataArray::scalar("p", vec![0.0, 1.0, 2.0, 3.0])],
+        cell_data: vec![DataArray::vector("v", vec![1.0, 2.0, 3.0])],
+    })
+    .unwrap();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds/read_vtu");
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = VtuOptions {
+        block_size: 16,
+        ..VtuOptions::default()
+    };
+    for (name, o) in [
+        (
+            "ascii.vtu",
+            VtuOptions {
+                encoding: Encoding::Ascii,
+                ..base
+            },
+        ),
+        (
+            "base64.vtu",
+            VtuOptions {
+                encoding: Encoding::Base64,
+                header: HeaderType::UInt32,
+                ..base
+            },
+        ),
+        (
+            "base64-zlib.vtu",
+            VtuOptions {
+                encoding: Encoding::Base64,
+                zlib: Some(6),
+                ..base
+            },
+        ),
+        ("raw.vtu", base),
+        (
+            "raw-zlib-be32.vtu",
+            VtuOptions {
+                zlib: Some(6),
+                header: HeaderType::UInt32,
+                byte_order: ByteOrder::BigEndian,
+                ..base
+            },
+        ),
+        (
+            "appended-base64-zlib.vtu",
+            VtuOptions {
+                encoding: Encoding::AppendedBase64,
+                zlib: Some(1),
+                ..base
+            },
+        ),
+    ] {
+        std::fs::write(dir.join(name), write_to_vec(&mesh, &o)).unwrap();
     }
 }

@@ -693,30 +693,13 @@ fn join_arrays(per_piece: Vec<Vec<DataArray>>) -> Vec<DataArray> {
     joined
 }
 
-/// Reads a VTU file's bytes into a validated mesh.
-pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
-    let parsed = parse_structure(bytes)?;
-    let dec = Decoder {
-        bytes,
-        layout: parsed.layout,
-        appended: parsed.appended,
-    };
-    if let Some(Appended::Raw { start, .. }) = parsed.appended {
-        let mut end = 0;
-        for &(offset, at) in &parsed.appended_arrays {
-            end = end.max(dec.appended_end(offset, at)?);
-        }
-        check_trailer(bytes, start + end, &parsed.resume)?;
-    } else if let Some(Appended::Base64 { text, start }) = parsed.appended {
-        check_trailer(bytes, start + text.len(), &parsed.resume)?;
-    }
-
+/// Joins decoded pieces: points appended, point ids offset, arrays joined by name.
+fn join_pieces(decoded: Vec<PieceData>, pieces: &[PieceDesc]) -> Result<MeshParts, Error> {
     let mut parts = MeshParts::default();
     let mut point_data = Vec::new();
     let mut cell_data = Vec::new();
-    for piece in &parsed.pieces {
+    for (d, piece) in decoded.into_iter().zip(pieces) {
         let base = parts.points.len();
-        let d = decode_piece(&dec, piece)?;
         if (base + d.points.len()) as u64 > u32::MAX as u64 + 1 {
             return Err(err(piece.at, "more than 2³² points in all pieces").into());
         }
@@ -731,6 +714,47 @@ pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
     }
     parts.point_data = join_arrays(point_data);
     parts.cell_data = join_arrays(cell_data);
+    Ok(parts)
+}
+
+/// Reads a VTU file's bytes into a validated mesh.
+pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
+    let parsed = parse_structure(bytes)?;
+    let dec = Decoder {
+        bytes,
+        layout: parsed.layout,
+        appended: parsed.appended,
+    };
+    if let Some(Appended::Raw { start, .. }) = parsed.appended {
+        let mut end = 0;
+        let mut arrays = parsed.appended_arrays.clone();
+        arrays.sort_unstable();
+        arrays.dedup_by_key(|a| a.0);
+        for &(offset, at) in &arrays {
+            end = end.max(dec.appended_end(offset, at)?);
+        }
+        check_trailer(bytes, start + end, &parsed.resume)?;
+    } else if let Some(Appended::Base64 { text, start }) = parsed.appended {
+        check_trailer(bytes, start + text.len(), &parsed.resume)?;
+    }
+
+    let mut decoded = Vec::with_capacity(parsed.pieces.len());
+    for piece in &parsed.pieces {
+        decoded.push(decode_piece(&dec, piece)?);
+    }
+    let parts = if decoded.len() == 1 {
+        // One piece (the usual case): move, do not copy.
+        let d = decoded.pop().map(|d| MeshParts {
+            points: d.points,
+            cells: d.cells,
+            kinds: d.kinds,
+            point_data: d.point_data,
+            cell_data: d.cell_data,
+        });
+        d.unwrap_or_default()
+    } else {
+        join_pieces(decoded, &parsed.pieces)?
+    };
     let mut mesh = Mesh::from_parts(parts)?;
     // Honour the file's active scalars where the arrays survived.
     if let Some(first) = parsed.pieces.first() {
