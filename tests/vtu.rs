@@ -173,7 +173,8 @@ fn several_pieces_are_joined() {
         "",
     );
     let file = format!(
-        "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>{}{}</UnstructuredGrid></VTKFile>",
+        "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>{}\
+         <Piece NumberOfPoints=\"0\" NumberOfCells=\"0\"/>{}</UnstructuredGrid></VTKFile>",
         piece(0.0, 0.0),
         second
     );

@@ -694,7 +694,7 @@ fn join_arrays(per_piece: Vec<Vec<DataArray>>) -> Vec<DataArray> {
 }
 
 /// Joins decoded pieces: points appended, point ids offset, arrays joined by name.
-fn join_pieces(decoded: Vec<PieceData>, pieces: &[PieceDesc]) -> Result<MeshParts, Error> {
+fn join_pieces(decoded: Vec<PieceData>, pieces: &[&PieceDesc]) -> Result<MeshParts, Error> {
     let mut parts = MeshParts::default();
     let mut point_data = Vec::new();
     let mut cell_data = Vec::new();
@@ -738,8 +738,14 @@ pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
         check_trailer(bytes, start + text.len(), &parsed.resume)?;
     }
 
-    let mut decoded = Vec::with_capacity(parsed.pieces.len());
-    for piece in &parsed.pieces {
+    // Empty pieces (parallel writers leave them) may lack arrays altogether: skip them.
+    let pieces: Vec<&PieceDesc> = parsed
+        .pieces
+        .iter()
+        .filter(|p| p.points > 0 || p.cells > 0)
+        .collect();
+    let mut decoded = Vec::with_capacity(pieces.len());
+    for piece in &pieces {
         decoded.push(decode_piece(&dec, piece)?);
     }
     let parts = if decoded.len() == 1 {
@@ -753,11 +759,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
         });
         d.unwrap_or_default()
     } else {
-        join_pieces(decoded, &parsed.pieces)?
+        join_pieces(decoded, &pieces)?
     };
     let mut mesh = Mesh::from_parts(parts)?;
     // Honour the file's active scalars where the arrays survived.
-    if let Some(first) = parsed.pieces.first() {
+    if let Some(first) = pieces.first() {
         let choice = first
             .active_point
             .as_ref()
