@@ -1,0 +1,811 @@
+//! Decoding of VTU data arrays: ascii text, base64, raw bytes, zlib-compressed blocks, 32- and
+//! 64-bit size headers, either byte order, and the ten numeric element types.
+//!
+//! Every size a file states is checked against the bytes really present before anything is
+//! allocated from it; zlib blocks are decompressed into buffers of their stated size and must
+//! fill them exactly.
+
+use std::borrow::Cow;
+
+use flate2::{Decompress, FlushDecompress, Status};
+use rayon::prelude::*;
+
+use crate::error::ReadError;
+
+use super::FORMAT;
+
+/// Most bytes one byte of deflate data can expand to (the format's limit is about 1032).
+const MAX_INFLATE_RATIO: u64 = 1100;
+
+/// The numeric element types of a VTK XML `DataArray`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum ScalarType {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    I64,
+    U64,
+    F32,
+    F64,
+}
+
+impl ScalarType {
+    /// The type named by a `type` attribute (`None` for strings, bits and unknown names).
+    pub fn parse(name: &str) -> Option<ScalarType> {
+        Some(match name {
+            "Int8" | "Char" => ScalarType::I8,
+            "UInt8" | "UnsignedChar" => ScalarType::U8,
+            "Int16" => ScalarType::I16,
+            "UInt16" => ScalarType::U16,
+            "Int32" => ScalarType::I32,
+            "UInt32" => ScalarType::U32,
+            "Int64" | "vtkIdType" => ScalarType::I64,
+            "UInt64" => ScalarType::U64,
+            "Float32" => ScalarType::F32,
+            "Float64" => ScalarType::F64,
+            _ => return None,
+        })
+    }
+
+    /// Bytes per element.
+    pub fn size(self) -> usize {
+        match self {
+            ScalarType::I8 | ScalarType::U8 => 1,
+            ScalarType::I16 | ScalarType::U16 => 2,
+            ScalarType::I32 | ScalarType::U32 | ScalarType::F32 => 4,
+            ScalarType::I64 | ScalarType::U64 | ScalarType::F64 => 8,
+        }
+    }
+
+    fn is_float(self) -> bool {
+        matches!(self, ScalarType::F32 | ScalarType::F64)
+    }
+}
+
+/// How binary data is laid out: from the `VTKFile` attributes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Layout {
+    /// `byte_order="BigEndian"`.
+    pub big_endian: bool,
+    /// `header_type="UInt64"`.
+    pub header64: bool,
+    /// `compressor="vtkZLibDataCompressor"`.
+    pub zlib: bool,
+}
+
+impl Layout {
+    fn header_size(self) -> usize {
+        if self.header64 {
+            8
+        } else {
+            4
+        }
+    }
+
+    fn word(self, b: &[u8]) -> u64 {
+        match (self.header64, self.big_endian) {
+            (true, false) => u64::from_le_bytes(b[..8].try_into().unwrap_or([0; 8])),
+            (true, true) => u64::from_be_bytes(b[..8].try_into().unwrap_or([0; 8])),
+            (false, false) => u32::from_le_bytes(b[..4].try_into().unwrap_or([0; 4])) as u64,
+            (false, true) => u32::from_be_bytes(b[..4].try_into().unwrap_or([0; 4])) as u64,
+        }
+    }
+}
+
+/// A stream of bytes: raw appended data or decoded base64.
+pub(super) trait Source<'a> {
+    /// The next `n` bytes, or an error if fewer remain.
+    fn take(&mut self, n: usize) -> Result<Cow<'a, [u8]>, ReadError>;
+    /// An upper bound on the bytes that remain.
+    fn remaining_max(&self) -> usize;
+    /// The file offset of the next byte (of its encoding, for base64).
+    fn offset(&self) -> u64;
+    /// An error at the current position.
+    fn error(&self, message: String) -> ReadError {
+        ReadError::new(FORMAT, self.offset(), message)
+    }
+}
+
+/// Raw bytes of the appended-data block.
+pub(super) struct RawSource<'a> {
+    data: &'a [u8],
+    pos: usize,
+    base: u64,
+}
+
+impl<'a> RawSource<'a> {
+    /// A source over `data`, which starts at file offset `base`, reading from `pos`.
+    pub fn new(data: &'a [u8], base: usize, pos: usize) -> RawSource<'a> {
+        RawSource {
+            data,
+            pos,
+            base: base as u64,
+        }
+    }
+
+    /// Position within `data` of the next byte.
+    pub fn pos(&self) -> usize {
+        self.pos
+    }
+}
+
+impl<'a> Source<'a> for RawSource<'a> {
+    fn take(&mut self, n: usize) -> Result<Cow<'a, [u8]>, ReadError> {
+        let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len());
+        match end {
+            Some(end) => {
+                let s = &self.data[self.pos..end];
+                self.pos = end;
+                Ok(Cow::Borrowed(s))
+            }
+            None => Err(self.error(format!(
+                "data ends early: {n} bytes needed, {} remain",
+                self.data.len().saturating_sub(self.pos)
+            ))),
+        }
+    }
+
+    fn remaining_max(&self) -> usize {
+        self.data.len().saturating_sub(self.pos)
+    }
+
+    fn offset(&self) -> u64 {
+        self.base + self.pos as u64
+    }
+}
+
+const INVALID: u8 = 0xff;
+const PAD: u8 = 0xfe;
+const SPACE: u8 = 0xfd;
+
+const fn base64_table() -> [u8; 256] {
+    let mut t = [INVALID; 256];
+    let alphabet = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut i = 0;
+    while i < 64 {
+        t[alphabet[i] as usize] = i as u8;
+        i += 1;
+    }
+    t[b'=' as usize] = PAD;
+    t[b' ' as usize] = SPACE;
+    t[b'\t' as usize] = SPACE;
+    t[b'\n' as usize] = SPACE;
+    t[b'\r' as usize] = SPACE;
+    t
+}
+
+static BASE64: [u8; 256] = base64_table();
+
+/// Base64 text decoded on demand. Several independently padded runs one after another (as VTK
+/// writes a compressed array's header and its blocks) decode to their bytes one after another;
+/// white space is ignored.
+pub(super) struct Base64Source<'a> {
+    text: &'a [u8],
+    pos: usize,
+    base: u64,
+    pending: [u8; 3],
+    pending_start: usize,
+    pending_end: usize,
+}
+
+impl<'a> Base64Source<'a> {
+    /// A decoder over `text`, which starts at file offset `base`, decoding from `pos`.
+    pub fn new(text: &'a [u8], base: usize, pos: usize) -> Base64Source<'a> {
+        Base64Source {
+            text,
+            pos,
+            base: base as u64,
+            pending: [0; 3],
+            pending_start: 0,
+            pending_end: 0,
+        }
+    }
+
+    /// The next four significant characters' values (slow path: white space, padding).
+    fn group(&mut self) -> Result<Option<([u8; 4], usize)>, ReadError> {
+        let mut vals = [0u8; 4];
+        let mut n = 0;
+        let group_at = self.pos;
+        while n < 4 {
+            let Some(&c) = self.text.get(self.pos) else {
+                if n == 0 {
+                    return Ok(None);
+                }
+                return Err(ReadError::new(
+                    FORMAT,
+                    self.base + group_at as u64,
+                    "base64 data ends in the middle of a 4-character group",
+                ));
+            };
+            let v = BASE64[c as usize];
+            self.pos += 1;
+            match v {
+                SPACE => continue,
+                INVALID => {
+                    return Err(ReadError::new(
+                        FORMAT,
+                        self.base + self.pos as u64 - 1,
+                        format!("invalid base64 character {:?}", c as char),
+                    ))
+                }
+                _ => {
+                    vals[n] = v;
+                    n += 1;
+                }
+            }
+        }
+        let bytes = match (vals[2] == PAD, vals[3] == PAD) {
+            _ if vals[0] == PAD || vals[1] == PAD => 0,
+            (true, true) => 1,
+            (false, true) => 2,
+            (false, false) => 3,
+            (true, false) => 0,
+        };
+        if bytes == 0 {
+            return Err(ReadError::new(
+                FORMAT,
+                self.base + group_at as u64,
+                "misplaced '=' in base64 data",
+            ));
+        }
+        Ok(Some((vals, bytes)))
+    }
+}
+
+fn decode_group(v: [u8; 4]) -> [u8; 3] {
+    let v = v.map(|x| if x >= 64 { 0 } else { x });
+    [
+        (v[0] << 2) | (v[1] >> 4),
+        (v[1] << 4) | (v[2] >> 2),
+        (v[2] << 6) | v[3],
+    ]
+}
+
+impl<'a> Source<'a> for Base64Source<'a> {
+    fn take(&mut self, n: usize) -> Result<Cow<'a, [u8]>, ReadError> {
+        if n > self.remaining_max() {
+            return Err(self.error(format!(
+                "base64 data ends early: {n} bytes needed, at most {} remain",
+                self.remaining_max()
+            )));
+        }
+        let mut out = Vec::with_capacity(n);
+        let from_pending = (self.pending_end - self.pending_start).min(n);
+        out.extend_from_slice(&self.pending[self.pending_start..self.pending_start + from_pending]);
+        self.pending_start += from_pending;
+        while out.len() < n {
+            // Fast path: four alphabet characters in a row.
+            if let Some(chunk) = self.text.get(self.pos..self.pos + 4) {
+                let v = [
+                    BASE64[chunk[0] as usize],
+                    BASE64[chunk[1] as usize],
+                    BASE64[chunk[2] as usize],
+                    BASE64[chunk[3] as usize],
+                ];
+                if v.iter().all(|&x| x < 64) && n - out.len() >= 3 {
+                    out.extend_from_slice(&decode_group(v));
+                    self.pos += 4;
+                    continue;
+                }
+            }
+            let Some((v, count)) = self.group()? else {
+                return Err(self.error(format!(
+                    "base64 data ends early: {n} bytes needed, {} found",
+                    out.len()
+                )));
+            };
+            let bytes = decode_group(v);
+            let want = (n - out.len()).min(count);
+            out.extend_from_slice(&bytes[..want]);
+            self.pending = bytes;
+            self.pending_start = want;
+            self.pending_end = count;
+        }
+        Ok(Cow::Owned(out))
+    }
+
+    fn remaining_max(&self) -> usize {
+        (self.text.len().saturating_sub(self.pos)) / 4 * 3 + (self.pending_end - self.pending_start)
+    }
+
+    fn offset(&self) -> u64 {
+        self.base + self.pos as u64
+    }
+}
+
+fn read_word<'a>(src: &mut dyn Source<'a>, layout: Layout) -> Result<u64, ReadError> {
+    let b = src.take(layout.header_size())?;
+    Ok(layout.word(&b))
+}
+
+/// Reads one binary array's bytes (header included) and returns its `expected` bytes of
+/// element data, decompressed. `what` names the array in errors.
+pub(super) fn read_binary<'a>(
+    src: &mut dyn Source<'a>,
+    layout: Layout,
+    expected: u64,
+    what: &str,
+) -> Result<Cow<'a, [u8]>, ReadError> {
+    let at = src.offset();
+    let first = read_word(src, layout)?;
+    if !layout.zlib {
+        if first != expected {
+            return Err(ReadError::new(
+                FORMAT,
+                at,
+                format!("{what}: header says {first} bytes, expected {expected}"),
+            ));
+        }
+        let n = usize::try_from(first).map_err(|_| {
+            ReadError::new(FORMAT, at, format!("{what}: {first} bytes is too many"))
+        })?;
+        return src.take(n);
+    }
+    let blocks = read_block_header(src, layout, first, what, at)?;
+    if blocks.total != expected {
+        return Err(ReadError::new(
+            FORMAT,
+            at,
+            format!(
+                "{what}: compressed blocks hold {} bytes, expected {expected}",
+                blocks.total
+            ),
+        ));
+    }
+    let data_at = src.offset();
+    let compressed = src.take(blocks.compressed_total)?;
+    inflate_blocks(&compressed, &blocks, data_at, what).map(Cow::Owned)
+}
+
+/// Skips one binary array (header included) without decoding it; returns nothing but moves
+/// the source past its data.
+pub(super) fn skip_binary<'a>(
+    src: &mut dyn Source<'a>,
+    layout: Layout,
+    what: &str,
+) -> Result<(), ReadError> {
+    let at = src.offset();
+    let first = read_word(src, layout)?;
+    let n = if layout.zlib {
+        read_block_header(src, layout, first, what, at)?.compressed_total
+    } else {
+        usize::try_from(first)
+            .map_err(|_| ReadError::new(FORMAT, at, format!("{what}: {first} bytes is too many")))?
+    };
+    if n > src.remaining_max() {
+        return Err(src.error(format!(
+            "{what}: data ends early: {n} bytes needed, {} remain",
+            src.remaining_max()
+        )));
+    }
+    src.take(n).map(|_| ())
+}
+
+struct Blocks {
+    /// Uncompressed size of each block.
+    sizes: Vec<usize>,
+    /// Compressed size of each block.
+    csizes: Vec<usize>,
+    total: u64,
+    compressed_total: usize,
+}
+
+fn read_block_header<'a>(
+    src: &mut dyn Source<'a>,
+    layout: Layout,
+    nblocks: u64,
+    what: &str,
+    at: u64,
+) -> Result<Blocks, ReadError> {
+    let hs = layout.header_size() as u64;
+    let bad = |m: String| ReadError::new(FORMAT, at, format!("{what}: {m}"));
+    let block = read_word(src, layout)?;
+    let last = read_word(src, layout)?;
+    let words_bytes = nblocks
+        .checked_mul(hs)
+        .filter(|&b| b <= src.remaining_max() as u64)
+        .ok_or_else(|| {
+            bad(format!(
+                "{nblocks} compressed blocks claimed, data ends first"
+            ))
+        })?;
+    let words = src.take(words_bytes as usize)?;
+    if nblocks == 0 {
+        return Ok(Blocks {
+            sizes: Vec::new(),
+            csizes: Vec::new(),
+            total: 0,
+            compressed_total: 0,
+        });
+    }
+    if block == 0 || last > block {
+        return Err(bad(format!(
+            "bad compression header: block size {block}, last block size {last}"
+        )));
+    }
+    let last = if last == 0 { block } else { last };
+    let total = (nblocks - 1)
+        .checked_mul(block)
+        .and_then(|t| t.checked_add(last))
+        .ok_or_else(|| bad("compressed size overflows".into()))?;
+    let mut sizes = Vec::with_capacity(nblocks as usize);
+    let mut csizes = Vec::with_capacity(nblocks as usize);
+    let mut compressed_total: u64 = 0;
+    for (i, w) in words.chunks_exact(hs as usize).enumerate() {
+        let csize = layout.word(w);
+        let usize_ = if i as u64 == nblocks - 1 { last } else { block };
+        if usize_ > csize.saturating_mul(MAX_INFLATE_RATIO).saturating_add(64) {
+            return Err(bad(format!(
+                "block {i} claims {usize_} bytes from {csize} compressed bytes"
+            )));
+        }
+        compressed_total = compressed_total
+            .checked_add(csize)
+            .ok_or_else(|| bad("compressed size overflows".into()))?;
+        sizes.push(usize_ as usize);
+        csizes.push(csize as usize);
+    }
+    if compressed_total > src.remaining_max() as u64 {
+        return Err(bad(format!(
+            "blocks need {compressed_total} compressed bytes, at most {} remain",
+            src.remaining_max()
+        )));
+    }
+    Ok(Blocks {
+        sizes,
+        csizes,
+        total,
+        compressed_total: compressed_total as usize,
+    })
+}
+
+fn inflate_blocks(
+    compressed: &[u8],
+    blocks: &Blocks,
+    data_at: u64,
+    what: &str,
+) -> Result<Vec<u8>, ReadError> {
+    let total = usize::try_from(blocks.total)
+        .map_err(|_| ReadError::new(FORMAT, data_at, format!("{what}: too large")))?;
+    let mut out = vec![0u8; total];
+    // Pair each output chunk with its compressed input and file offset.
+    let mut jobs = Vec::with_capacity(blocks.sizes.len());
+    let mut rest: &mut [u8] = &mut out;
+    let mut cpos = 0usize;
+    for (i, (&size, &csize)) in blocks.sizes.iter().zip(&blocks.csizes).enumerate() {
+        let (chunk, tail) = rest.split_at_mut(size.min(rest.len()));
+        rest = tail;
+        let input = compressed.get(cpos..cpos + csize).unwrap_or(&[]);
+        jobs.push((i, chunk, input, data_at + cpos as u64));
+        cpos += csize;
+    }
+    jobs.into_par_iter()
+        .try_for_each(|(i, chunk, input, at)| inflate(input, chunk, i, at, what))?;
+    Ok(out)
+}
+
+fn inflate(
+    input: &[u8],
+    out: &mut [u8],
+    block: usize,
+    at: u64,
+    what: &str,
+) -> Result<(), ReadError> {
+    let bad = |m: &str| ReadError::new(FORMAT, at, format!("{what}: zlib block {block}: {m}"));
+    let mut z = Decompress::new(true);
+    let mut consumed = 0usize;
+    let mut produced = 0usize;
+    loop {
+        let status = z
+            .decompress(
+                &input[consumed..],
+                &mut out[produced..],
+                FlushDecompress::None,
+            )
+            .map_err(|e| bad(&format!("corrupt data ({e})")))?;
+        let (ci, po) = (z.total_in() as usize, z.total_out() as usize);
+        let progressed = ci != consumed || po != produced;
+        consumed = ci;
+        produced = po;
+        match status {
+            Status::StreamEnd => {
+                return if produced == out.len() {
+                    Ok(())
+                } else {
+                    Err(bad(&format!(
+                        "decompresses to {produced} bytes, the header says {}",
+                        out.len()
+                    )))
+                }
+            }
+            _ if produced == out.len() => {
+                // Full output but no stream end: either more data than stated, or a missing end.
+                let mut probe = [0u8; 1];
+                let status = z
+                    .decompress(&input[consumed..], &mut probe, FlushDecompress::None)
+                    .map_err(|e| bad(&format!("corrupt data ({e})")))?;
+                return match status {
+                    Status::StreamEnd if z.total_out() as usize == out.len() => Ok(()),
+                    _ if z.total_out() as usize > out.len() => Err(bad(&format!(
+                        "decompresses to more than the {} bytes the header says",
+                        out.len()
+                    ))),
+                    _ => Err(bad("the compressed stream is truncated")),
+                };
+            }
+            _ if !progressed || consumed >= input.len() => {
+                return Err(bad("the compressed stream is truncated"));
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Reads `count` elements of `ty` from decoded bytes as `f64`.
+pub(super) fn to_f64(bytes: &[u8], ty: ScalarType, big_endian: bool) -> Vec<f64> {
+    macro_rules! conv {
+        ($t:ty, $n:expr) => {
+            bytes
+                .chunks_exact($n)
+                .map(|c| {
+                    let a: [u8; $n] = c.try_into().unwrap_or([0; $n]);
+                    (if big_endian {
+                        <$t>::from_be_bytes(a)
+                    } else {
+                        <$t>::from_le_bytes(a)
+                    }) as f64
+                })
+                .collect()
+        };
+    }
+    match ty {
+        ScalarType::I8 => bytes.iter().map(|&b| b as i8 as f64).collect(),
+        ScalarType::U8 => bytes.iter().map(|&b| b as f64).collect(),
+        ScalarType::I16 => conv!(i16, 2),
+        ScalarType::U16 => conv!(u16, 2),
+        ScalarType::I32 => conv!(i32, 4),
+        ScalarType::U32 => conv!(u32, 4),
+        ScalarType::I64 => conv!(i64, 8),
+        ScalarType::U64 => conv!(u64, 8),
+        ScalarType::F32 => conv!(f32, 4),
+        ScalarType::F64 => conv!(f64, 8),
+    }
+}
+
+/// Reads integer elements of `ty` from decoded bytes as `i64` (unsigned values beyond
+/// `i64::MAX` saturate; float types are an error left to the caller).
+pub(super) fn to_i64(bytes: &[u8], ty: ScalarType, big_endian: bool) -> Vec<i64> {
+    macro_rules! conv {
+        ($t:ty, $n:expr) => {
+            bytes
+                .chunks_exact($n)
+                .map(|c| {
+                    let a: [u8; $n] = c.try_into().unwrap_or([0; $n]);
+                    let v = if big_endian {
+                        <$t>::from_be_bytes(a)
+                    } else {
+                        <$t>::from_le_bytes(a)
+                    };
+                    i64::try_from(v).unwrap_or(i64::MAX)
+                })
+                .collect()
+        };
+    }
+    match ty {
+        ScalarType::I8 => bytes.iter().map(|&b| b as i8 as i64).collect(),
+        ScalarType::U8 => bytes.iter().map(|&b| b as i64).collect(),
+        ScalarType::I16 => conv!(i16, 2),
+        ScalarType::U16 => conv!(u16, 2),
+        ScalarType::I32 => conv!(i32, 4),
+        ScalarType::U32 => conv!(u32, 4),
+        ScalarType::I64 => conv!(i64, 8),
+        ScalarType::U64 => conv!(u64, 8),
+        ScalarType::F32 | ScalarType::F64 => Vec::new(),
+    }
+}
+
+/// Parses `count` whitespace-separated numbers from ascii text as `f64`.
+pub(super) fn ascii_f64(
+    text: &[u8],
+    base: usize,
+    count: usize,
+    what: &str,
+) -> Result<Vec<f64>, ReadError> {
+    parse_ascii(text, base, count, what, |s| s.parse::<f64>().ok())
+}
+
+/// Parses `count` whitespace-separated integers from ascii text as `i64`.
+pub(super) fn ascii_i64(
+    text: &[u8],
+    base: usize,
+    count: usize,
+    ty: ScalarType,
+    what: &str,
+) -> Result<Vec<i64>, ReadError> {
+    if ty.is_float() {
+        return Err(ReadError::new(
+            FORMAT,
+            base as u64,
+            format!("{what} must have an integer type"),
+        ));
+    }
+    parse_ascii(text, base, count, what, |s| {
+        s.parse::<i64>()
+            .ok()
+            .or_else(|| s.parse::<u64>().ok().map(|_| i64::MAX))
+    })
+}
+
+fn parse_ascii<T>(
+    text: &[u8],
+    base: usize,
+    count: usize,
+    what: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<Vec<T>, ReadError> {
+    let mut out = Vec::with_capacity(count.min(text.len() / 2 + 1));
+    let mut pos = 0;
+    while pos < text.len() {
+        while text.get(pos).is_some_and(|b| b.is_ascii_whitespace()) {
+            pos += 1;
+        }
+        if pos >= text.len() {
+            break;
+        }
+        let start = pos;
+        while text.get(pos).is_some_and(|b| !b.is_ascii_whitespace()) {
+            pos += 1;
+        }
+        let token = &text[start..pos];
+        let value = std::str::from_utf8(token)
+            .ok()
+            .and_then(&parse)
+            .ok_or_else(|| {
+                ReadError::new(
+                    FORMAT,
+                    (base + start) as u64,
+                    format!(
+                        "{what}: bad number {:?}",
+                        String::from_utf8_lossy(&token[..token.len().min(40)])
+                    ),
+                )
+            })?;
+        if out.len() == count {
+            return Err(ReadError::new(
+                FORMAT,
+                (base + start) as u64,
+                format!("{what}: more than the expected {count} values"),
+            ));
+        }
+        out.push(value);
+    }
+    if out.len() != count {
+        return Err(ReadError::new(
+            FORMAT,
+            (base + text.len()) as u64,
+            format!("{what}: {} values, expected {count}", out.len()),
+        ));
+    }
+    Ok(out)
+}
+
+/// Whether integer conversion is possible for this element type.
+pub(super) fn is_integer(ty: ScalarType) -> bool {
+    !ty.is_float()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use base64::Engine;
+
+    fn b64(bytes: &[u8]) -> String {
+        base64::engine::general_purpose::STANDARD.encode(bytes)
+    }
+
+    #[test]
+    fn base64_runs_concatenate_and_ignore_space() {
+        let a = b64(b"ab");
+        let b = b64(b"cdefg");
+        let text = format!(" {a}\n {b} ");
+        let mut src = Base64Source::new(text.as_bytes(), 0, 0);
+        assert_eq!(&*src.take(3).unwrap(), b"abc");
+        assert_eq!(&*src.take(4).unwrap(), b"defg");
+        assert!(src.take(1).is_err());
+    }
+
+    #[test]
+    fn bad_base64_is_an_error() {
+        for bad in ["ab$d", "a=bc", "abc", "=abc"] {
+            let mut src = Base64Source::new(bad.as_bytes(), 0, 0);
+            assert!(src.take(1).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn zlib_blocks_decode_and_lies_are_caught() {
+        use flate2::write::ZlibEncoder;
+        use std::io::Write;
+        let data: Vec<u8> = (0..100u8).collect();
+        let mut blocks = Vec::new();
+        for c in data.chunks(64) {
+            let mut e = ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+            e.write_all(c).unwrap();
+            blocks.push(e.finish().unwrap());
+        }
+        let layout = Layout {
+            big_endian: false,
+            header64: false,
+            zlib: true,
+        };
+        let file = |header: [u32; 3]| {
+            let mut f = Vec::new();
+            for w in header {
+                f.extend_from_slice(&w.to_le_bytes());
+            }
+            for b in &blocks {
+                f.extend_from_slice(&(b.len() as u32).to_le_bytes());
+            }
+            for b in &blocks {
+                f.extend_from_slice(b);
+            }
+            f
+        };
+        let good = file([2, 64, 36]);
+        let mut src = RawSource::new(&good, 0, 0);
+        assert_eq!(
+            &*read_binary(&mut src, layout, 100, "a").unwrap(),
+            &data[..]
+        );
+        // A stated last-block size that disagrees with the stream.
+        let lie = file([2, 64, 30]);
+        let e = read_binary(&mut RawSource::new(&lie, 0, 0), layout, 94, "a").unwrap_err();
+        assert!(e.message.contains("more than"), "{e}");
+        let lie = file([2, 64, 40]);
+        let e = read_binary(&mut RawSource::new(&lie, 0, 0), layout, 104, "a").unwrap_err();
+        assert!(e.message.contains("decompresses to 36"), "{e}");
+        // Corrupt compressed bytes.
+        let mut bad = good.clone();
+        let n = bad.len();
+        bad[n - 20] ^= 0x55;
+        bad[n - 5] ^= 0x55;
+        assert!(read_binary(&mut RawSource::new(&bad, 0, 0), layout, 100, "a").is_err());
+        // Too many blocks claimed.
+        let mut huge = good.clone();
+        huge[..4].copy_from_slice(&u32::MAX.to_le_bytes());
+        assert!(read_binary(&mut RawSource::new(&huge, 0, 0), layout, 100, "a").is_err());
+    }
+
+    #[test]
+    fn element_types_convert_in_both_byte_orders() {
+        let v: i16 = -300;
+        assert_eq!(
+            to_f64(&v.to_be_bytes(), ScalarType::I16, true),
+            vec![-300.0]
+        );
+        assert_eq!(to_i64(&v.to_le_bytes(), ScalarType::I16, false), vec![-300]);
+        assert_eq!(
+            to_i64(&u64::MAX.to_le_bytes(), ScalarType::U64, false),
+            vec![i64::MAX]
+        );
+        assert_eq!(
+            to_f64(&1.5f32.to_be_bytes(), ScalarType::F32, true),
+            vec![1.5]
+        );
+    }
+
+    #[test]
+    fn ascii_counts_are_checked() {
+        assert_eq!(
+            ascii_f64(b" 1 2.5\n-3e2 ", 0, 3, "a").unwrap(),
+            vec![1.0, 2.5, -300.0]
+        );
+        assert!(ascii_f64(b"1 2", 0, 3, "a").is_err());
+        assert!(ascii_f64(b"1 2 3 4", 0, 3, "a").is_err());
+        assert!(ascii_f64(b"1 x 3", 0, 3, "a").is_err());
+        assert!(ascii_i64(b"1 2.5", 0, 2, ScalarType::I32, "a").is_err());
+    }
+}

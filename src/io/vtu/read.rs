@@ -1,0 +1,777 @@
+//! The VTU reader: walks the XML structure (stopping at raw appended data), collects each
+//! piece's arrays, decodes them and assembles a validated [`Mesh`].
+
+use std::borrow::Cow;
+use std::ops::Range;
+
+use glam::DVec3;
+
+use super::decode::{
+    ascii_f64, ascii_i64, is_integer, read_binary, skip_binary, to_f64, to_i64, Base64Source,
+    Layout, RawSource, ScalarType, Source,
+};
+use super::xml::{is_blank, Attr, Event, Scanner};
+use super::FORMAT;
+use crate::error::{Error, ReadError};
+use crate::mesh::{cells_from_vtk, CellKind, DataArray, MeshParts, OffsetStyle};
+use crate::Mesh;
+
+fn err(offset: usize, message: impl Into<String>) -> ReadError {
+    ReadError::new(FORMAT, offset as u64, message)
+}
+
+fn attr<'x>(attrs: &'x [Attr<'_>], name: &str) -> Option<&'x str> {
+    attrs
+        .iter()
+        .find(|a| a.name == name)
+        .map(|a| a.value.as_ref())
+}
+
+/// Where an array's data is.
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum DataFormat {
+    Ascii,
+    Binary,
+    Appended(u64),
+}
+
+/// A `DataArray` element as found in the XML.
+#[derive(Clone, Debug)]
+struct ArrayDesc {
+    name: String,
+    /// `None` for types the reader skips (strings, bits, unknown names).
+    ty: Option<ScalarType>,
+    type_name: String,
+    components: usize,
+    format: DataFormat,
+    /// Byte ranges of the element's own character data.
+    text: Vec<Range<usize>>,
+    /// Byte offset of the start tag.
+    at: usize,
+}
+
+/// The sections of a piece an array can belong to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Section {
+    Points,
+    Cells,
+    PointData,
+    CellData,
+}
+
+#[derive(Debug, Default)]
+struct PieceDesc {
+    points: usize,
+    cells: usize,
+    at: usize,
+    coords: Option<ArrayDesc>,
+    cell_arrays: Vec<ArrayDesc>,
+    point_data: Vec<ArrayDesc>,
+    cell_data: Vec<ArrayDesc>,
+    active_point: Option<String>,
+    active_cell: Option<String>,
+}
+
+/// The appended-data block.
+#[derive(Clone, Copy, Debug)]
+enum Appended<'a> {
+    /// Raw bytes from file offset `start` to the end of the file.
+    Raw { data: &'a [u8], start: usize },
+    /// Base64 text from file offset `start`.
+    Base64 { text: &'a [u8], start: usize },
+}
+
+struct Parsed<'a> {
+    layout: Layout,
+    pieces: Vec<PieceDesc>,
+    appended: Option<Appended<'a>>,
+    /// `(offset, tag offset)` of every appended array anywhere in the file.
+    appended_arrays: Vec<(u64, usize)>,
+    /// Where the XML resumes after a raw appended block, with the open elements.
+    resume: Vec<String>,
+}
+
+fn parse_usize(attrs: &[Attr<'_>], name: &str, tag: &str, at: usize) -> Result<usize, ReadError> {
+    let v = attr(attrs, name).ok_or_else(|| err(at, format!("<{tag}> has no {name}")))?;
+    v.trim()
+        .parse::<usize>()
+        .map_err(|_| err(at, format!("<{tag}> {name}=\"{v}\" is not a count")))
+}
+
+fn file_header(attrs: &[Attr<'_>], at: usize) -> Result<Layout, ReadError> {
+    let ty = attr(attrs, "type").unwrap_or("");
+    if ty != "UnstructuredGrid" {
+        let what = if ty.is_empty() {
+            "no type attribute".to_string()
+        } else {
+            format!("a {ty} dataset")
+        };
+        return Err(err(
+            at,
+            format!("the file holds {what}; only UnstructuredGrid (.vtu) is supported"),
+        ));
+    }
+    let big_endian = match attr(attrs, "byte_order") {
+        None | Some("LittleEndian") => false,
+        Some("BigEndian") => true,
+        Some(o) => return Err(err(at, format!("unknown byte_order \"{o}\""))),
+    };
+    let header64 = match attr(attrs, "header_type") {
+        None | Some("UInt32") => false,
+        Some("UInt64") => true,
+        Some(h) => return Err(err(at, format!("unknown header_type \"{h}\""))),
+    };
+    let zlib = match attr(attrs, "compressor") {
+        None | Some("") => false,
+        Some("vtkZLibDataCompressor") => true,
+        Some(c) => {
+            return Err(err(
+                at,
+                format!("compressor \"{c}\" is not supported (only vtkZLibDataCompressor)"),
+            ))
+        }
+    };
+    Ok(Layout {
+        big_endian,
+        header64,
+        zlib,
+    })
+}
+
+fn array_desc(attrs: &[Attr<'_>], at: usize) -> Result<ArrayDesc, ReadError> {
+    let type_name = attr(attrs, "type").unwrap_or("").to_string();
+    let components = match attr(attrs, "NumberOfComponents") {
+        None => 1,
+        Some(c) => c
+            .trim()
+            .parse::<usize>()
+            .map_err(|_| err(at, format!("NumberOfComponents=\"{c}\" is not a count")))?,
+    };
+    let format = match attr(attrs, "format") {
+        Some("ascii") => DataFormat::Ascii,
+        Some("binary") => DataFormat::Binary,
+        Some("appended") => {
+            let o =
+                attr(attrs, "offset").ok_or_else(|| err(at, "appended DataArray has no offset"))?;
+            DataFormat::Appended(
+                o.trim()
+                    .parse::<u64>()
+                    .map_err(|_| err(at, format!("offset=\"{o}\" is not an offset")))?,
+            )
+        }
+        Some(f) => return Err(err(at, format!("unknown DataArray format \"{f}\""))),
+        None => return Err(err(at, "DataArray has no format")),
+    };
+    Ok(ArrayDesc {
+        name: attr(attrs, "Name").unwrap_or("").to_string(),
+        ty: ScalarType::parse(&type_name),
+        type_name,
+        components,
+        format,
+        text: Vec::new(),
+        at,
+    })
+}
+
+/// Walks the XML part of the file.
+fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
+    let bom = if bytes.starts_with(b"\xEF\xBB\xBF") {
+        3
+    } else {
+        0
+    };
+    let mut sc = Scanner::new(bytes, bom);
+    let mut stack: Vec<&str> = Vec::new();
+    let mut layout = None;
+    let mut pieces: Vec<PieceDesc> = Vec::new();
+    let mut section: Option<Section> = None;
+    // The DataArray being read, and the stack depth it lives at.
+    let mut current: Option<(ArrayDesc, Section, usize)> = None;
+    let mut appended_arrays = Vec::new();
+    let mut seen_grid = false;
+    loop {
+        match sc.next_event()? {
+            Event::Eof => {
+                if let Some(open) = stack.last() {
+                    return Err(err(bytes.len(), format!("the file ends inside <{open}>")));
+                }
+                if layout.is_none() {
+                    return Err(err(0, "not a VTK XML file: no <VTKFile> element"));
+                }
+                break;
+            }
+            Event::Text(range) => {
+                if stack.is_empty() && !is_blank(&bytes[range.clone()]) {
+                    return Err(err(
+                        range.start,
+                        "not a VTK XML file: text outside elements",
+                    ));
+                }
+                if let Some((desc, _, depth)) = current.as_mut() {
+                    if stack.len() == *depth && !is_blank(&bytes[range.clone()]) {
+                        desc.text.push(range);
+                    }
+                }
+            }
+            Event::End { name, offset } => {
+                match stack.pop() {
+                    Some(open) if open == name => {}
+                    Some(open) => {
+                        return Err(err(offset, format!("</{name}> closes <{open}>")));
+                    }
+                    None => return Err(err(offset, format!("</{name}> without <{name}>"))),
+                }
+                if current
+                    .as_ref()
+                    .is_some_and(|(_, _, d)| stack.len() + 1 == *d)
+                {
+                    if let Some((desc, sec, _)) = current.take() {
+                        store(&mut pieces, sec, desc);
+                    }
+                }
+                if matches!(name, "Points" | "Cells" | "PointData" | "CellData")
+                    && stack.last() == Some(&"Piece")
+                {
+                    section = None;
+                }
+                if stack.is_empty() {
+                    // The root element is closed: nothing after it matters but white space.
+                    loop {
+                        match sc.next_event()? {
+                            Event::Eof => break,
+                            Event::Text(r) if is_blank(&bytes[r.clone()]) => {}
+                            _ => return Err(err(sc.pos(), "content after the closing </VTKFile>")),
+                        }
+                    }
+                    break;
+                }
+            }
+            Event::Start {
+                name,
+                attrs,
+                empty,
+                offset,
+                end,
+            } => {
+                let parent = stack.last().copied();
+                match (parent, name) {
+                    (None, "VTKFile") => layout = Some(file_header(&attrs, offset)?),
+                    (None, other) => {
+                        return Err(err(
+                            offset,
+                            format!("not a VTK XML file: the root element is <{other}>"),
+                        ))
+                    }
+                    (Some("VTKFile"), "UnstructuredGrid") => seen_grid = true,
+                    (Some("UnstructuredGrid"), "Piece") => pieces.push(PieceDesc {
+                        points: parse_usize(&attrs, "NumberOfPoints", "Piece", offset)?,
+                        cells: parse_usize(&attrs, "NumberOfCells", "Piece", offset)?,
+                        at: offset,
+                        ..PieceDesc::default()
+                    }),
+                    (Some("Piece"), "Points") => section = Some(Section::Points),
+                    (Some("Piece"), "Cells") => section = Some(Section::Cells),
+                    (Some("Piece"), "PointData") => {
+                        section = Some(Section::PointData);
+                        if let Some(p) = pieces.last_mut() {
+                            p.active_point = attr(&attrs, "Scalars").map(str::to_string);
+                        }
+                    }
+                    (Some("Piece"), "CellData") => {
+                        section = Some(Section::CellData);
+                        if let Some(p) = pieces.last_mut() {
+                            p.active_cell = attr(&attrs, "Scalars").map(str::to_string);
+                        }
+                    }
+                    (Some("VTKFile"), "AppendedData") => {
+                        let Some(layout) = layout else {
+                            return Err(err(offset, "<AppendedData> outside <VTKFile>"));
+                        };
+                        let encoding = attr(&attrs, "encoding").unwrap_or("");
+                        let mut pos = end;
+                        while bytes.get(pos).is_some_and(|b| b.is_ascii_whitespace()) {
+                            pos += 1;
+                        }
+                        if empty || bytes.get(pos) != Some(&b'_') {
+                            return Err(err(pos, "expected '_' at the start of the appended data"));
+                        }
+                        let start = pos + 1;
+                        let rest = bytes.get(start..).unwrap_or(&[]);
+                        let mut resume: Vec<String> = stack.iter().map(|s| s.to_string()).collect();
+                        resume.push("AppendedData".into());
+                        let appended = match encoding {
+                            "raw" => Appended::Raw { data: rest, start },
+                            "base64" => {
+                                let len =
+                                    rest.iter().position(|&b| b == b'<').unwrap_or(rest.len());
+                                Appended::Base64 {
+                                    text: &rest[..len],
+                                    start,
+                                }
+                            }
+                            e => {
+                                return Err(err(
+                                    offset,
+                                    format!("unknown AppendedData encoding \"{e}\""),
+                                ))
+                            }
+                        };
+                        if !seen_grid {
+                            return Err(err(offset, "no <UnstructuredGrid> element"));
+                        }
+                        return Ok(Parsed {
+                            layout,
+                            pieces,
+                            appended: Some(appended),
+                            appended_arrays,
+                            resume,
+                        });
+                    }
+                    (Some(p), "DataArray") => {
+                        let desc = array_desc(&attrs, offset)?;
+                        if let DataFormat::Appended(o) = desc.format {
+                            appended_arrays.push((o, offset));
+                        }
+                        if let (Some(sec), "Points" | "Cells" | "PointData" | "CellData") =
+                            (section, p)
+                        {
+                            if empty {
+                                store(&mut pieces, sec, desc);
+                            } else if current.is_none() {
+                                current = Some((desc, sec, stack.len() + 1));
+                            }
+                        }
+                    }
+                    (Some(_), "Array") if attr(&attrs, "format") == Some("appended") => {
+                        if let Some(o) = attr(&attrs, "offset").and_then(|o| o.parse().ok()) {
+                            appended_arrays.push((o, offset));
+                        }
+                    }
+                    _ => {}
+                }
+                if !empty {
+                    stack.push(name);
+                }
+            }
+        }
+    }
+    let Some(layout) = layout else {
+        return Err(err(0, "not a VTK XML file: no <VTKFile> element"));
+    };
+    if !seen_grid {
+        return Err(err(0, "no <UnstructuredGrid> element"));
+    }
+    Ok(Parsed {
+        layout,
+        pieces,
+        appended: None,
+        appended_arrays,
+        resume: Vec::new(),
+    })
+}
+
+fn store(pieces: &mut [PieceDesc], section: Section, desc: ArrayDesc) {
+    let Some(p) = pieces.last_mut() else { return };
+    match section {
+        Section::Points => {
+            if p.coords.is_none() {
+                p.coords = Some(desc);
+            }
+        }
+        Section::Cells => p.cell_arrays.push(desc),
+        Section::PointData => p.point_data.push(desc),
+        Section::CellData => p.cell_data.push(desc),
+    }
+}
+
+/// Decodes arrays with the file's layout and appended block.
+struct Decoder<'a> {
+    bytes: &'a [u8],
+    layout: Layout,
+    appended: Option<Appended<'a>>,
+}
+
+/// An array's element data: borrowed raw bytes, decoded bytes, or parsed ascii numbers.
+enum Data<'a> {
+    Bytes(Cow<'a, [u8]>),
+    Text(Cow<'a, [u8]>, usize),
+}
+
+impl<'a> Decoder<'a> {
+    /// The character data of an inline array (joined if split by child elements).
+    fn text(&self, desc: &ArrayDesc) -> (Cow<'a, [u8]>, usize) {
+        match desc.text.as_slice() {
+            [] => (Cow::Borrowed(&[][..]), desc.at),
+            [one] => (Cow::Borrowed(&self.bytes[one.clone()]), one.start),
+            many => {
+                let mut joined = Vec::new();
+                for r in many {
+                    joined.extend_from_slice(&self.bytes[r.clone()]);
+                    joined.push(b' ');
+                }
+                (Cow::Owned(joined), many[0].start)
+            }
+        }
+    }
+
+    /// The element data of an array of `count` elements of its type.
+    fn data(&self, desc: &ArrayDesc, ty: ScalarType, count: usize) -> Result<Data<'a>, ReadError> {
+        let what = format!("DataArray \"{}\"", desc.name);
+        let expected = (count as u64)
+            .checked_mul(ty.size() as u64)
+            .ok_or_else(|| err(desc.at, format!("{what}: too many values")))?;
+        match desc.format {
+            DataFormat::Ascii => {
+                let (text, at) = self.text(desc);
+                Ok(Data::Text(text, at))
+            }
+            DataFormat::Binary => {
+                let (text, at) = self.text(desc);
+                let bytes = {
+                    let mut src = Base64Source::new(&text, at, 0);
+                    read_binary(&mut src, self.layout, expected, &what)?.into_owned()
+                };
+                Ok(Data::Bytes(Cow::Owned(bytes)))
+            }
+            DataFormat::Appended(offset) => {
+                let (mut src, _) = self.appended_source(desc, offset)?;
+                read_binary(src.as_mut(), self.layout, expected, &what).map(Data::Bytes)
+            }
+        }
+    }
+
+    fn appended_source(
+        &self,
+        desc: &ArrayDesc,
+        offset: u64,
+    ) -> Result<(Box<dyn Source<'a> + 'a>, usize), ReadError> {
+        let Some(app) = self.appended else {
+            return Err(err(
+                desc.at,
+                format!(
+                    "DataArray \"{}\" is appended but the file has no <AppendedData>",
+                    desc.name
+                ),
+            ));
+        };
+        let len = match app {
+            Appended::Raw { data, .. } => data.len(),
+            Appended::Base64 { text, .. } => text.len(),
+        };
+        let pos = usize::try_from(offset)
+            .ok()
+            .filter(|&o| o <= len)
+            .ok_or_else(|| {
+                err(
+                    desc.at,
+                    format!(
+                    "DataArray \"{}\": offset {offset} is beyond the {len} bytes of appended data",
+                    desc.name
+                ),
+                )
+            })?;
+        Ok(match app {
+            Appended::Raw { data, start } => (Box::new(RawSource::new(data, start, pos)), start),
+            Appended::Base64 { text, start } => {
+                (Box::new(Base64Source::new(text, start, pos)), start)
+            }
+        })
+    }
+
+    fn f64s(&self, desc: &ArrayDesc, count: usize) -> Result<Vec<f64>, ReadError> {
+        let ty = desc.ty.ok_or_else(|| {
+            err(
+                desc.at,
+                format!(
+                    "DataArray \"{}\" has unsupported type \"{}\"",
+                    desc.name, desc.type_name
+                ),
+            )
+        })?;
+        match self.data(desc, ty, count)? {
+            Data::Bytes(b) => Ok(to_f64(&b, ty, self.layout.big_endian)),
+            Data::Text(t, at) => ascii_f64(&t, at, count, &format!("DataArray \"{}\"", desc.name)),
+        }
+    }
+
+    fn i64s(&self, desc: &ArrayDesc, count: usize) -> Result<Vec<i64>, ReadError> {
+        let ty = desc.ty.filter(|&t| is_integer(t)).ok_or_else(|| {
+            err(
+                desc.at,
+                format!(
+                    "DataArray \"{}\" must have an integer type, not \"{}\"",
+                    desc.name, desc.type_name
+                ),
+            )
+        })?;
+        match self.data(desc, ty, count)? {
+            Data::Bytes(b) => Ok(to_i64(&b, ty, self.layout.big_endian)),
+            Data::Text(t, at) => {
+                ascii_i64(&t, at, count, ty, &format!("DataArray \"{}\"", desc.name))
+            }
+        }
+    }
+
+    /// End (within the appended block) of the appended array at `offset`.
+    fn appended_end(&self, offset: u64, at: usize) -> Result<usize, ReadError> {
+        let Some(Appended::Raw { data, start }) = self.appended else {
+            return Ok(0);
+        };
+        let pos = usize::try_from(offset)
+            .ok()
+            .filter(|&o| o <= data.len())
+            .ok_or_else(|| {
+                err(
+                    at,
+                    format!(
+                        "offset {offset} is beyond the {} bytes of appended data",
+                        data.len()
+                    ),
+                )
+            })?;
+        let mut src = RawSource::new(data, start, pos);
+        skip_binary(&mut src, self.layout, "appended array")?;
+        Ok(src.pos())
+    }
+}
+
+/// Checks that after the raw appended block there is only what closes the open elements.
+fn check_trailer(bytes: &[u8], from: usize, open: &[String]) -> Result<(), ReadError> {
+    let mut sc = Scanner::new(bytes, from);
+    let mut open: Vec<&str> = open.iter().map(String::as_str).collect();
+    loop {
+        match sc.next_event()? {
+            Event::Text(r) if is_blank(&bytes[r.clone()]) => {}
+            Event::End { name, offset } => match open.pop() {
+                Some(o) if o == name => {}
+                _ => {
+                    return Err(err(
+                        offset,
+                        format!("unexpected </{name}> after the appended data"),
+                    ))
+                }
+            },
+            Event::Eof if open.is_empty() => return Ok(()),
+            Event::Eof => {
+                return Err(err(
+                    bytes.len(),
+                    format!(
+                        "the file ends inside <{}> (truncated?)",
+                        open.last().copied().unwrap_or("")
+                    ),
+                ))
+            }
+            _ => {
+                return Err(err(
+                    sc.pos(),
+                    "unexpected content after the appended data (truncated or corrupt file?)",
+                ))
+            }
+        }
+    }
+}
+
+/// One piece decoded.
+struct PieceData {
+    points: Vec<DVec3>,
+    cells: Vec<[u32; 8]>,
+    kinds: Vec<CellKind>,
+    point_data: Vec<DataArray>,
+    cell_data: Vec<DataArray>,
+}
+
+fn cell_array<'p>(piece: &'p PieceDesc, name: &str) -> Result<&'p ArrayDesc, ReadError> {
+    piece
+        .cell_arrays
+        .iter()
+        .find(|a| a.name == name)
+        .ok_or_else(|| err(piece.at, format!("<Cells> has no \"{name}\" DataArray")))
+}
+
+fn data_arrays(
+    dec: &Decoder<'_>,
+    descs: &[ArrayDesc],
+    tuples: usize,
+) -> Result<Vec<DataArray>, ReadError> {
+    let mut out = Vec::new();
+    for d in descs {
+        if d.ty.is_none() || d.components == 0 {
+            continue;
+        }
+        let count = tuples
+            .checked_mul(d.components)
+            .ok_or_else(|| err(d.at, format!("DataArray \"{}\": too many values", d.name)))?;
+        out.push(DataArray {
+            name: d.name.clone(),
+            components: d.components,
+            values: dec.f64s(d, count)?,
+        });
+    }
+    Ok(out)
+}
+
+fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<PieceData, Error> {
+    let coords = piece
+        .coords
+        .as_ref()
+        .ok_or_else(|| err(piece.at, "<Piece> has no <Points> DataArray"))?;
+    if coords.components != 3 {
+        return Err(err(
+            coords.at,
+            format!("Points have {} components, expected 3", coords.components),
+        )
+        .into());
+    }
+    let n3 = piece
+        .points
+        .checked_mul(3)
+        .ok_or_else(|| err(piece.at, "too many points"))?;
+    let xyz = dec.f64s(coords, n3)?;
+    let points: Vec<DVec3> = xyz
+        .chunks_exact(3)
+        .map(|c| DVec3::new(c[0], c[1], c[2]))
+        .collect();
+
+    let types_desc = cell_array(piece, "types")?;
+    let offsets_desc = cell_array(piece, "offsets")?;
+    let conn_desc = cell_array(piece, "connectivity")?;
+    let types_i = dec.i64s(types_desc, piece.cells)?;
+    let types: Vec<u8> = types_i
+        .iter()
+        .enumerate()
+        .map(|(i, &t)| {
+            u8::try_from(t).map_err(|_| {
+                err(
+                    types_desc.at,
+                    format!("cell {i} has type {t}, not a VTK cell type"),
+                )
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let offsets = dec.i64s(offsets_desc, piece.cells)?;
+    let conn_len = offsets.last().copied().unwrap_or(0);
+    let conn_len = usize::try_from(conn_len)
+        .map_err(|_| err(offsets_desc.at, format!("the last cell ends at {conn_len}")))?;
+    let connectivity = dec.i64s(conn_desc, conn_len)?;
+    let converted = cells_from_vtk(
+        &connectivity,
+        &offsets,
+        OffsetStyle::Ends,
+        &types,
+        piece.points,
+    )?;
+
+    Ok(PieceData {
+        points,
+        cells: converted.cells,
+        kinds: converted.kinds,
+        point_data: data_arrays(dec, &piece.point_data, piece.points)?,
+        cell_data: data_arrays(dec, &piece.cell_data, piece.cells)?,
+    })
+}
+
+/// Arrays of all pieces joined: those present (same name and components) in every piece.
+fn join_arrays(per_piece: Vec<Vec<DataArray>>) -> Vec<DataArray> {
+    let mut iter = per_piece.into_iter();
+    let Some(mut joined) = iter.next() else {
+        return Vec::new();
+    };
+    for arrays in iter {
+        joined.retain_mut(|a| {
+            match arrays
+                .iter()
+                .find(|b| b.name == a.name && b.components == a.components)
+            {
+                Some(b) => {
+                    a.values.extend_from_slice(&b.values);
+                    true
+                }
+                None => false,
+            }
+        });
+    }
+    joined
+}
+
+/// Joins decoded pieces: points appended, point ids offset, arrays joined by name.
+fn join_pieces(decoded: Vec<PieceData>, pieces: &[&PieceDesc]) -> Result<MeshParts, Error> {
+    let mut parts = MeshParts::default();
+    let mut point_data = Vec::new();
+    let mut cell_data = Vec::new();
+    for (d, piece) in decoded.into_iter().zip(pieces) {
+        let base = parts.points.len();
+        if (base + d.points.len()) as u64 > u32::MAX as u64 + 1 {
+            return Err(err(piece.at, "more than 2³² points in all pieces").into());
+        }
+        let base_u32 = u32::try_from(base).unwrap_or(u32::MAX);
+        parts.points.extend_from_slice(&d.points);
+        parts
+            .cells
+            .extend(d.cells.iter().map(|c| c.map(|i| i + base_u32)));
+        parts.kinds.extend_from_slice(&d.kinds);
+        point_data.push(d.point_data);
+        cell_data.push(d.cell_data);
+    }
+    parts.point_data = join_arrays(point_data);
+    parts.cell_data = join_arrays(cell_data);
+    Ok(parts)
+}
+
+/// Reads a VTU file's bytes into a validated mesh.
+pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
+    let parsed = parse_structure(bytes)?;
+    let dec = Decoder {
+        bytes,
+        layout: parsed.layout,
+        appended: parsed.appended,
+    };
+    if let Some(Appended::Raw { start, .. }) = parsed.appended {
+        let mut end = 0;
+        let mut arrays = parsed.appended_arrays.clone();
+        arrays.sort_unstable();
+        arrays.dedup_by_key(|a| a.0);
+        for &(offset, at) in &arrays {
+            end = end.max(dec.appended_end(offset, at)?);
+        }
+        check_trailer(bytes, start + end, &parsed.resume)?;
+    } else if let Some(Appended::Base64 { text, start }) = parsed.appended {
+        check_trailer(bytes, start + text.len(), &parsed.resume)?;
+    }
+
+    // Empty pieces (parallel writers leave them) may lack arrays altogether: skip them.
+    let pieces: Vec<&PieceDesc> = parsed
+        .pieces
+        .iter()
+        .filter(|p| p.points > 0 || p.cells > 0)
+        .collect();
+    let mut decoded = Vec::with_capacity(pieces.len());
+    for piece in &pieces {
+        decoded.push(decode_piece(&dec, piece)?);
+    }
+    let parts = if decoded.len() == 1 {
+        // One piece (the usual case): move, do not copy.
+        let d = decoded.pop().map(|d| MeshParts {
+            points: d.points,
+            cells: d.cells,
+            kinds: d.kinds,
+            point_data: d.point_data,
+            cell_data: d.cell_data,
+        });
+        d.unwrap_or_default()
+    } else {
+        join_pieces(decoded, &pieces)?
+    };
+    let mut mesh = Mesh::from_parts(parts)?;
+    // Honour the file's active scalars where the arrays survived.
+    if let Some(first) = pieces.first() {
+        let choice = first
+            .active_point
+            .as_ref()
+            .map(|n| format!("point:{n}"))
+            .or_else(|| first.active_cell.as_ref().map(|n| format!("cell:{n}")));
+        if let Some(name) = choice {
+            let _ = mesh.set_active_scalar(&name);
+        }
+    }
+    Ok(mesh)
+}

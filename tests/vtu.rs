@@ -1,0 +1,895 @@
+//! VTU reader and writer: round trips in every mode, files written by VTK itself, our files read
+//! by VTK, and bad input (truncation, corruption, wrong types) giving errors, never panics.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use cylvol::io::vtu::{self, ByteOrder, Encoding, HeaderType, VtuOptions};
+use cylvol::{CellKind, DataArray, Error, Mesh, MeshParts};
+use glam::DVec3;
+
+const PYTHON: &str = "/usr/bin/python3";
+
+fn hexa_vtk() -> &'static str {
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/hexa.vtk")
+}
+
+/// Two hexahedra, a wedge, a pyramid and a tetrahedron, with point scalars, a point vector
+/// and a cell scalar.
+fn small_mesh() -> Mesh {
+    let p = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+    let points = vec![
+        // Hexahedra: a 3×2×2 lattice, x in 0..2.
+        p(0.0, 0.0, 0.0),
+        p(1.0, 0.0, 0.0),
+        p(2.0, 0.0, 0.0),
+        p(0.0, 1.0, 0.0),
+        p(1.0, 1.0, 0.0),
+        p(2.0, 1.0, 0.0),
+        p(0.0, 0.0, 1.0),
+        p(1.0, 0.0, 1.0),
+        p(2.0, 0.0, 1.0),
+        p(0.0, 1.0, 1.0),
+        p(1.0, 1.0, 1.0),
+        p(2.0, 1.0, 1.0),
+        // Wedge top (on the first hexahedron), 12..15.
+        p(0.0, 0.0, 2.0),
+        p(1.0, 0.0, 2.0),
+        p(0.0, 1.0, 2.0),
+        // Pyramid apex (on the second hexahedron), 15.
+        p(1.5, 0.5, 2.1),
+        // Tetrahedron beside them, 16..20.
+        p(3.0, 0.0, 0.0),
+        p(4.0, 0.0, 0.0),
+        p(3.0, 1.0, 0.0),
+        p(3.0, 0.0, 1.0),
+    ];
+    let vtk_cells: Vec<(CellKind, Vec<u32>)> = vec![
+        (CellKind::Hexahedron, vec![0, 1, 4, 3, 6, 7, 10, 9]),
+        (CellKind::Hexahedron, vec![1, 2, 5, 4, 7, 8, 11, 10]),
+        (CellKind::Wedge, vec![6, 7, 9, 12, 13, 14]),
+        (CellKind::Pyramid, vec![7, 8, 11, 10, 15]),
+        (CellKind::Tetrahedron, vec![16, 17, 18, 19]),
+    ];
+    let cells = vtk_cells.iter().map(|(k, ids)| k.collapse(ids)).collect();
+    let kinds = vtk_cells.iter().map(|(k, _)| *k).collect();
+    let pressure = points
+        .iter()
+        .map(|q| q.x + 2.0 * q.y + 3.0 * q.z * q.z - 0.1)
+        .collect();
+    let temperature = points
+        .iter()
+        .map(|q| 300.0 + (q.x * 0.7).sin() * 1e-3)
+        .collect();
+    let velocity = points
+        .iter()
+        .flat_map(|q| [q.y, -q.x, 0.25 * q.z])
+        .collect();
+    Mesh::from_parts(MeshParts {
+        points,
+        cells,
+        kinds,
+        point_data: vec![
+            DataArray::scalar("p", pressure),
+            DataArray::scalar("T <&\"'>", temperature),
+            DataArray::vector("U", velocity),
+        ],
+        cell_data: vec![DataArray::scalar("id", vec![0.0, 1.5, 3.0, 4.5, -6.0])],
+    })
+    .unwrap()
+}
+
+fn all_options() -> Vec<VtuOptions> {
+    let mut out = Vec::new();
+    for encoding in [
+        Encoding::Ascii,
+        Encoding::Base64,
+        Encoding::AppendedRaw,
+        Encoding::AppendedBase64,
+    ] {
+        for zlib in [None, Some(6)] {
+            for header in [HeaderType::UInt32, HeaderType::UInt64] {
+                for byte_order in [ByteOrder::LittleEndian, ByteOrder::BigEndian] {
+                    // Small blocks so compressed arrays span several blocks.
+                    for block_size in [64, 1 << 15] {
+                        out.push(VtuOptions {
+                            encoding,
+                            zlib,
+                            header,
+                            byte_order,
+                            block_size,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+fn write_to_vec(mesh: &Mesh, o: &VtuOptions) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    vtu::write_with(mesh, &mut bytes, o).unwrap();
+    bytes
+}
+
+#[test]
+fn round_trip_in_every_mode() {
+    let mesh = small_mesh();
+    let mut sizes = BTreeMap::new();
+    for o in all_options() {
+        let bytes = write_to_vec(&mesh, &o);
+        let back = vtu::read(&bytes).unwrap_or_else(|e| panic!("{o:?}: {e}"));
+        assert_eq!(back.points(), mesh.points(), "{o:?}");
+        assert_eq!(back.cells(), mesh.cells(), "{o:?}");
+        assert_eq!(back.kinds(), mesh.kinds(), "{o:?}");
+        assert_eq!(back.point_data(), mesh.point_data(), "{o:?}");
+        assert_eq!(back.cell_data(), mesh.cell_data(), "{o:?}");
+        assert_eq!(back.active_scalar(), mesh.active_scalar(), "{o:?}");
+        sizes.insert(format!("{:?}/{:?}", o.encoding, o.zlib), bytes.len());
+    }
+    // The modes really differ: base64 is larger than raw.
+    assert!(sizes["AppendedBase64/None"] > sizes["AppendedRaw/None"]);
+}
+
+#[test]
+fn default_write_is_appended_raw_and_reads_back() {
+    let mesh = small_mesh();
+    let mut bytes = Vec::new();
+    vtu::write(&mesh, &mut bytes).unwrap();
+    let text = String::from_utf8_lossy(&bytes);
+    assert!(text.contains("<AppendedData encoding=\"raw\">"));
+    assert!(text.contains("header_type=\"UInt64\""));
+    assert_eq!(vtu::read(&bytes).unwrap(), mesh);
+}
+
+#[test]
+fn active_cell_scalar_round_trips() {
+    let mut mesh = small_mesh();
+    mesh.set_active_scalar("cell:id").unwrap();
+    let back = vtu::read(&write_to_vec(&mesh, &VtuOptions::default())).unwrap();
+    assert_eq!(back.active_scalar(), mesh.active_scalar());
+}
+
+#[test]
+fn several_pieces_are_joined() {
+    // Two copies of a one-tetrahedron piece, by hand, the second with its own point ids.
+    let piece = |shift: f64, p: f64| {
+        format!(
+            r#"<Piece NumberOfPoints="4" NumberOfCells="1">
+  <PointData Scalars="s"><DataArray type="Float32" Name="s" format="ascii">{p} 1 2 3</DataArray>
+   <DataArray type="Int32" Name="only_first" format="ascii">1 1 1 1</DataArray></PointData>
+  <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">
+   {shift} 0 0  {x1} 0 0  {shift} 1 0  {shift} 0 1</DataArray></Points>
+  <Cells><DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3</DataArray>
+   <DataArray type="Int64" Name="offsets" format="ascii">4</DataArray>
+   <DataArray type="UInt8" Name="types" format="ascii">10</DataArray></Cells></Piece>"#,
+            x1 = shift + 1.0
+        )
+    };
+    let second = piece(5.0, 9.0).replace(
+        "<DataArray type=\"Int32\" Name=\"only_first\" format=\"ascii\">1 1 1 1</DataArray>",
+        "",
+    );
+    let file = format!(
+        "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid>{}\
+         <Piece NumberOfPoints=\"0\" NumberOfCells=\"0\"/>{}</UnstructuredGrid></VTKFile>",
+        piece(0.0, 0.0),
+        second
+    );
+    let mesh = vtu::read(file.as_bytes()).unwrap();
+    assert_eq!(mesh.point_count(), 8);
+    assert_eq!(mesh.cells()[1], [4, 5, 6, 6, 7, 7, 7, 7]);
+    assert_eq!(mesh.points()[5], DVec3::new(6.0, 0.0, 0.0));
+    assert_eq!(
+        mesh.point_data().len(),
+        1,
+        "arrays missing from a piece are dropped"
+    );
+    assert_eq!(
+        mesh.point_data()[0].values,
+        vec![0.0, 1.0, 2.0, 3.0, 9.0, 1.0, 2.0, 3.0]
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// VTK's own reader and writer.
+
+fn vtk_available() -> bool {
+    let ok = Command::new(PYTHON)
+        .args(["-c", "import vtk"])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false);
+    if !ok {
+        eprintln!("note: skipping: `{PYTHON} -c 'import vtk'` failed");
+    }
+    ok
+}
+
+/// Python helper: `gen DIR HEXA` writes VTK files; `summary FILE…` prints what VTK reads.
+const SCRIPT: &str = r#"
+import json, sys, os
+import vtk
+
+def mixed_grid():
+    pts = [(0,0,0),(1,0,0),(2,0,0),(0,1,0),(1,1,0),(2,1,0),(0,0,1),(1,0,1),(2,0,1),(0,1,1),
+           (1,1,1),(2,1,1),(0,0,2),(1,0,2),(0,1,2),(1.5,0.5,2.1),(3,0,0),(4,0,0),(3,1,0),(3,0,1)]
+    cells = [(vtk.VTK_HEXAHEDRON,[0,1,4,3,6,7,10,9]),(vtk.VTK_HEXAHEDRON,[1,2,5,4,7,8,11,10]),
+             (vtk.VTK_WEDGE,[6,7,9,12,13,14]),(vtk.VTK_PYRAMID,[7,8,11,10,15]),
+             (vtk.VTK_TETRA,[16,17,18,19])]
+    g = vtk.vtkUnstructuredGrid()
+    p = vtk.vtkPoints(); p.SetDataTypeToFloat()
+    for q in pts: p.InsertNextPoint(*q)
+    g.SetPoints(p)
+    for t, ids in cells: g.InsertNextCell(t, len(ids), ids)
+    pr = vtk.vtkFloatArray(); pr.SetName("pressure")
+    ve = vtk.vtkFloatArray(); ve.SetName("velocity"); ve.SetNumberOfComponents(3)
+    lab = vtk.vtkStringArray(); lab.SetName("labels")
+    for i, q in enumerate(pts):
+        pr.InsertNextValue(q[0] + 2*q[1] + 3*q[2]*q[2] + 0.1)
+        ve.InsertNextTuple3(q[1], -q[0], 0.25*q[2])
+        lab.InsertNextValue("point %d" % i)
+    g.GetPointData().AddArray(pr); g.GetPointData().SetActiveScalars("pressure")
+    g.GetPointData().AddArray(ve); g.GetPointData().AddArray(lab)
+    reg = vtk.vtkIntArray(); reg.SetName("region")
+    qu = vtk.vtkDoubleArray(); qu.SetName("quality")
+    for i in range(len(cells)):
+        reg.InsertNextValue(7 - 3*i); qu.InsertNextValue(0.5 + i/3.0)
+    g.GetCellData().AddArray(reg); g.GetCellData().AddArray(qu)
+    tv = vtk.vtkDoubleArray(); tv.SetName("TimeValue"); tv.InsertNextValue(1.25)
+    g.GetFieldData().AddArray(tv)
+    note = vtk.vtkStringArray(); note.SetName("note"); note.InsertNextValue("made by VTK")
+    g.GetFieldData().AddArray(note)
+    return g
+
+def hexa(path):
+    r = vtk.vtkUnstructuredGridReader(); r.SetFileName(path); r.Update()
+    return r.GetOutput()
+
+MODES = {
+  "ascii": ("ascii", None, None),
+  "binary": ("binary", None, False),
+  "binary-zlib": ("binary", "zlib", False),
+  "raw": ("appended", None, False),
+  "raw-zlib": ("appended", "zlib", False),
+  "b64": ("appended", None, True),
+  "b64-zlib": ("appended", "zlib", True),
+}
+
+def write(grid, path, mode, header64, pieces=1, compressor=None):
+    w = vtk.vtkXMLUnstructuredGridWriter()
+    w.SetInputData(grid); w.SetFileName(path)
+    data, comp, encode = MODES[mode]
+    {"ascii": w.SetDataModeToAscii, "binary": w.SetDataModeToBinary,
+     "appended": w.SetDataModeToAppended}[data]()
+    if encode is not None: w.SetEncodeAppendedData(encode)
+    comp = compressor or comp
+    {None: w.SetCompressorTypeToNone, "zlib": w.SetCompressorTypeToZLib,
+     "lz4": w.SetCompressorTypeToLZ4}[comp]()
+    if header64: w.SetHeaderTypeToUInt64()
+    else: w.SetHeaderTypeToUInt32()
+    w.SetNumberOfPieces(pieces)
+    w.SetBlockSize(256 if comp else 32768)
+    assert w.Write() == 1, path
+
+def summary(path):
+    r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(path); r.Update()
+    g = r.GetOutput()
+    types = {}
+    for i in range(g.GetNumberOfCells()):
+        t = g.GetCellType(i); types[str(t)] = types.get(str(t), 0) + 1
+    def arrays(d):
+        out = []
+        for i in range(d.GetNumberOfArrays()):
+            a = d.GetAbstractArray(i)
+            if not isinstance(a, vtk.vtkDataArray): continue
+            out.append({"name": a.GetName(), "components": a.GetNumberOfComponents(),
+                        "ranges": [[repr(v) for v in a.GetRange(k)]
+                                   for k in range(a.GetNumberOfComponents())]})
+        return out
+    return {"points": g.GetNumberOfPoints(), "cells": g.GetNumberOfCells(), "types": types,
+            "bounds": [repr(v) for v in g.GetBounds()],
+            "point": arrays(g.GetPointData()), "cell": arrays(g.GetCellData())}
+
+if sys.argv[1] == "gen":
+    out, hexa_path = sys.argv[2], sys.argv[3]
+    m, h = mixed_grid(), hexa(hexa_path)
+    for mode in MODES:
+        for header64 in (False, True):
+            suffix = "%s-%d.vtu" % (mode, 64 if header64 else 32)
+            write(m, os.path.join(out, "mixed-" + suffix), mode, header64)
+            write(h, os.path.join(out, "hexa-" + suffix), mode, header64)
+    write(m, os.path.join(out, "pieces-raw-zlib.vtu"), "raw-zlib", True, pieces=3)
+    write(h, os.path.join(out, "hexa-pieces-b64.vtu"), "b64", False, pieces=4)
+    write(m, os.path.join(out, "lz4.vtu"), "raw", True, compressor="lz4")
+    pw = vtk.vtkXMLPolyDataWriter(); pw.SetFileName(os.path.join(out, "poly.vtp"))
+    s = vtk.vtkSphereSource(); s.Update(); pw.SetInputData(s.GetOutput()); pw.Write()
+else:
+    print(json.dumps([summary(p) for p in sys.argv[2:]]))
+"#;
+
+fn python(args: &[&str]) -> String {
+    let out = Command::new(PYTHON)
+        .arg("-c")
+        .arg(SCRIPT)
+        .args(args)
+        .output()
+        .expect("run python");
+    assert!(
+        out.status.success(),
+        "python failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// What VTK (or we) read from a file: counts, VTK cell types, bounds, per-component ranges.
+#[derive(Debug, PartialEq)]
+struct Summary {
+    points: usize,
+    cells: usize,
+    types: BTreeMap<u8, usize>,
+    bounds: [f64; 6],
+    point: Vec<(String, usize, Vec<[f64; 2]>)>,
+    cell: Vec<(String, usize, Vec<[f64; 2]>)>,
+}
+
+fn num(v: &serde_json::Value) -> f64 {
+    v.as_str().unwrap().parse().unwrap()
+}
+
+fn vtk_summaries(files: &[PathBuf]) -> Vec<Summary> {
+    let mut args = vec!["summary".to_string()];
+    args.extend(files.iter().map(|f| f.to_str().unwrap().to_string()));
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let json: serde_json::Value = serde_json::from_str(&python(&args)).unwrap();
+    let arrays = |v: &serde_json::Value| {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|a| {
+                (
+                    a["name"].as_str().unwrap().to_string(),
+                    a["components"].as_u64().unwrap() as usize,
+                    a["ranges"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|r| [num(&r[0]), num(&r[1])])
+                        .collect(),
+                )
+            })
+            .collect()
+    };
+    json.as_array()
+        .unwrap()
+        .iter()
+        .map(|s| Summary {
+            points: s["points"].as_u64().unwrap() as usize,
+            cells: s["cells"].as_u64().unwrap() as usize,
+            types: s["types"]
+                .as_object()
+                .unwrap()
+                .iter()
+                .map(|(k, v)| (k.parse().unwrap(), v.as_u64().unwrap() as usize))
+                .collect(),
+            bounds: std::array::from_fn(|i| num(&s["bounds"][i])),
+            point: arrays(&s["point"]),
+            cell: arrays(&s["cell"]),
+        })
+        .collect()
+}
+
+fn our_summary(mesh: &Mesh) -> Summary {
+    let arrays = |list: &[DataArray]| {
+        list.iter()
+            .map(|a| {
+                let ranges = (0..a.components)
+                    .map(|k| {
+                        let it = a.values.iter().skip(k).step_by(a.components);
+                        [
+                            it.clone().copied().fold(f64::INFINITY, f64::min),
+                            it.copied().fold(f64::NEG_INFINITY, f64::max),
+                        ]
+                    })
+                    .collect();
+                (a.name.clone(), a.components, ranges)
+            })
+            .collect()
+    };
+    let mut types = BTreeMap::new();
+    for k in mesh.kinds() {
+        *types.entry(k.vtk_type()).or_default() += 1;
+    }
+    Summary {
+        points: mesh.point_count(),
+        cells: mesh.cell_count(),
+        types,
+        bounds: mesh.bounds(),
+        point: arrays(mesh.point_data()),
+        cell: arrays(mesh.cell_data()),
+    }
+}
+
+fn read_file(path: &Path) -> Result<Mesh, Error> {
+    vtu::read(&std::fs::read(path).unwrap())
+}
+
+#[test]
+fn files_written_by_vtk_read_as_vtk_reads_them() {
+    if !vtk_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    python(&["gen", dir.path().to_str().unwrap(), hexa_vtk()]);
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            let name = p.file_name().unwrap().to_str().unwrap();
+            name.ends_with(".vtu") && name != "lz4.vtu"
+        })
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 30, "{files:?}");
+    let expected = vtk_summaries(&files);
+    for (file, want) in files.iter().zip(&expected) {
+        let mesh = read_file(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let got = our_summary(&mesh);
+        assert_eq!(&got, want, "{}", file.display());
+        let name = file.file_name().unwrap().to_str().unwrap();
+        if name.starts_with("hexa-pieces") {
+            // VTK's writer repeats a non-streaming input in each of the 4 pieces.
+            assert_eq!(got.types, BTreeMap::from([(12, 4 * 10_648)]), "{name}");
+        } else if name.starts_with("hexa") {
+            assert_eq!(got.types, BTreeMap::from([(12, 10_648)]), "{name}");
+            assert_eq!(got.point[0].0, "scalars");
+        } else {
+            let n = if name.starts_with("pieces") { 3 } else { 1 };
+            assert_eq!(
+                got.types,
+                BTreeMap::from([(10, n), (12, 2 * n), (13, n), (14, n)])
+            );
+            // The string array is skipped; the numeric ones are kept, the vector whole.
+            let names: Vec<&str> = mesh.point_data().iter().map(|a| a.name.as_str()).collect();
+            assert_eq!(names, ["pressure", "velocity"]);
+            assert_eq!(mesh.point_data()[1].components, 3);
+            assert_eq!(mesh.active_array().unwrap().name, "pressure");
+        }
+    }
+
+    let lz4 = read_file(&dir.path().join("lz4.vtu"))
+        .unwrap_err()
+        .to_string();
+    assert!(lz4.contains("vtkLZ4DataCompressor"), "{lz4}");
+    let poly = read_file(&dir.path().join("poly.vtp"))
+        .unwrap_err()
+        .to_string();
+    assert!(poly.contains("PolyData"), "{poly}");
+}
+
+#[test]
+fn our_files_read_in_vtk() {
+    if !vtk_available() {
+        return;
+    }
+    let mesh = small_mesh();
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for (i, o) in all_options().iter().enumerate() {
+        let path = dir.path().join(format!("m{i}.vtu"));
+        std::fs::write(&path, write_to_vec(&mesh, o)).unwrap();
+        files.push(path);
+    }
+    let want = our_summary(&mesh);
+    for (s, o) in vtk_summaries(&files).iter().zip(all_options()) {
+        assert_eq!(s, &want, "{o:?}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bad input.
+
+/// Lengths spread over `[0, len)`: always including the first and last few.
+fn cut_points(len: usize, n: usize) -> Vec<usize> {
+    let mut v: Vec<usize> = (0..n).map(|i| i * len / n).collect();
+    v.extend(len.saturating_sub(5)..len);
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+#[test]
+fn truncated_files_are_errors() {
+    let mesh = small_mesh();
+    for o in [
+        VtuOptions::default(),
+        VtuOptions {
+            zlib: Some(6),
+            block_size: 64,
+            ..VtuOptions::default()
+        },
+        VtuOptions {
+            encoding: Encoding::Base64,
+            zlib: Some(6),
+            header: HeaderType::UInt32,
+            ..VtuOptions::default()
+        },
+        VtuOptions {
+            encoding: Encoding::AppendedBase64,
+            ..VtuOptions::default()
+        },
+        VtuOptions {
+            encoding: Encoding::Ascii,
+            ..VtuOptions::default()
+        },
+    ] {
+        let bytes = write_to_vec(&mesh, &o);
+        // Everything up to the final '>' matters.
+        let end = bytes.iter().rposition(|&b| b == b'>').unwrap() + 1;
+        for cut in cut_points(end, 200) {
+            assert!(
+                vtu::read(&bytes[..cut]).is_err(),
+                "{o:?}: a file cut at {cut} of {end} bytes was read"
+            );
+        }
+    }
+}
+
+/// `(start, length)` of each appended array's compressed blocks, from the XML offsets and the
+/// 64-bit little-endian headers.
+fn compressed_block_ranges(bytes: &[u8]) -> Vec<(usize, usize)> {
+    let text = String::from_utf8_lossy(bytes);
+    let appended = text.find("<AppendedData").unwrap();
+    let data = appended + text[appended..].find('_').unwrap() + 1;
+    let word = |at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()) as usize;
+    text.match_indices("offset=\"")
+        .map(|(i, m)| {
+            let rest = &text[i + m.len()..];
+            let off: usize = rest[..rest.find('"').unwrap()].parse().unwrap();
+            let at = data + off;
+            let n = word(at);
+            let header = 8 * (3 + n);
+            let len: usize = (0..n).map(|b| word(at + 24 + 8 * b)).sum();
+            (at + header, len)
+        })
+        .collect()
+}
+
+#[test]
+fn corrupt_zlib_data_is_an_error() {
+    let mesh = small_mesh();
+    let o = VtuOptions {
+        zlib: Some(6),
+        ..VtuOptions::default()
+    };
+    let bytes = write_to_vec(&mesh, &o);
+    let ranges = compressed_block_ranges(&bytes);
+    assert_eq!(ranges.len(), 8);
+    let mut tried = 0;
+    for (start, len) in ranges {
+        for i in (0..len).step_by(3) {
+            let mut bad = bytes.clone();
+            bad[start + i] ^= 0x5a;
+            let e = vtu::read(&bad).err().unwrap_or_else(|| {
+                panic!("byte {i} of the {len}-byte block at {start} was corrupted, yet read")
+            });
+            assert!(e.to_string().contains("zlib"), "{e}");
+            tried += 1;
+        }
+    }
+    assert!(tried > 50);
+}
+
+#[test]
+fn corrupt_base64_is_an_error() {
+    let mesh = small_mesh();
+    let o = VtuOptions {
+        encoding: Encoding::Base64,
+        ..VtuOptions::default()
+    };
+    let text = String::from_utf8(write_to_vec(&mesh, &o)).unwrap();
+    // The points array's data line: replace one character with one outside the alphabet.
+    let at = text.find("format=\"binary\">\n").unwrap() + 30;
+    let mut bad = text.clone().into_bytes();
+    bad[at] = b'*';
+    let e = vtu::read(&bad).unwrap_err().to_string();
+    assert!(e.contains("invalid base64 character"), "{e}");
+}
+
+fn replace(bytes: &[u8], from: &str, to: &str) -> Vec<u8> {
+    let at = bytes
+        .windows(from.len())
+        .position(|w| w == from.as_bytes())
+        .unwrap_or_else(|| panic!("{from} not found"));
+    [&bytes[..at], to.as_bytes(), &bytes[at + from.len()..]].concat()
+}
+
+#[test]
+fn wrong_attributes_are_named_in_errors() {
+    let mesh = small_mesh();
+    let ascii = write_to_vec(
+        &mesh,
+        &VtuOptions {
+            encoding: Encoding::Ascii,
+            ..VtuOptions::default()
+        },
+    );
+    let zlib = write_to_vec(
+        &mesh,
+        &VtuOptions {
+            zlib: Some(1),
+            ..VtuOptions::default()
+        },
+    );
+    let cases = [
+        (
+            replace(&ascii, "type=\"UnstructuredGrid\"", "type=\"PolyData\""),
+            "PolyData",
+        ),
+        (
+            replace(
+                &ascii,
+                "type=\"UnstructuredGrid\"",
+                "type=\"PUnstructuredGrid\"",
+            ),
+            "PUnstructuredGrid",
+        ),
+        (
+            replace(&zlib, "vtkZLibDataCompressor", "vtkLZMADataCompressor"),
+            "vtkLZMADataCompressor",
+        ),
+        (
+            replace(
+                &ascii,
+                "type=\"Float64\" Name=\"Points\"",
+                "type=\"Float128\" Name=\"Points\"",
+            ),
+            "Float128",
+        ),
+        (
+            replace(&ascii, "header_type=\"UInt64\"", "header_type=\"UInt16\""),
+            "UInt16",
+        ),
+        (replace(&ascii, "format=\"ascii\"", "format=\"hex\""), "hex"),
+        (
+            replace(
+                &ascii,
+                "byte_order=\"LittleEndian\"",
+                "byte_order=\"Middle\"",
+            ),
+            "Middle",
+        ),
+        (
+            replace(&ascii, "NumberOfPoints=\"20\"", "NumberOfPoints=\"21\""),
+            "expected 63",
+        ),
+        (replace(&ascii, "</Piece>", "</Peace>"), "</Peace>"),
+        (
+            replace(&zlib, "offset=\"0\"", "offset=\"99999999\""),
+            "beyond",
+        ),
+        (b"hello".to_vec(), "not a VTK XML file"),
+        (b"<Foo/>".to_vec(), "<Foo>"),
+    ];
+    for (bytes, needle) in cases {
+        let e = vtu::read(&bytes).unwrap_err();
+        assert!(matches!(e, Error::Read(_)), "{e:?}");
+        assert!(e.to_string().contains(needle), "{needle}: {e}");
+    }
+}
+
+#[test]
+fn unsupported_cells_are_a_mesh_error() {
+    let file = r#"<VTKFile type="UnstructuredGrid"><UnstructuredGrid>
+<Piece NumberOfPoints="3" NumberOfCells="1"><Points>
+<DataArray type="Float32" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0</DataArray>
+</Points><Cells><DataArray type="Int32" Name="connectivity" format="ascii">0 1 2</DataArray>
+<DataArray type="Int32" Name="offsets" format="ascii">3</DataArray>
+<DataArray type="UInt8" Name="types" format="ascii">5</DataArray></Cells></Piece>
+</UnstructuredGrid></VTKFile>"#;
+    let e = vtu::read(file.as_bytes()).unwrap_err();
+    assert!(e.to_string().contains("triangle"), "{e}");
+}
+
+#[test]
+fn byte_swapped_files_read_the_same() {
+    // The same mesh written in both byte orders decodes identically, and the big-endian file
+    // really differs from the little-endian one beyond its header.
+    let mesh = small_mesh();
+    for encoding in [Encoding::AppendedRaw, Encoding::Base64] {
+        let le = write_to_vec(
+            &mesh,
+            &VtuOptions {
+                encoding,
+                ..VtuOptions::default()
+            },
+        );
+        let be = write_to_vec(
+            &mesh,
+            &VtuOptions {
+                encoding,
+                byte_order: ByteOrder::BigEndian,
+                ..VtuOptions::default()
+            },
+        );
+        assert_ne!(
+            replace(&le, "LittleEndian", "BigEndian"),
+            be,
+            "data must be swapped"
+        );
+        assert_eq!(vtu::read(&be).unwrap(), vtu::read(&le).unwrap());
+        // Claiming the wrong byte order gives garbage sizes: an error, not a panic.
+        assert!(vtu::read(&replace(&le, "LittleEndian", "BigEndian")).is_err());
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Timings on a large mesh (not a test of speed: run with `--ignored --nocapture` to see them).
+
+fn lattice(n: [usize; 3]) -> Mesh {
+    let [nx, ny, nz] = n;
+    let id = |i: usize, j: usize, k: usize| (i + (nx + 1) * (j + (ny + 1) * k)) as u32;
+    let mut points = Vec::new();
+    for k in 0..=nz {
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let (r, t, z) = (
+                    1.0 + i as f64 / nx as f64,
+                    j as f64 / ny as f64 * 1.5,
+                    k as f64 / nz as f64,
+                );
+                points.push(DVec3::new(r * t.cos(), r * t.sin(), z));
+            }
+        }
+    }
+    let mut cells = Vec::new();
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                cells.push([
+                    id(i, j, k),
+                    id(i + 1, j, k),
+                    id(i + 1, j + 1, k),
+                    id(i, j + 1, k),
+                    id(i, j, k + 1),
+                    id(i + 1, j, k + 1),
+                    id(i + 1, j + 1, k + 1),
+                    id(i, j + 1, k + 1),
+                ]);
+            }
+        }
+    }
+    let p = points
+        .iter()
+        .map(|q| (q.x * 3.0).sin() * (q.y * 2.0).cos() + q.z)
+        .collect();
+    let kinds = vec![CellKind::Hexahedron; cells.len()];
+    Mesh::from_parts(MeshParts {
+        points,
+        cells,
+        kinds,
+        point_data: vec![DataArray::scalar("p", p)],
+        cell_data: vec![],
+    })
+    .unwrap()
+}
+
+#[test]
+#[ignore = "timings on a 2.1 M-cell mesh; run with --ignored --nocapture"]
+fn big_mesh_timings() {
+    use std::time::Instant;
+    let mesh = lattice([128, 128, 128]);
+    println!("{} cells, {} points", mesh.cell_count(), mesh.point_count());
+    let t = Instant::now();
+    let again = Mesh::from_parts(mesh.clone().into_parts()).unwrap();
+    println!(
+        "Mesh::from_parts alone (validation): {:.2} s",
+        t.elapsed().as_secs_f64()
+    );
+    assert_eq!(again.cell_count(), mesh.cell_count());
+    for (label, o) in [
+        ("appended raw", VtuOptions::default()),
+        (
+            "appended raw zlib 1",
+            VtuOptions {
+                zlib: Some(1),
+                ..VtuOptions::default()
+            },
+        ),
+        (
+            "appended raw zlib 6",
+            VtuOptions {
+                zlib: Some(6),
+                ..VtuOptions::default()
+            },
+        ),
+        (
+            "appended base64",
+            VtuOptions {
+                encoding: Encoding::AppendedBase64,
+                ..VtuOptions::default()
+            },
+        ),
+    ] {
+        let t = Instant::now();
+        let bytes = write_to_vec(&mesh, &o);
+        let write_s = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let back = vtu::read(&bytes).unwrap();
+        let read_s = t.elapsed().as_secs_f64();
+        assert_eq!(back.cell_count(), mesh.cell_count());
+        println!(
+            "{label:>22}: {:7.1} MB, write {write_s:.2} s, read {read_s:.2} s",
+            bytes.len() as f64 / 1e6
+        );
+    }
+}
+
+/// Writes the fuzzing seeds under `fuzz/seeds/read_vtu/` (tiny files in each mode).
+#[test]
+#[ignore = "writes fuzz/seeds/read_vtu/; run by hand when the writer changes"]
+fn write_fuzz_seeds() {
+    let p = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+    let mesh = Mesh::from_parts(MeshParts {
+        points: vec![p(0., 0., 0.), p(1., 0., 0.), p(0., 1., 0.), p(0., 0., 1.)],
+        cells: vec![CellKind::Tetrahedron.collapse(&[0, 1, 2, 3])],
+        kinds: vec![CellKind::Tetrahedron],
+        point_data: vec![DataArray::scalar("p", vec![0.0, 1.0, 2.0, 3.0])],
+        cell_data: vec![DataArray::vector("v", vec![1.0, 2.0, 3.0])],
+    })
+    .unwrap();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds/read_vtu");
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = VtuOptions {
+        block_size: 16,
+        ..VtuOptions::default()
+    };
+    for (name, o) in [
+        (
+            "ascii.vtu",
+            VtuOptions {
+                encoding: Encoding::Ascii,
+                ..base
+            },
+        ),
+        (
+            "base64.vtu",
+            VtuOptions {
+                encoding: Encoding::Base64,
+                header: HeaderType::UInt32,
+                ..base
+            },
+        ),
+        (
+            "base64-zlib.vtu",
+            VtuOptions {
+                encoding: Encoding::Base64,
+                zlib: Some(6),
+                ..base
+            },
+        ),
+        ("raw.vtu", base),
+        (
+            "raw-zlib-be32.vtu",
+            VtuOptions {
+                zlib: Some(6),
+                header: HeaderType::UInt32,
+                byte_order: ByteOrder::BigEndian,
+                ..base
+            },
+        ),
+        (
+            "appended-base64-zlib.vtu",
+            VtuOptions {
+                encoding: Encoding::AppendedBase64,
+                zlib: Some(1),
+                ..base
+            },
+        ),
+    ] {
+        std::fs::write(dir.join(name), write_to_vec(&mesh, &o)).unwrap();
+    }
+}
