@@ -848,3 +848,18 @@ fn print_read_time_of_large_binary_file() {
         start.elapsed().as_secs_f64()
     );
 }
+
+/// The fuzzer's seeds are valid files, so fuzzing starts from deep inside the reader.
+#[test]
+fn fuzz_seeds_are_valid_files() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/fuzz/seeds/read_legacy_vtk");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let m = legacy::read(&std::fs::read(&path).unwrap())
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert!(m.cell_count() >= 2, "{}", path.display());
+        seen += 1;
+    }
+    assert!(seen >= 6);
+}
