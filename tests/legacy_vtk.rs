@@ -838,6 +838,12 @@ fn print_read_time_of_large_binary_file() {
     let back = legacy::read(&bytes).unwrap();
     let elapsed = start.elapsed();
     assert_eq!(back.cell_count(), n);
+    let start = std::time::Instant::now();
+    Mesh::from_parts(back.into_parts()).unwrap();
+    eprintln!(
+        "of which validation takes about {:.3} s",
+        start.elapsed().as_secs_f64()
+    );
     let mixer_bytes = std::fs::read(MIXER).unwrap();
     let start = std::time::Instant::now();
     legacy::read(&mixer_bytes).unwrap();

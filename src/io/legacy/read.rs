@@ -457,49 +457,25 @@ impl<'a> Parser<'a> {
         if a == 0 {
             return Ok((vec![0], Vec::new()));
         }
-        // Classic layout: 4-byte ints in binary files.
+        // Classic layout: 4-byte ints in binary files, split into starts and ids as read.
         let at = self.c.pos();
         let what = What {
             section: "CELLS",
             unit: "values",
         };
-        let mut list = self.values_i64(ValueType::Int, b, what, at)?;
-        // Split in place: counts become offsets, ids move down over them.
-        let mut offsets = Vec::with_capacity(a.min(list.len()) + 1);
-        offsets.push(0i64);
-        let (mut read, mut write) = (0usize, 0usize);
-        for cell in 0..a {
-            let Some(&count) = list.get(read) else {
-                return Err(self.err(
-                    at,
-                    format!("CELLS lists {cell} cells in {b} values, but claims {a} cells"),
-                ));
-            };
-            let count = usize::try_from(count)
-                .ok()
-                .filter(|&k| k < list.len() - read)
-                .ok_or_else(|| {
-                    self.err(
-                        at,
-                        format!(
-                            "CELLS: cell {cell} claims {count} points, but only {} values remain",
-                            list.len() - read - 1
-                        ),
-                    )
-                })?;
-            list.copy_within(read + 1..read + 1 + count, write);
-            read += 1 + count;
-            write += count;
-            offsets.push(write as i64);
-        }
-        if read != list.len() {
-            return Err(self.err(
-                at,
-                format!("CELLS claims {b} values, but its {a} cells use {read}"),
-            ));
-        }
-        list.truncate(write);
-        Ok((offsets, list))
+        let split = if self.binary {
+            let block = self.binary_block(ValueType::Int, b, 1, what)?;
+            split_counted(a, block.len() / 4, |i| {
+                block
+                    .get(4 * i..4 * i + 4)
+                    .and_then(|w| w.try_into().ok())
+                    .map_or(-1, |w| i64::from(i32::from_be_bytes(w)))
+            })
+        } else {
+            let list = self.values_i64(ValueType::Int, b, what, at)?;
+            split_counted(a, list.len(), |i| list.get(i).copied().unwrap_or(-1))
+        };
+        split.map_err(|message| self.err(at, message))
     }
 
     fn cell_types(&mut self) -> Result<Vec<u8>> {
@@ -802,6 +778,45 @@ impl<'a> Parser<'a> {
     }
 }
 
+/// Splits a classic cell list of `len` values (`value(i)` is the i-th), a vertex count before
+/// each of `cells` cells' ids, into cell starts (`cells + 1`) and connectivity.
+fn split_counted(
+    cells: usize,
+    len: usize,
+    value: impl Fn(usize) -> i64,
+) -> std::result::Result<(Vec<i64>, Vec<i64>), String> {
+    let mut starts = Vec::with_capacity(cells.min(len) + 1);
+    starts.push(0i64);
+    let mut connectivity = Vec::with_capacity(len.saturating_sub(cells));
+    let mut read = 0usize;
+    for cell in 0..cells {
+        if read >= len {
+            return Err(format!(
+                "CELLS lists {cell} cells in {len} values, but claims {cells} cells"
+            ));
+        }
+        let count = value(read);
+        let remaining = len - read - 1;
+        let count = usize::try_from(count)
+            .ok()
+            .filter(|&k| k <= remaining)
+            .ok_or_else(|| {
+                format!(
+                    "CELLS: cell {cell} claims {count} points, but only {remaining} values remain"
+                )
+            })?;
+        connectivity.extend((read + 1..read + 1 + count).map(&value));
+        read += 1 + count;
+        starts.push(connectivity.len() as i64);
+    }
+    if read != len {
+        return Err(format!(
+            "CELLS claims {len} values, but its {cells} cells use {read}"
+        ));
+    }
+    Ok((starts, connectivity))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -812,5 +827,25 @@ mod tests {
         assert_eq!(decode_name(b"100%"), "100%");
         assert_eq!(decode_name(b"%2"), "%2");
         assert_eq!(decode_name(b"%zz"), "%zz");
+    }
+
+    #[test]
+    fn classic_cell_lists_split_into_starts_and_ids() {
+        let list = [3i64, 7, 8, 9, 1, 5];
+        let get = |i: usize| list[i];
+        assert_eq!(
+            split_counted(2, 6, get),
+            Ok((vec![0, 3, 4], vec![7, 8, 9, 5]))
+        );
+        assert!(split_counted(3, 6, get)
+            .unwrap_err()
+            .contains("lists 2 cells"));
+        assert!(split_counted(1, 6, get).unwrap_err().contains("use 4"));
+        let bad = [5i64, 1, 2];
+        assert!(split_counted(1, 3, |i| bad[i])
+            .unwrap_err()
+            .contains("only 2 values remain"));
+        let negative = [-1i64, 1];
+        assert!(split_counted(1, 2, |i| negative[i]).is_err());
     }
 }
