@@ -1,0 +1,851 @@
+//! The legacy VTK reader: header, then the sections of an `UNSTRUCTURED_GRID` or
+//! `STRUCTURED_GRID` in whatever order they come, then the mesh.
+
+use glam::DVec3;
+
+use super::cursor::{show, Cursor, Token};
+use super::values::{decode_f64, decode_i64, parse_f64, parse_i64, ValueType};
+use crate::error::{Error, ReadError};
+use crate::io::structured::hexahedra;
+use crate::mesh::{cells_from_vtk, Association, CellKind, DataArray, Mesh, MeshParts, OffsetStyle};
+
+/// The dataset types this reader turns into meshes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Dataset {
+    Unstructured,
+    Structured,
+}
+
+/// What a value block is, for messages: `"POINTS"` section, counted in `"points"`.
+#[derive(Clone, Copy)]
+struct What<'s> {
+    section: &'s str,
+    unit: &'s str,
+}
+
+/// A section's values and the offset of its keyword.
+struct At<T> {
+    value: T,
+    offset: usize,
+}
+
+/// Everything read from the file, before it becomes a mesh.
+struct Parsed {
+    dataset: Dataset,
+    points: Option<At<Vec<DVec3>>>,
+    dims: Option<At<[usize; 3]>>,
+    /// Cell starts (`n + 1` entries) and connectivity.
+    cells: Option<At<(Vec<i64>, Vec<i64>)>>,
+    types: Option<At<Vec<u8>>>,
+    point_count: Option<At<usize>>,
+    cell_count: Option<At<usize>>,
+    point_data: Vec<DataArray>,
+    cell_data: Vec<DataArray>,
+}
+
+struct Parser<'a> {
+    c: Cursor<'a>,
+    binary: bool,
+}
+
+type Result<T> = std::result::Result<T, ReadError>;
+
+/// Reads a legacy VTK file's bytes into a mesh (see [`super::read`]).
+pub(super) fn read(bytes: &[u8]) -> std::result::Result<Mesh, Error> {
+    let mut parser = Parser {
+        c: Cursor::new(bytes),
+        binary: false,
+    };
+    let parsed = parser.parse()?;
+    parser.build_mesh(parsed)
+}
+
+/// Decodes VTK's `%XX` escapes in names (the writer escapes spaces and other special bytes).
+fn decode_name(word: &[u8]) -> String {
+    let mut out = Vec::with_capacity(word.len());
+    let mut i = 0;
+    while i < word.len() {
+        let hex = |b: u8| (b as char).to_digit(16);
+        if word[i] == b'%' && i + 2 < word.len() {
+            if let (Some(h), Some(l)) = (hex(word[i + 1]), hex(word[i + 2])) {
+                out.push((h * 16 + l) as u8);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(word[i]);
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+impl<'a> Parser<'a> {
+    fn err(&self, offset: usize, message: impl Into<String>) -> ReadError {
+        self.c.error(offset, message)
+    }
+
+    /// The next word, or an error saying what was expected where the file ends.
+    fn expect(&mut self, what: &str) -> Result<Token<'a>> {
+        self.c
+            .token()
+            .ok_or_else(|| self.err(self.c.len(), format!("file ends where {what} was expected")))
+    }
+
+    /// The next word, which must be `keyword` (any case).
+    fn keyword(&mut self, keyword: &str, context: &str) -> Result<Token<'a>> {
+        let t = self.expect(&format!("{keyword} ({context})"))?;
+        if t.is(keyword) {
+            Ok(t)
+        } else {
+            Err(self.err(
+                t.offset,
+                format!("expected {keyword} ({context}), found '{}'", t.show()),
+            ))
+        }
+    }
+
+    /// A non-negative integer count.
+    fn count(&mut self, what: &str) -> Result<usize> {
+        let t = self.expect(what)?;
+        parse_i64(t.text)
+            .and_then(|v| usize::try_from(v).ok())
+            .ok_or_else(|| {
+                self.err(
+                    t.offset,
+                    format!(
+                        "expected {what} (a non-negative integer), found '{}'",
+                        t.show()
+                    ),
+                )
+            })
+    }
+
+    fn value_type(&mut self, what: &str) -> Result<ValueType> {
+        let t = self.expect(&format!("the data type of {what}"))?;
+        ValueType::parse(t.text).map_err(|m| self.err(t.offset, format!("{what}: {m}")))
+    }
+
+    fn truncated(&self, what: What, done: usize, total: usize) -> ReadError {
+        self.err(
+            self.c.len(),
+            format!(
+                "file ends inside {} after {done} of {total} {}",
+                what.section, what.unit
+            ),
+        )
+    }
+
+    fn too_large(&self, offset: usize, what: What) -> ReadError {
+        self.err(offset, format!("{} is too large to exist", what.section))
+    }
+
+    /// The raw bytes of `tuples × comps` binary values.
+    fn binary_block(
+        &mut self,
+        ty: ValueType,
+        tuples: usize,
+        comps: usize,
+        what: What,
+    ) -> Result<&'a [u8]> {
+        let start = self.c.pos();
+        let n = tuples
+            .checked_mul(comps)
+            .and_then(|n| n.checked_mul(ty.size()))
+            .ok_or_else(|| self.too_large(start, what))?;
+        if n == 0 {
+            return Ok(&[]);
+        }
+        self.c
+            .binary(n)
+            .map_err(|available| self.truncated(what, available / (comps * ty.size()), tuples))
+    }
+
+    /// Reads `tuples × comps` values of type `ty` as `f64`.
+    fn values_f64(
+        &mut self,
+        ty: ValueType,
+        tuples: usize,
+        comps: usize,
+        what: What,
+    ) -> Result<Vec<f64>> {
+        if self.binary {
+            let block = self.binary_block(ty, tuples, comps, what)?;
+            let mut out = Vec::with_capacity(block.len() / ty.size());
+            decode_f64(ty, block, &mut out);
+            return Ok(out);
+        }
+        let n = tuples
+            .checked_mul(comps)
+            .ok_or_else(|| self.too_large(self.c.pos(), what))?;
+        let mut out = Vec::with_capacity(n.min(self.c.remaining() / 2 + 1));
+        for i in 0..n {
+            let t = self
+                .c
+                .token()
+                .ok_or_else(|| self.truncated(what, i / comps, tuples))?;
+            // VTK reads `float` text into a float: round the same way, so values agree.
+            let parsed = if ty == ValueType::Float {
+                std::str::from_utf8(t.text)
+                    .ok()
+                    .and_then(|s| s.parse::<f32>().ok())
+                    .map(f64::from)
+            } else {
+                parse_f64(t.text)
+            };
+            let v = parsed.ok_or_else(|| {
+                self.err(
+                    t.offset,
+                    format!("'{}' in {} is not a number", t.show(), what.section),
+                )
+            })?;
+            out.push(v);
+        }
+        Ok(out)
+    }
+
+    /// Reads `n` integer values of type `ty` as `i64` (cell arrays).
+    fn values_i64(
+        &mut self,
+        ty: ValueType,
+        n: usize,
+        what: What,
+        ty_at: usize,
+    ) -> Result<Vec<i64>> {
+        if !ty.is_integer() {
+            return Err(self.err(ty_at, format!("{} must hold integers", what.section)));
+        }
+        if self.binary {
+            let block = self.binary_block(ty, n, 1, what)?;
+            let mut out = Vec::with_capacity(block.len() / ty.size());
+            decode_i64(ty, block, &mut out);
+            return Ok(out);
+        }
+        let mut out = Vec::with_capacity(n.min(self.c.remaining() / 2 + 1));
+        for i in 0..n {
+            let t = self.c.token().ok_or_else(|| self.truncated(what, i, n))?;
+            let v = parse_i64(t.text).ok_or_else(|| {
+                self.err(
+                    t.offset,
+                    format!("'{}' in {} is not an integer", t.show(), what.section),
+                )
+            })?;
+            out.push(v);
+        }
+        Ok(out)
+    }
+
+    /// Skips a VTK 9 `METADATA` block (and its `INFORMATION`) if one comes next: lines up to
+    /// the first blank one, as VTK reads it.
+    fn skip_metadata(&mut self) {
+        while self
+            .c
+            .peek_token()
+            .is_some_and(|t| t.is("METADATA") || t.is("INFORMATION"))
+        {
+            let _ = self.c.token();
+            self.skip_block();
+        }
+    }
+
+    /// Skips the rest of the current line, then lines up to and including a blank one.
+    fn skip_block(&mut self) {
+        let _ = self.c.line();
+        while let Some(line) = self.c.line() {
+            if line.iter().all(u8::is_ascii_whitespace) {
+                break;
+            }
+        }
+    }
+
+    fn parse(&mut self) -> Result<Parsed> {
+        let dataset = self.header()?;
+        let mut p = Parsed {
+            dataset,
+            points: None,
+            dims: None,
+            cells: None,
+            types: None,
+            point_count: None,
+            cell_count: None,
+            point_data: Vec::new(),
+            cell_data: Vec::new(),
+        };
+        // The attribute section (POINT_DATA or CELL_DATA) arrays currently belong to.
+        let mut section: Option<(Association, usize)> = None;
+        while let Some(t) = self.c.token() {
+            let at = t.offset;
+            let duplicate = |this: &Self, present: bool| {
+                if present {
+                    Err(this.err(at, format!("a second {} section", t.show())))
+                } else {
+                    Ok(())
+                }
+            };
+            if t.is("POINTS") {
+                duplicate(self, p.points.is_some())?;
+                let points = self.points()?;
+                p.points = Some(At {
+                    value: points,
+                    offset: at,
+                });
+            } else if t.is("DIMENSIONS") && dataset == Dataset::Structured {
+                duplicate(self, p.dims.is_some())?;
+                let dims = [
+                    self.count("the i dimension")?,
+                    self.count("the j dimension")?,
+                    self.count("the k dimension")?,
+                ];
+                p.dims = Some(At {
+                    value: dims,
+                    offset: at,
+                });
+            } else if t.is("CELLS") && dataset == Dataset::Unstructured {
+                duplicate(self, p.cells.is_some())?;
+                let cells = self.cells()?;
+                p.cells = Some(At {
+                    value: cells,
+                    offset: at,
+                });
+            } else if t.is("CELL_TYPES") && dataset == Dataset::Unstructured {
+                duplicate(self, p.types.is_some())?;
+                let types = self.cell_types()?;
+                p.types = Some(At {
+                    value: types,
+                    offset: at,
+                });
+            } else if t.is("POINT_DATA") || t.is("CELL_DATA") {
+                let association = if t.is("POINT_DATA") {
+                    Association::Point
+                } else {
+                    Association::Cell
+                };
+                let slot = match association {
+                    Association::Point => &p.point_count,
+                    Association::Cell => &p.cell_count,
+                };
+                duplicate(self, slot.is_some())?;
+                let n = self.count(&format!("the number of tuples of {}", t.show()))?;
+                let count = Some(At {
+                    value: n,
+                    offset: at,
+                });
+                match association {
+                    Association::Point => p.point_count = count,
+                    Association::Cell => p.cell_count = count,
+                }
+                section = Some((association, n));
+            } else if t.is("FIELD") {
+                let arrays = self.field(section)?;
+                match section {
+                    Some((Association::Point, _)) => p.point_data.extend(arrays),
+                    Some((Association::Cell, _)) => p.cell_data.extend(arrays),
+                    None => {} // dataset-level field data (TimeValue …): not per point or cell
+                }
+            } else if t.is("METADATA") || t.is("INFORMATION") {
+                self.skip_block();
+            } else if let Some((association, n)) = section {
+                if let Some(array) = self.attribute(t, association, n)? {
+                    match association {
+                        Association::Point => p.point_data.push(array),
+                        Association::Cell => p.cell_data.push(array),
+                    }
+                }
+            } else {
+                return Err(self.err(
+                    at,
+                    format!(
+                        "unexpected keyword '{}' in a {} dataset",
+                        t.show(),
+                        match dataset {
+                            Dataset::Unstructured => "UNSTRUCTURED_GRID",
+                            Dataset::Structured => "STRUCTURED_GRID",
+                        }
+                    ),
+                ));
+            }
+        }
+        Ok(p)
+    }
+
+    /// The four header lines; returns the dataset type.
+    fn header(&mut self) -> Result<Dataset> {
+        const MAGIC: &[u8] = b"# vtk DataFile Version";
+        let first = self.c.line().unwrap_or_default();
+        if first.len() < MAGIC.len() || !first[..MAGIC.len()].eq_ignore_ascii_case(MAGIC) {
+            return Err(self.err(
+                0,
+                format!(
+                    "not a legacy VTK file: the first line should start with '# vtk DataFile Version', found '{}'",
+                    show(first)
+                ),
+            ));
+        }
+        if self.c.line().is_none() {
+            return Err(self.err(self.c.len(), "file ends inside the header (no title line)"));
+        }
+        let t = self.expect("ASCII or BINARY")?;
+        self.binary = if t.is("ASCII") {
+            false
+        } else if t.is("BINARY") {
+            true
+        } else {
+            return Err(self.err(
+                t.offset,
+                format!("expected ASCII or BINARY, found '{}'", t.show()),
+            ));
+        };
+        self.keyword("DATASET", "after the file type")?;
+        let t = self.expect("the dataset type")?;
+        if t.is("UNSTRUCTURED_GRID") {
+            Ok(Dataset::Unstructured)
+        } else if t.is("STRUCTURED_GRID") {
+            Ok(Dataset::Structured)
+        } else {
+            Err(self.err(
+                t.offset,
+                format!(
+                    "dataset type {} is not supported (only UNSTRUCTURED_GRID and STRUCTURED_GRID)",
+                    t.show()
+                ),
+            ))
+        }
+    }
+
+    fn points(&mut self) -> Result<Vec<DVec3>> {
+        let n = self.count("the number of points")?;
+        let ty = self.value_type("POINTS")?;
+        let what = What {
+            section: "POINTS",
+            unit: "points",
+        };
+        let v = self.values_f64(ty, n, 3, what)?;
+        self.skip_metadata();
+        Ok(v.chunks_exact(3)
+            .map(|c| DVec3::new(c[0], c[1], c[2]))
+            .collect())
+    }
+
+    /// `CELLS`, in the classic layout (a count before each cell's ids) or VTK 5.1's
+    /// (`OFFSETS` and `CONNECTIVITY` arrays). Returns cell starts (`n + 1`) and connectivity.
+    fn cells(&mut self) -> Result<(Vec<i64>, Vec<i64>)> {
+        let a = self.count("the number of cells")?;
+        let b = self.count("the size of the cell list")?;
+        if self.c.peek_token().is_some_and(|t| t.is("OFFSETS")) {
+            let _ = self.c.token();
+            let ty_at = self.c.pos();
+            let ty = self.value_type("OFFSETS")?;
+            let what = What {
+                section: "CELLS OFFSETS",
+                unit: "offsets",
+            };
+            let offsets = self.values_i64(ty, a, what, ty_at)?;
+            self.skip_metadata();
+            self.keyword("CONNECTIVITY", "after the CELLS OFFSETS")?;
+            let ty_at = self.c.pos();
+            let ty = self.value_type("CONNECTIVITY")?;
+            let what = What {
+                section: "CELLS CONNECTIVITY",
+                unit: "ids",
+            };
+            let connectivity = self.values_i64(ty, b, what, ty_at)?;
+            self.skip_metadata();
+            if offsets.is_empty() {
+                return Ok((vec![0], connectivity));
+            }
+            return Ok((offsets, connectivity));
+        }
+        if a == 0 {
+            return Ok((vec![0], Vec::new()));
+        }
+        // Classic layout: 4-byte ints in binary files, split into starts and ids as read.
+        let at = self.c.pos();
+        let what = What {
+            section: "CELLS",
+            unit: "values",
+        };
+        let split = if self.binary {
+            let block = self.binary_block(ValueType::Int, b, 1, what)?;
+            split_counted(a, block.len() / 4, |i| {
+                block
+                    .get(4 * i..4 * i + 4)
+                    .and_then(|w| w.try_into().ok())
+                    .map_or(-1, |w| i64::from(i32::from_be_bytes(w)))
+            })
+        } else {
+            let list = self.values_i64(ValueType::Int, b, what, at)?;
+            split_counted(a, list.len(), |i| list.get(i).copied().unwrap_or(-1))
+        };
+        split.map_err(|message| self.err(at, message))
+    }
+
+    fn cell_types(&mut self) -> Result<Vec<u8>> {
+        let n = self.count("the number of cell types")?;
+        let at = self.c.pos();
+        let what = What {
+            section: "CELL_TYPES",
+            unit: "cell types",
+        };
+        let codes = self.values_i64(ValueType::Int, n, what, at)?;
+        self.skip_metadata();
+        codes
+            .iter()
+            .enumerate()
+            .map(|(i, &code)| {
+                u8::try_from(code).map_err(|_| {
+                    self.err(at, format!("cell {i} has an invalid cell type code {code}"))
+                })
+            })
+            .collect()
+    }
+
+    /// A `FIELD name n` block: its arrays, each checked against the attribute section's tuple
+    /// count when there is one.
+    fn field(&mut self, section: Option<(Association, usize)>) -> Result<Vec<DataArray>> {
+        let _name = self.expect("the FIELD name")?;
+        let n = self.count("the number of FIELD arrays")?;
+        let mut arrays = Vec::new();
+        for _ in 0..n {
+            let name = self.expect("a FIELD array name")?;
+            if name.text == b"NULL_ARRAY" {
+                continue;
+            }
+            let array_name = decode_name(name.text);
+            let comps = self.count(&format!("the components of FIELD array '{array_name}'"))?;
+            let tuples = self.count(&format!("the tuples of FIELD array '{array_name}'"))?;
+            let ty = self.value_type(&format!("FIELD array '{array_name}'"))?;
+            let section_name = format!("FIELD array '{array_name}'");
+            let what = What {
+                section: &section_name,
+                unit: "tuples",
+            };
+            let values = self.values_f64(ty, tuples, comps, what)?;
+            self.skip_metadata();
+            if let Some((association, expected)) = section {
+                if tuples != expected {
+                    return Err(self.err(
+                        name.offset,
+                        format!(
+                            "{association} FIELD array '{array_name}' has {tuples} tuples, but the section has {expected}"
+                        ),
+                    ));
+                }
+                if comps > 0 {
+                    arrays.push(DataArray {
+                        name: array_name,
+                        components: comps,
+                        values,
+                    });
+                }
+            }
+        }
+        Ok(arrays)
+    }
+
+    /// One attribute of a `POINT_DATA` / `CELL_DATA` section with `n` tuples: the array to keep
+    /// (scalars, vectors, normals), or `None` for what is read and dropped.
+    fn attribute(
+        &mut self,
+        t: Token<'a>,
+        association: Association,
+        n: usize,
+    ) -> Result<Option<DataArray>> {
+        let label = |kind: &str, name: &str| format!("{association} {kind} '{name}'");
+        if t.is("SCALARS") {
+            let name = decode_name(self.expect("the SCALARS name")?.text);
+            let ty = self.value_type(&label("SCALARS", &name))?;
+            let mut comps = 1;
+            let next = self.expect("LOOKUP_TABLE after SCALARS")?;
+            let next = if next.is("LOOKUP_TABLE") {
+                next
+            } else {
+                comps = parse_i64(next.text)
+                    .and_then(|v| usize::try_from(v).ok())
+                    .filter(|&v| v >= 1)
+                    .ok_or_else(|| {
+                        self.err(
+                            next.offset,
+                            format!(
+                                "SCALARS '{name}': expected a number of components or LOOKUP_TABLE, found '{}'",
+                                next.show()
+                            ),
+                        )
+                    })?;
+                self.expect("LOOKUP_TABLE after SCALARS")?
+            };
+            if !next.is("LOOKUP_TABLE") {
+                return Err(self.err(
+                    next.offset,
+                    format!(
+                        "SCALARS '{name}' must be followed by LOOKUP_TABLE, found '{}'",
+                        next.show()
+                    ),
+                ));
+            }
+            let _table = self.expect("the LOOKUP_TABLE name")?;
+            let section = label("SCALARS", &name);
+            let values = self.values_f64(
+                ty,
+                n,
+                comps,
+                What {
+                    section: &section,
+                    unit: "tuples",
+                },
+            )?;
+            self.skip_metadata();
+            return Ok(Some(DataArray {
+                name,
+                components: comps,
+                values,
+            }));
+        }
+        let (keep, fixed_comps) = if t.is("VECTORS") || t.is("NORMALS") {
+            (true, Some(3))
+        } else if t.is("TENSORS") {
+            (false, Some(9))
+        } else if t.is("TENSORS6") {
+            (false, Some(6))
+        } else if t.is("GLOBAL_IDS") || t.is("PEDIGREE_IDS") || t.is("EDGE_FLAGS") {
+            (false, Some(1))
+        } else if t.is("TEXTURE_COORDINATES") {
+            (false, None)
+        } else if t.is("COLOR_SCALARS") {
+            let name = decode_name(self.expect("the COLOR_SCALARS name")?.text);
+            let comps = self.count(&format!("the components of COLOR_SCALARS '{name}'"))?;
+            let ty = if self.binary {
+                ValueType::UnsignedChar
+            } else {
+                ValueType::Float
+            };
+            let section = label("COLOR_SCALARS", &name);
+            self.values_f64(
+                ty,
+                n,
+                comps,
+                What {
+                    section: &section,
+                    unit: "tuples",
+                },
+            )?;
+            self.skip_metadata();
+            return Ok(None);
+        } else if t.is("LOOKUP_TABLE") {
+            let name = decode_name(self.expect("the LOOKUP_TABLE name")?.text);
+            let size = self.count(&format!("the size of LOOKUP_TABLE '{name}'"))?;
+            let ty = if self.binary {
+                ValueType::UnsignedChar
+            } else {
+                ValueType::Float
+            };
+            let section = format!("LOOKUP_TABLE '{name}'");
+            self.values_f64(
+                ty,
+                size,
+                4,
+                What {
+                    section: &section,
+                    unit: "colours",
+                },
+            )?;
+            return Ok(None);
+        } else {
+            return Err(self.err(
+                t.offset,
+                format!("unknown keyword '{}' in {association} data", t.show()),
+            ));
+        };
+        let kind = t.show();
+        let name = decode_name(self.expect(&format!("the {kind} name"))?.text);
+        let comps = match fixed_comps {
+            Some(c) => c,
+            None => {
+                let c = self.count(&format!("the dimension of {kind} '{name}'"))?;
+                if !(1..=3).contains(&c) {
+                    return Err(self.err(
+                        self.c.pos(),
+                        format!("{kind} '{name}' has dimension {c}; expected 1 to 3"),
+                    ));
+                }
+                c
+            }
+        };
+        let ty = self.value_type(&label(&kind, &name))?;
+        let section = label(&kind, &name);
+        let values = self.values_f64(
+            ty,
+            n,
+            comps,
+            What {
+                section: &section,
+                unit: "tuples",
+            },
+        )?;
+        self.skip_metadata();
+        Ok(keep.then_some(DataArray {
+            name,
+            components: comps,
+            values,
+        }))
+    }
+
+    /// Checks the sections against each other and builds the mesh.
+    fn build_mesh(&self, p: Parsed) -> std::result::Result<Mesh, Error> {
+        let end = self.c.len();
+        let points = p
+            .points
+            .ok_or_else(|| self.err(end, "the file has no POINTS section"))?;
+        let n_points = points.value.len();
+        let (cells, kinds) = match p.dataset {
+            Dataset::Unstructured => match p.cells {
+                None => (Vec::new(), Vec::new()),
+                Some(cells) => {
+                    let (offsets, connectivity) = cells.value;
+                    let n_cells = offsets.len().saturating_sub(1);
+                    let types = p.types.ok_or_else(|| {
+                        self.err(end, "the file has CELLS but no CELL_TYPES section")
+                    })?;
+                    if types.value.len() != n_cells {
+                        return Err(self
+                            .err(
+                                types.offset,
+                                format!(
+                                    "CELL_TYPES has {} entries, but CELLS (at byte {}) has {n_cells} cells",
+                                    types.value.len(),
+                                    cells.offset
+                                ),
+                            )
+                            .into());
+                    }
+                    let converted = cells_from_vtk(
+                        &connectivity,
+                        &offsets,
+                        OffsetStyle::Starts,
+                        &types.value,
+                        n_points,
+                    )?;
+                    (converted.cells, converted.kinds)
+                }
+            },
+            Dataset::Structured => {
+                let dims = p
+                    .dims
+                    .ok_or_else(|| self.err(end, "the STRUCTURED_GRID has no DIMENSIONS"))?;
+                let [ni, nj, nk] = dims.value;
+                let expected = ni.checked_mul(nj).and_then(|v| v.checked_mul(nk));
+                if expected != Some(n_points) {
+                    return Err(self
+                        .err(
+                            points.offset,
+                            format!(
+                                "DIMENSIONS {ni} {nj} {nk} (at byte {}) need {} points, but POINTS has {n_points}",
+                                dims.offset,
+                                expected.map_or("too many".to_string(), |e| e.to_string())
+                            ),
+                        )
+                        .into());
+                }
+                let cells = hexahedra(dims.value, &points.value);
+                let kinds = vec![CellKind::Hexahedron; cells.len()];
+                (cells, kinds)
+            }
+        };
+        for (declared, actual, keyword, what) in [
+            (&p.point_count, n_points, "POINT_DATA", "points"),
+            (&p.cell_count, cells.len(), "CELL_DATA", "cells"),
+        ] {
+            if let Some(d) = declared {
+                if d.value != actual {
+                    return Err(self
+                        .err(
+                            d.offset,
+                            format!(
+                                "{keyword} has {} tuples, but the dataset has {actual} {what}",
+                                d.value
+                            ),
+                        )
+                        .into());
+                }
+            }
+        }
+        let mesh = Mesh::from_parts(MeshParts {
+            points: points.value,
+            cells,
+            kinds,
+            point_data: p.point_data,
+            cell_data: p.cell_data,
+        })?;
+        Ok(mesh)
+    }
+}
+
+/// Splits a classic cell list of `len` values (`value(i)` is the i-th), a vertex count before
+/// each of `cells` cells' ids, into cell starts (`cells + 1`) and connectivity.
+fn split_counted(
+    cells: usize,
+    len: usize,
+    value: impl Fn(usize) -> i64,
+) -> std::result::Result<(Vec<i64>, Vec<i64>), String> {
+    let mut starts = Vec::with_capacity(cells.min(len) + 1);
+    starts.push(0i64);
+    let mut connectivity = Vec::with_capacity(len.saturating_sub(cells));
+    let mut read = 0usize;
+    for cell in 0..cells {
+        if read >= len {
+            return Err(format!(
+                "CELLS lists {cell} cells in {len} values, but claims {cells} cells"
+            ));
+        }
+        let count = value(read);
+        let remaining = len - read - 1;
+        let count = usize::try_from(count)
+            .ok()
+            .filter(|&k| k <= remaining)
+            .ok_or_else(|| {
+                format!(
+                    "CELLS: cell {cell} claims {count} points, but only {remaining} values remain"
+                )
+            })?;
+        connectivity.extend((read + 1..read + 1 + count).map(&value));
+        read += 1 + count;
+        starts.push(connectivity.len() as i64);
+    }
+    if read != len {
+        return Err(format!(
+            "CELLS claims {len} values, but its {cells} cells use {read}"
+        ));
+    }
+    Ok((starts, connectivity))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_percent_decoded() {
+        assert_eq!(decode_name(b"my%20array"), "my array");
+        assert_eq!(decode_name(b"100%"), "100%");
+        assert_eq!(decode_name(b"%2"), "%2");
+        assert_eq!(decode_name(b"%zz"), "%zz");
+    }
+
+    #[test]
+    fn classic_cell_lists_split_into_starts_and_ids() {
+        let list = [3i64, 7, 8, 9, 1, 5];
+        let get = |i: usize| list[i];
+        assert_eq!(
+            split_counted(2, 6, get),
+            Ok((vec![0, 3, 4], vec![7, 8, 9, 5]))
+        );
+        assert!(split_counted(3, 6, get)
+            .unwrap_err()
+            .contains("lists 2 cells"));
+        assert!(split_counted(1, 6, get).unwrap_err().contains("use 4"));
+        let bad = [5i64, 1, 2];
+        assert!(split_counted(1, 3, |i| bad[i])
+            .unwrap_err()
+            .contains("only 2 values remain"));
+        let negative = [-1i64, 1];
+        assert!(split_counted(1, 2, |i| negative[i]).is_err());
+    }
+}
