@@ -49,6 +49,10 @@ fn info_on_the_mixer_gives_counts_scalars_and_axis() {
     assert_eq!(v["cells"], 33_600);
     assert_eq!(v["cell_types"]["hexahedron"], 33_600);
     assert_eq!(v["cell_types"]["wedge"], 0);
+    // The default is the first point array whose range is not constant: `k` in file order.
+    assert_eq!(v["active_scalar"], "k");
+    let out = cylvol(&["info", data("mixer.vtk").to_str().unwrap(), "--json", "--scalar", "p"]);
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["active_scalar"], "p");
     let range = v["scalar_range"].as_array().unwrap();
     assert!(
