@@ -1,0 +1,195 @@
+//! [`Accel`]: one of the four structures built over a mesh, with point location (the cell test
+//! by the inverse trilinear map) and the statistics the talk reports.
+
+use std::time::Instant;
+
+use glam::DVec3;
+
+use super::bvh::{build_bvh, BvhParams, BvhStats};
+use super::grid::{build_grid, GridParams, GridStats};
+use super::space::{
+    cartesian_pieces, cylindrical_pieces, linear_boxes, seam_frame, Coordinates,
+    DEFAULT_STRADDLE_SECTORS,
+};
+use super::{Counters, Structure, StructureKind};
+use crate::axis::Axis;
+use crate::geometry::containment::locate_in_cell;
+use crate::geometry::cylindrical::CylFrame;
+use crate::{Error, Mesh};
+
+/// Build parameters of all four structures.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AccelParams {
+    /// Densities of the grids.
+    pub grid: GridParams,
+    /// Leaf size and binning of the BVHs.
+    pub bvh: BvhParams,
+    /// Sectors a cell straddling the axis is cut into (cylindrical structures).
+    pub straddle_sectors: usize,
+}
+
+impl Default for AccelParams {
+    fn default() -> Self {
+        AccelParams {
+            grid: GridParams::default(),
+            bvh: BvhParams::default(),
+            straddle_sectors: DEFAULT_STRADDLE_SECTORS,
+        }
+    }
+}
+
+/// The figures of a built structure (`cylvol stats`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StructureStats {
+    /// A grid's.
+    Grid(GridStats),
+    /// A BVH's.
+    Bvh(BvhStats),
+}
+
+impl StructureStats {
+    /// Heap bytes held.
+    pub fn bytes(&self) -> usize {
+        match self {
+            StructureStats::Grid(g) => g.bytes,
+            StructureStats::Bvh(b) => b.bytes,
+        }
+    }
+
+    /// References held (cell ids in grid cells; pieces in BVH leaves).
+    pub fn references(&self) -> usize {
+        match self {
+            StructureStats::Grid(g) => g.references,
+            StructureStats::Bvh(b) => b.references,
+        }
+    }
+
+    /// Build time in seconds, cell bounds included.
+    pub fn build_s(&self) -> f64 {
+        match self {
+            StructureStats::Grid(g) => g.build_s,
+            StructureStats::Bvh(b) => b.build_s,
+        }
+    }
+}
+
+/// A structure built over a mesh.
+#[derive(Clone, Debug)]
+pub struct Accel {
+    kind: StructureKind,
+    axis: Axis,
+    params: AccelParams,
+    coordinates: Coordinates,
+    structure: Structure,
+    build_s: f64,
+}
+
+impl Accel {
+    /// Builds `kind` over `mesh`; cylindrical structures work about `axis` (Cartesian ones
+    /// ignore it). Fails only for an unusable axis.
+    pub fn build(mesh: &Mesh, kind: StructureKind, axis: &Axis, params: &AccelParams) -> Result<Accel, Error> {
+        let started = Instant::now();
+        let (coordinates, structure) = if kind.is_cylindrical() {
+            let bad_axis = || Error::Invalid(format!("cannot build {kind} about the axis {axis:?}"));
+            let frame = CylFrame::new(axis.origin, axis.direction).ok_or_else(bad_axis)?;
+            let pieces = cylindrical_pieces(mesh, &frame, params.straddle_sectors);
+            let (frame, pieces) = seam_frame(axis, pieces).ok_or_else(bad_axis)?;
+            let coordinates = Coordinates::Cylindrical(frame);
+            let structure = if kind.is_grid() {
+                Structure::Grid(build_grid(coordinates, &linear_boxes(&pieces), &params.grid))
+            } else {
+                Structure::CylBvh(build_bvh(&pieces, &params.bvh))
+            };
+            (coordinates, structure)
+        } else {
+            let pieces = cartesian_pieces(mesh);
+            let structure = if kind.is_grid() {
+                Structure::Grid(build_grid(Coordinates::Cartesian, &pieces, &params.grid))
+            } else {
+                Structure::CartBvh(build_bvh(&pieces, &params.bvh))
+            };
+            (Coordinates::Cartesian, structure)
+        };
+        Ok(Accel {
+            kind,
+            axis: *axis,
+            params: *params,
+            coordinates,
+            structure,
+            build_s: started.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Which structure this is.
+    pub fn kind(&self) -> StructureKind {
+        self.kind
+    }
+
+    /// The coordinates it works in (for cylindrical ones, the frame with its seam placed).
+    pub fn coordinates(&self) -> Coordinates {
+        self.coordinates
+    }
+
+    /// The structure itself.
+    pub fn structure(&self) -> &Structure {
+        &self.structure
+    }
+
+    /// Its figures; `build_s` counts the whole build, cell bounds included.
+    pub fn stats(&self) -> StructureStats {
+        match &self.structure {
+            Structure::Grid(g) => StructureStats::Grid(GridStats {
+                build_s: self.build_s,
+                ..g.stats()
+            }),
+            Structure::CartBvh(b) => StructureStats::Bvh(BvhStats {
+                build_s: self.build_s,
+                ..b.stats()
+            }),
+            Structure::CylBvh(b) => StructureStats::Bvh(BvhStats {
+                build_s: self.build_s,
+                ..b.stats()
+            }),
+        }
+    }
+
+    /// The cell containing `p` and its parametric coordinates there, or `None` when no cell
+    /// holds it; the work goes into `counters`.
+    pub fn locate(&self, mesh: &Mesh, p: DVec3, counters: &mut Counters) -> Option<(u32, DVec3)> {
+        let q = self.coordinates.of(p);
+        let mut tests = 0u64;
+        let mut param = DVec3::ZERO;
+        let cell = self.structure.find(q, counters, |c| {
+            tests += 1;
+            match locate_in_cell(&mesh.cell_corners(c as usize), p, None) {
+                Some(found) => {
+                    param = found;
+                    true
+                }
+                None => false,
+            }
+        });
+        counters.hex_tests += tests;
+        cell.map(|c| (c, param))
+    }
+
+    /// Panics with a message unless the structure is well formed for `mesh`: every piece of
+    /// every cell is referenced wherever its bounds reach, and every node holds its children.
+    pub fn assert_well_formed(&self, mesh: &Mesh) {
+        match (&self.structure, self.coordinates) {
+            (Structure::Grid(g), Coordinates::Cartesian) => g.assert_well_formed(&cartesian_pieces(mesh)),
+            (Structure::CartBvh(b), _) => b.assert_well_formed(&cartesian_pieces(mesh)),
+            (structure, _) => {
+                let frame = CylFrame::new(self.axis.origin, self.axis.direction)
+                    .expect("the axis was usable at build time");
+                let pieces = cylindrical_pieces(mesh, &frame, self.params.straddle_sectors);
+                let (_, pieces) = seam_frame(&self.axis, pieces).expect("the axis was usable at build time");
+                match structure {
+                    Structure::Grid(g) => g.assert_well_formed(&linear_boxes(&pieces)),
+                    Structure::CylBvh(b) => b.assert_well_formed(&pieces),
+                    Structure::CartBvh(_) => unreachable!("handled above"),
+                }
+            }
+        }
+    }
+}
