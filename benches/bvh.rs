@@ -90,7 +90,11 @@ fn main() {
     let want = |n: &str| wanted.as_ref().map_or(true, |w| w.iter().any(|x| x == n));
 
     let mut meshes: Vec<(String, Mesh)> = Vec::new();
-    for d in [Dataset::PumpInlet, Dataset::PumpRotor, Dataset::PumpDiffuser] {
+    for d in [
+        Dataset::PumpInlet,
+        Dataset::PumpRotor,
+        Dataset::PumpDiffuser,
+    ] {
         if want(d.name()) {
             let cells = cap.map_or(d.default_cells(), |c| c.min(d.default_cells()));
             meshes.push((d.name().to_owned(), generate(d, cells).expect("dataset")));
@@ -126,7 +130,11 @@ fn main() {
         let (sc, sy) = (bc.stats(), by.stats());
         for (kind, s, ratio) in [
             ("cart", sc, String::new()),
-            ("cyl", sy, format!("{:.3}", sy.surface_area / sc.surface_area)),
+            (
+                "cyl",
+                sy,
+                format!("{:.3}", sy.surface_area / sc.surface_area),
+            ),
         ] {
             println!(
                 "| {name} | {n} | {kind} | {} | {} | {} | {} | {:.1} | {:.4e} | {:.3} | {ratio} |",
@@ -153,17 +161,27 @@ fn main() {
         let mut rows = Vec::new();
         let configs: Vec<(String, BvhParams)> = if sweep {
             let mut v = Vec::new();
-            for leaf in [1usize, 2, 4, 8, 16] {
-                for bins in [8usize, 16, 32] {
+            for leaf in [2usize, 4, 8, 16] {
+                for traversal_cost in [1.0, 2.0, 4.0] {
                     v.push((
-                        format!("leaf {leaf}, bins {bins}"),
+                        format!("leaf {leaf}, C_t {traversal_cost}, bins 16"),
                         BvhParams {
                             max_leaf_size: leaf,
-                            bins,
-                            ..BvhParams::default()
+                            bins: 16,
+                            traversal_cost,
                         },
                     ));
                 }
+            }
+            for bins in [8usize, 32] {
+                v.push((
+                    format!("leaf 8, C_t 2, bins {bins}"),
+                    BvhParams {
+                        max_leaf_size: 8,
+                        bins,
+                        traversal_cost: 2.0,
+                    },
+                ));
             }
             v
         } else {
@@ -177,7 +195,10 @@ fn main() {
             let by = build_bvh(&cyl, p);
             let lc = lookups(mesh, &bc, Coordinates::Cartesian, &points);
             let ly = lookups(mesh, &by, Coordinates::Cylindrical(frame), &points);
-            assert_eq!(lc.3, ly.3, "{name}: the two BVHs find different numbers of points");
+            assert_eq!(
+                lc.3, ly.3,
+                "{name}: the two BVHs find different numbers of points"
+            );
             let (sc, sy) = (bc.stats(), by.stats());
             rows.push(format!(
                 "| {name} | {label} | {:.2} / {:.2} | {:.1} / {:.1} | {:.2} / {:.2} | {:.1} / {:.1} | {:.3} / {:.3} | {:.0} / {:.0} |",

@@ -90,7 +90,8 @@ fn sector_loose(b: &CylBounds, q: DVec3) -> bool {
         h: [b.h[0] - e, b.h[1] + e],
         ..*b
     };
-    padded.contains(q.x, q.y, q.z) || (q.x <= e && b.r[0] <= e && q.z >= padded.h[0] && q.z <= padded.h[1])
+    padded.contains(q.x, q.y, q.z)
+        || (q.x <= e && b.r[0] <= e && q.z >= padded.h[0] && q.z <= padded.h[1])
 }
 
 fn arb_box() -> impl Strategy<Value = Aabb> {
@@ -107,8 +108,8 @@ fn arb_box() -> impl Strategy<Value = Aabb> {
 fn arb_angle() -> impl Strategy<Value = f64> {
     prop_oneof![
         -PI..PI,
-        (PI - 0.3)..PI,     // just before the seam at ±π
-        -0.3f64..0.0,       // just before 0
+        (PI - 0.3)..PI, // just before the seam at ±π
+        -0.3f64..0.0,   // just before 0
         Just(PI),
         Just(-PI + 1e-12),
     ]
@@ -211,7 +212,10 @@ fn empty_and_degenerate_pieces_do_not_break_the_build() {
     for (_, params) in BvhParams::PRESETS {
         let bvh = build_bvh(&empty, &params);
         bvh.assert_well_formed(&empty);
-        assert_eq!(bvh.find(DVec3::ZERO, &mut Counters::default(), |_| true), None);
+        assert_eq!(
+            bvh.find(DVec3::ZERO, &mut Counters::default(), |_| true),
+            None
+        );
         assert_eq!(bvh.stats().nodes, 0);
     }
     // Identical boxes (no centroid spread), empty boxes and NaN boxes mixed.
@@ -393,7 +397,10 @@ fn check_mesh(name: &str, mesh: &Mesh, axis: Axis, seam: bool, count: usize) {
                 .any(|c| locate_in_cell(&mesh.cell_corners(c), *p, None).is_some())
         })
         .collect();
-    assert!(brute.iter().filter(|b| **b).count() >= count / 2, "{name}: too few points inside");
+    assert!(
+        brute.iter().filter(|b| **b).count() >= count / 2,
+        "{name}: too few points inside"
+    );
     let cart = space::cartesian_pieces(mesh);
     check_mesh_bvh(name, mesh, &cart, Coordinates::Cartesian, &points, &brute);
     let frame = CylFrame::new(axis.origin, axis.direction).expect("frame");
@@ -422,7 +429,11 @@ fn z_axis(origin: DVec3) -> Axis {
 
 #[test]
 fn pump_datasets() {
-    for d in [Dataset::PumpInlet, Dataset::PumpRotor, Dataset::PumpDiffuser] {
+    for d in [
+        Dataset::PumpInlet,
+        Dataset::PumpRotor,
+        Dataset::PumpDiffuser,
+    ] {
         let mesh = generate(d, 8_000).expect("dataset");
         let axis = cylvol::axis::detect(&mesh);
         check_mesh(d.name(), &mesh, axis, true, 300);
@@ -434,7 +445,13 @@ fn sectors_across_the_seams_and_a_full_ring() {
     // Across ±π, without rotating the seam away (pieces cross it) and with.
     let across_pi = sector_mesh(PI - 0.6, 1.2, false);
     check_mesh("across ±π", &across_pi, z_axis(DVec3::ZERO), false, 300);
-    check_mesh("across ±π, rotated", &across_pi, z_axis(DVec3::ZERO), true, 200);
+    check_mesh(
+        "across ±π, rotated",
+        &across_pi,
+        z_axis(DVec3::ZERO),
+        true,
+        200,
+    );
     let across_0 = sector_mesh(-0.6, 1.2, false);
     check_mesh("across 0", &across_0, z_axis(DVec3::ZERO), false, 300);
     let ring = sector_mesh(0.1, TAU, true);

@@ -12,7 +12,7 @@ use crate::accel::space::Pieces;
 use crate::geometry::bounds::Aabb;
 
 /// Most SAH bins per axis.
-pub(crate) const MAX_BINS: usize = 64;
+pub(crate) const MAX_BINS: usize = 32;
 
 /// Nodes with more pieces than this build their two subtrees in parallel.
 const PARALLEL_THRESHOLD: usize = 8192;
@@ -46,27 +46,36 @@ pub fn build_bvh<B: BvhBounds>(pieces: &Pieces<B>, params: &BvhParams) -> Bvh<B>
     let bounds = &pieces.bounds[..n];
     let root = B::union_all(bounds);
     let frame = B::frame_of(&root);
-    let lin: Vec<Aabb> = bounds.par_iter().map(|b| b.linearize(&frame)).collect();
-    let mut idx: Vec<u32> = (0..n as u32).collect();
+    let mut items: Vec<Item> = bounds
+        .par_iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let lin = b.linearize(&frame);
+            Item {
+                lin,
+                centre: lin.center(),
+                piece: i as u32,
+            }
+        })
+        .collect();
     let nodes = if n == 0 {
         Vec::new()
     } else {
         let ctx = Ctx::<B> {
-            lin: &lin,
             frame,
             params,
             _b: PhantomData,
         };
-        let built = ctx.build_par(&mut idx, 0, 0);
+        let built = ctx.build_par(&mut items, 0, 0);
         let mut nodes = Vec::with_capacity(built.len());
         flatten(built, &mut nodes);
         nodes
     };
-    let refs: Vec<Ref<B::Compact>> = idx
+    let refs: Vec<Ref<B::Compact>> = items
         .par_iter()
-        .map(|&i| Ref {
-            bounds: B::compact(&lin[i as usize], &frame),
-            cell: pieces.cells[i as usize],
+        .map(|it| Ref {
+            bounds: B::compact(&it.lin, &frame),
+            cell: pieces.cells[it.piece as usize],
         })
         .collect();
     Bvh {
@@ -119,8 +128,16 @@ fn flatten<C: Copy>(built: Built<C>, out: &mut Vec<Node<C>>) {
     }
 }
 
-struct Ctx<'a, B> {
-    lin: &'a [Aabb],
+/// A piece during the build: its linear box, the box's centre, its index. The build
+/// partitions these in place, so every pass reads them in order.
+#[derive(Clone, Copy)]
+struct Item {
+    lin: Aabb,
+    centre: DVec3,
+    piece: u32,
+}
+
+struct Ctx<B> {
     frame: LinearFrame,
     params: BvhParams,
     _b: PhantomData<B>,
@@ -143,12 +160,12 @@ fn bin_of(c: f64, min: f64, scale: f64, bins: usize) -> usize {
     (((c - min) * scale) as usize).min(bins - 1)
 }
 
-impl<B: BvhBounds> Ctx<'_, B> {
+impl<B: BvhBounds> Ctx<B> {
     /// The union of the pieces' linear boxes and the box of their centroids.
-    fn scan(&self, idx: &[u32]) -> (Aabb, Aabb) {
-        let fold = |(b, c): (Aabb, Aabb), &i: &u32| {
-            let l = &self.lin[i as usize];
-            (b.union(l), if l.is_empty() { c } else { c.grow(l.center()) })
+    fn scan(&self, idx: &[Item]) -> (Aabb, Aabb) {
+        let fold = |(b, c): (Aabb, Aabb), it: &Item| {
+            let l = &it.lin;
+            (b.union(l), if l.is_empty() { c } else { c.grow(it.centre) })
         };
         if idx.len() > PARALLEL_THRESHOLD {
             idx.par_iter()
@@ -170,7 +187,7 @@ impl<B: BvhBounds> Ctx<'_, B> {
         }
     }
 
-    fn build_par(&self, idx: &mut [u32], offset: usize, depth: usize) -> Built<B::Compact> {
+    fn build_par(&self, idx: &mut [Item], offset: usize, depth: usize) -> Built<B::Compact> {
         if idx.len() <= PARALLEL_THRESHOLD {
             let mut out = Vec::with_capacity(2 * idx.len() / self.params.max_leaf_size + 1);
             self.build_seq(idx, offset, depth, &mut out);
@@ -196,7 +213,7 @@ impl<B: BvhBounds> Ctx<'_, B> {
 
     fn build_seq(
         &self,
-        idx: &mut [u32],
+        idx: &mut [Item],
         offset: usize,
         depth: usize,
         out: &mut Vec<Node<B::Compact>>,
@@ -216,7 +233,7 @@ impl<B: BvhBounds> Ctx<'_, B> {
     }
 
     /// Where to split the node (after partitioning `idx`), or `None` for a leaf.
-    fn split(&self, idx: &mut [u32], bounds: &Aabb, cent: &Aabb, depth: usize) -> Option<usize> {
+    fn split(&self, idx: &mut [Item], bounds: &Aabb, cent: &Aabb, depth: usize) -> Option<usize> {
         let n = idx.len();
         let max_leaf = self.params.max_leaf_size;
         if n <= 1 {
@@ -241,9 +258,34 @@ impl<B: BvhBounds> Ctx<'_, B> {
         Some(self.median_split(idx, cent))
     }
 
+    /// Bins for a node of `n` pieces: no more than pieces.
+    fn bins_for(&self, n: usize) -> usize {
+        self.params.bins.min(n).max(2)
+    }
+
     /// The cheapest bin boundary: `(axis, first bin on the right, cost)`.
-    fn best_bin_split(&self, idx: &[u32], cent: &Aabb, area: f64) -> Option<(usize, usize, f64)> {
-        let k = self.params.bins;
+    fn best_bin_split(&self, idx: &[Item], cent: &Aabb, area: f64) -> Option<(usize, usize, f64)> {
+        let k = self.bins_for(idx.len());
+        // Bin arrays sized to the node: small nodes, the most numerous, clear little memory.
+        if k <= 4 {
+            self.best_bin_split_in::<4>(idx, cent, area, k)
+        } else if k <= 8 {
+            self.best_bin_split_in::<8>(idx, cent, area, k)
+        } else if k <= 16 {
+            self.best_bin_split_in::<16>(idx, cent, area, k)
+        } else {
+            self.best_bin_split_in::<MAX_BINS>(idx, cent, area, k)
+        }
+    }
+
+    fn best_bin_split_in<const K: usize>(
+        &self,
+        idx: &[Item],
+        cent: &Aabb,
+        area: f64,
+        k: usize,
+    ) -> Option<(usize, usize, f64)> {
+        let k = k.min(K);
         let ext = cent.extent();
         let min = cent.min;
         let s = |e: f64| {
@@ -258,10 +300,10 @@ impl<B: BvhBounds> Ctx<'_, B> {
         if scale == DVec3::ZERO {
             return None;
         }
-        let mut bins = [[EMPTY_BIN; MAX_BINS]; 3];
-        for &i in idx {
-            let l = &self.lin[i as usize];
-            let c = l.center();
+        let mut bins = [[EMPTY_BIN; K]; 3];
+        for it in idx.iter() {
+            let l = &it.lin;
+            let c = it.centre;
             for a in 0..3 {
                 if scale[a] > 0.0 {
                     let b = &mut bins[a][bin_of(c[a], min[a], scale[a], k)];
@@ -277,7 +319,7 @@ impl<B: BvhBounds> Ctx<'_, B> {
                 continue;
             }
             // Right-hand areas × counts for splits before bin s.
-            let mut right_cost = [0.0f64; MAX_BINS];
+            let mut right_cost = [0.0f64; K];
             let mut acc = EMPTY_BIN;
             for s in (1..k).rev() {
                 acc.bounds = acc.bounds.union(&bins[s].bounds);
@@ -295,7 +337,8 @@ impl<B: BvhBounds> Ctx<'_, B> {
                 if left.count == 0 || right_cost[s].is_nan() {
                     continue;
                 }
-                let cost = traversal + B::linear_area(&left.bounds) * left.count as f64 + right_cost[s];
+                let cost =
+                    traversal + B::linear_area(&left.bounds) * left.count as f64 + right_cost[s];
                 if best.map_or(true, |(_, _, c)| cost < c) {
                     best = Some((a, s, cost));
                 }
@@ -305,14 +348,14 @@ impl<B: BvhBounds> Ctx<'_, B> {
     }
 
     /// Moves the pieces whose centroid falls in a bin before `bin` to the front.
-    fn partition(&self, idx: &mut [u32], cent: &Aabb, axis: usize, bin: usize) -> usize {
-        let k = self.params.bins;
+    fn partition(&self, idx: &mut [Item], cent: &Aabb, axis: usize, bin: usize) -> usize {
+        let k = self.bins_for(idx.len());
         let min = cent.min[axis];
         let scale = k as f64 / cent.extent()[axis];
-        let left = |i: u32| bin_of(self.lin[i as usize].center()[axis], min, scale, k) < bin;
+        let left = |it: &Item| bin_of(it.centre[axis], min, scale, k) < bin;
         let (mut lo, mut hi) = (0usize, idx.len());
         while lo < hi {
-            if left(idx[lo]) {
+            if left(&idx[lo]) {
                 lo += 1;
             } else {
                 hi -= 1;
@@ -323,7 +366,7 @@ impl<B: BvhBounds> Ctx<'_, B> {
     }
 
     /// Halves the pieces at the median centroid along the centroids' longest axis.
-    fn median_split(&self, idx: &mut [u32], cent: &Aabb) -> usize {
+    fn median_split(&self, idx: &mut [Item], cent: &Aabb) -> usize {
         let ext = cent.extent();
         let axis = if ext.x >= ext.y && ext.x >= ext.z {
             0
@@ -333,7 +376,7 @@ impl<B: BvhBounds> Ctx<'_, B> {
             2
         };
         let mid = idx.len() / 2;
-        let key = |i: &u32| self.lin[*i as usize].center()[axis];
+        let key = |it: &Item| it.centre[axis];
         idx.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
         mid
     }

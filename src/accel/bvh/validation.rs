@@ -16,7 +16,12 @@ impl<B: BvhBounds> Bvh<B> {
     /// - leaves hold between 1 and `max_leaf_size` pieces, and together all of them in order.
     pub fn assert_well_formed(&self, pieces: &Pieces<B>) {
         let n = pieces.bounds.len().min(pieces.cells.len());
-        assert_eq!(self.refs.len(), n, "BVH holds {} pieces, expected {n}", self.refs.len());
+        assert_eq!(
+            self.refs.len(),
+            n,
+            "BVH holds {} pieces, expected {n}",
+            self.refs.len()
+        );
         if n == 0 {
             assert!(self.nodes.is_empty(), "an empty BVH has nodes");
             return;
@@ -58,7 +63,10 @@ impl<B: BvhBounds> Bvh<B> {
                     "leaf {i} holds {count} pieces, more than {}",
                     self.params.max_leaf_size
                 );
-                assert_eq!(first, next_ref, "leaf {i} does not continue the pieces in order");
+                assert_eq!(
+                    first, next_ref,
+                    "leaf {i} does not continue the pieces in order"
+                );
                 next_ref = first + count;
                 assert!(next_ref <= n, "leaf {i} runs past the pieces");
                 for (k, r) in self.refs[first..next_ref].iter().enumerate() {
