@@ -1,0 +1,521 @@
+//! The bounds a BVH can hold ([`BvhBounds`]): boxes ([`Aabb`]) and cylindrical sectors
+//! ([`CylBounds`]), their linear build form, their true surface area, and their compact stored
+//! form (`f32`, rounded outward).
+
+use std::f64::consts::{PI, TAU};
+use std::fmt::Debug;
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::geometry::bounds::Aabb;
+use crate::geometry::cylindrical::{CylBounds, ThetaInterval, ANGLE_SLACK};
+
+/// Angular padding (radians) of every stored sector arc, at each end: far above the rounding
+/// of unwrapping and of reducing a query angle, far below any cell's angular size.
+pub const THETA_PAD: f64 = 1e-12;
+
+/// Where a BVH's linear build coordinates and stored bounds are measured from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinearFrame {
+    /// Subtracted from a query before it is compared with stored bounds (the root's centre for
+    /// boxes; `(0, 0, h_mid)` for sectors).
+    pub anchor: DVec3,
+    /// Sectors: the start of the root's arc (linear θ is measured from it).
+    pub theta0: f64,
+    /// Sectors: the width of the root's arc (a piece's unwrapped start lies in `[0, width]`).
+    pub theta_width: f64,
+}
+
+/// Bounds a [`super::Bvh`] can be built over.
+///
+/// The build works on *linear* boxes ([`BvhBounds::linearize`]): for boxes, the box itself;
+/// for sectors, `(r, θ − θ₀, h)` with the arc unwrapped from the root's start `θ₀`. Stored
+/// bounds are the compact form of linear boxes ([`BvhBounds::compact`]), which contains the
+/// bound it was made from and is monotone, so nested linear boxes give nested stored bounds.
+pub trait BvhBounds: Copy + Send + Sync + Debug + 'static {
+    /// The stored form (24 bytes of `f32`).
+    type Compact: Copy + Send + Sync + Debug + PartialEq;
+
+    /// Whether the bound holds no point.
+    fn is_empty_bound(&self) -> bool;
+    /// The smallest bound of this kind holding all of `bounds`.
+    fn union_all(bounds: &[Self]) -> Self;
+    /// The frame of a BVH whose root bound is `root`.
+    fn frame_of(root: &Self) -> LinearFrame;
+    /// The linear box of this bound in `frame` (empty for an empty bound).
+    fn linearize(&self, frame: &LinearFrame) -> Aabb;
+    /// The bound a linear box stands for in `frame`.
+    fn delinearize(lin: &Aabb, frame: &LinearFrame) -> Self;
+    /// The surface area, in world units, of the bound a linear box stands for (equal to
+    /// `delinearize(lin).surface_area()`, computed without reducing angles).
+    fn linear_area(lin: &Aabb) -> f64;
+    /// The true surface area in world units.
+    fn surface_area(&self) -> f64;
+    /// Whether the point (in the structure's coordinates) lies in the bound.
+    fn contains_point(&self, q: DVec3) -> bool;
+    /// The compact stored form of a linear box, rounded outward.
+    fn compact(lin: &Aabb, frame: &LinearFrame) -> Self::Compact;
+    /// The bound a compact form stands for (for statistics; rounding of the anchor aside).
+    fn expand(c: &Self::Compact, frame: &LinearFrame) -> Self;
+    /// Whether a compact bound contains the query `q_rel = q − frame.anchor`.
+    fn compact_contains(c: &Self::Compact, q_rel: DVec3) -> bool;
+    /// Whether compact `outer` contains compact `inner` (exact comparison of stored values).
+    fn compact_encloses(outer: &Self::Compact, inner: &Self::Compact) -> bool;
+    /// Whether the compact bound contains every point the `f64` bound `b` contains, compared
+    /// as a query would be.
+    fn compact_holds(c: &Self::Compact, b: &Self, frame: &LinearFrame) -> bool;
+    /// The stored values' bits, to compare compact bounds exactly.
+    fn compact_bits(c: &Self::Compact) -> [u32; 6];
+}
+
+/// The largest `f32` not above `x` (NaN stays NaN).
+#[inline]
+pub(crate) fn f32_down(x: f64) -> f32 {
+    let f = x as f32;
+    if (f as f64) > x {
+        next_toward_neg(f)
+    } else {
+        f
+    }
+}
+
+/// The smallest `f32` not below `x` (NaN stays NaN).
+#[inline]
+pub(crate) fn f32_up(x: f64) -> f32 {
+    let f = x as f32;
+    if (f as f64) < x {
+        -next_toward_neg(-f)
+    } else {
+        f
+    }
+}
+
+fn next_toward_neg(f: f32) -> f32 {
+    if f.is_nan() || f == f32::NEG_INFINITY {
+        return f;
+    }
+    if f == 0.0 {
+        return -f32::from_bits(1);
+    }
+    let b = f.to_bits();
+    if f > 0.0 {
+        f32::from_bits(b - 1)
+    } else {
+        f32::from_bits(b + 1)
+    }
+}
+
+/// A box stored as `f32`, relative to the BVH's anchor.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[repr(C)]
+pub struct BoxF32 {
+    /// Low corner (rounded down).
+    pub min: [f32; 3],
+    /// High corner (rounded up).
+    pub max: [f32; 3],
+}
+
+/// A sector stored as `f32`: `r`, the unwrapped arc `[θ_lo, θ_hi]` (absolute angles,
+/// `θ_lo ∈ [−π, 3π]`, `θ_hi − θ_lo ≥ 2π` for the whole circle) and `h` relative to the anchor.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[repr(C)]
+pub struct SectorF32 {
+    /// `[r_min, r_max]` (rounded outward).
+    pub r: [f32; 2],
+    /// `[θ_lo, θ_hi]` (rounded outward after padding by [`THETA_PAD`]).
+    pub theta: [f32; 2],
+    /// `[h_min, h_max]` relative to the anchor (rounded outward).
+    pub h: [f32; 2],
+}
+
+fn aabb_union_all(bounds: &[Aabb]) -> Aabb {
+    bounds
+        .par_iter()
+        .fold(|| Aabb::EMPTY, |a, b| a.union(b))
+        .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
+}
+
+impl BvhBounds for Aabb {
+    type Compact = BoxF32;
+
+    fn is_empty_bound(&self) -> bool {
+        self.is_empty()
+    }
+
+    fn union_all(bounds: &[Self]) -> Self {
+        aabb_union_all(bounds)
+    }
+
+    fn frame_of(root: &Self) -> LinearFrame {
+        let anchor = if root.is_empty() || !root.center().is_finite() {
+            DVec3::ZERO
+        } else {
+            root.center()
+        };
+        LinearFrame {
+            anchor,
+            theta0: 0.0,
+            theta_width: 0.0,
+        }
+    }
+
+    fn linearize(&self, _frame: &LinearFrame) -> Aabb {
+        if self.is_empty() {
+            Aabb::EMPTY
+        } else {
+            *self
+        }
+    }
+
+    fn delinearize(lin: &Aabb, _frame: &LinearFrame) -> Self {
+        *lin
+    }
+
+    fn linear_area(lin: &Aabb) -> f64 {
+        lin.surface_area()
+    }
+
+    fn surface_area(&self) -> f64 {
+        Aabb::surface_area(self)
+    }
+
+    fn contains_point(&self, q: DVec3) -> bool {
+        self.contains(q)
+    }
+
+    fn compact(lin: &Aabb, frame: &LinearFrame) -> BoxF32 {
+        if lin.is_empty() {
+            return BoxF32 {
+                min: [f32::INFINITY; 3],
+                max: [f32::NEG_INFINITY; 3],
+            };
+        }
+        let lo = lin.min - frame.anchor;
+        let hi = lin.max - frame.anchor;
+        BoxF32 {
+            min: [f32_down(lo.x), f32_down(lo.y), f32_down(lo.z)],
+            max: [f32_up(hi.x), f32_up(hi.y), f32_up(hi.z)],
+        }
+    }
+
+    fn expand(c: &BoxF32, frame: &LinearFrame) -> Self {
+        Aabb::new(
+            DVec3::new(c.min[0] as f64, c.min[1] as f64, c.min[2] as f64) + frame.anchor,
+            DVec3::new(c.max[0] as f64, c.max[1] as f64, c.max[2] as f64) + frame.anchor,
+        )
+    }
+
+    #[inline(always)]
+    fn compact_contains(c: &BoxF32, q: DVec3) -> bool {
+        q.x >= c.min[0] as f64
+            && q.x <= c.max[0] as f64
+            && q.y >= c.min[1] as f64
+            && q.y <= c.max[1] as f64
+            && q.z >= c.min[2] as f64
+            && q.z <= c.max[2] as f64
+    }
+
+    fn compact_encloses(outer: &BoxF32, inner: &BoxF32) -> bool {
+        (0..3).all(|a| outer.min[a] <= inner.min[a] && outer.max[a] >= inner.max[a])
+    }
+
+    fn compact_holds(c: &BoxF32, b: &Self, frame: &LinearFrame) -> bool {
+        if b.is_empty() {
+            return true;
+        }
+        // A query is shifted by the anchor with the same rounding, which is monotone.
+        let lo = b.min - frame.anchor;
+        let hi = b.max - frame.anchor;
+        (0..3).all(|a| lo[a] >= c.min[a] as f64 && hi[a] <= c.max[a] as f64)
+    }
+
+    fn compact_bits(c: &BoxF32) -> [u32; 6] {
+        [
+            c.min[0].to_bits(),
+            c.min[1].to_bits(),
+            c.min[2].to_bits(),
+            c.max[0].to_bits(),
+            c.max[1].to_bits(),
+            c.max[2].to_bits(),
+        ]
+    }
+}
+
+/// The sector area of a linear box `(r, θ − θ₀, h)`: the formula of
+/// [`CylBounds::surface_area`] with the width `min(Δθ, 2π)`.
+#[inline]
+fn sector_area(lin: &Aabb) -> f64 {
+    if lin.is_empty() {
+        return 0.0;
+    }
+    let (r0, r1) = (lin.min.x.max(0.0), lin.max.x);
+    let span = lin.max.y - lin.min.y;
+    let w = span.min(TAU);
+    let dh = lin.max.z - lin.min.z;
+    let caps = w * (r1 * r1 - r0 * r0);
+    let curved = w * (r1 + r0) * dh;
+    let sides = if span >= TAU {
+        0.0
+    } else {
+        2.0 * (r1 - r0) * dh
+    };
+    caps + curved + sides
+}
+
+impl BvhBounds for CylBounds {
+    type Compact = SectorF32;
+
+    fn is_empty_bound(&self) -> bool {
+        self.is_empty()
+    }
+
+    fn union_all(bounds: &[Self]) -> Self {
+        bounds
+            .par_iter()
+            .fold(|| CylBounds::EMPTY, |a, b| a.union(b))
+            .reduce(|| CylBounds::EMPTY, |a, b| a.union(&b))
+    }
+
+    fn frame_of(root: &Self) -> LinearFrame {
+        let h_mid = 0.5 * (root.h[0] + root.h[1]);
+        let ok = !root.is_empty() && h_mid.is_finite();
+        let (theta0, theta_width) = if !ok || root.theta.is_full() {
+            (-PI, TAU)
+        } else {
+            (root.theta.start(), root.theta.width())
+        };
+        LinearFrame {
+            anchor: DVec3::new(0.0, 0.0, if ok { h_mid } else { 0.0 }),
+            theta0,
+            theta_width,
+        }
+    }
+
+    fn linearize(&self, frame: &LinearFrame) -> Aabb {
+        if self.is_empty() {
+            return Aabb::EMPTY;
+        }
+        let (lo, width) = if self.theta.is_full() {
+            (0.0, TAU)
+        } else {
+            let mut lo = (self.theta.start() - frame.theta0).rem_euclid(TAU);
+            // Rounding may put a start just before θ₀ at the far end: bring it back.
+            if lo > frame.theta_width {
+                lo -= TAU;
+            }
+            (lo, self.theta.width())
+        };
+        let r0 = if self.straddles_axis { 0.0 } else { self.r[0] };
+        Aabb::new(
+            DVec3::new(r0, lo, self.h[0]),
+            DVec3::new(self.r[1], lo + width, self.h[1]),
+        )
+    }
+
+    fn delinearize(lin: &Aabb, frame: &LinearFrame) -> Self {
+        if lin.is_empty() {
+            return CylBounds::EMPTY;
+        }
+        let span = lin.max.y - lin.min.y;
+        let full = span >= TAU;
+        let theta = if full {
+            ThetaInterval::FULL
+        } else {
+            ThetaInterval::new(frame.theta0 + lin.min.y, span).padded(THETA_PAD)
+        };
+        CylBounds {
+            r: [lin.min.x.max(0.0), lin.max.x],
+            theta,
+            h: [lin.min.z, lin.max.z],
+            straddles_axis: full && lin.min.x <= 0.0,
+        }
+    }
+
+    fn linear_area(lin: &Aabb) -> f64 {
+        sector_area(lin)
+    }
+
+    fn surface_area(&self) -> f64 {
+        CylBounds::surface_area(self)
+    }
+
+    fn contains_point(&self, q: DVec3) -> bool {
+        self.contains(q.x, q.y, q.z)
+    }
+
+    fn compact(lin: &Aabb, frame: &LinearFrame) -> SectorF32 {
+        if lin.is_empty() {
+            return SectorF32 {
+                r: [f32::INFINITY, f32::NEG_INFINITY],
+                theta: [0.0, -1.0],
+                h: [f32::INFINITY, f32::NEG_INFINITY],
+            };
+        }
+        // Unwrapped, not reduced: monotone in the linear box, so nesting is kept bit for bit.
+        let lo = frame.theta0 + lin.min.y - THETA_PAD;
+        let hi = frame.theta0 + lin.max.y + THETA_PAD;
+        SectorF32 {
+            r: [f32_down(lin.min.x.max(0.0)), f32_up(lin.max.x)],
+            theta: [f32_down(lo), f32_up(hi)],
+            h: [
+                f32_down(lin.min.z - frame.anchor.z),
+                f32_up(lin.max.z - frame.anchor.z),
+            ],
+        }
+    }
+
+    fn expand(c: &SectorF32, frame: &LinearFrame) -> Self {
+        if c.r[0] > c.r[1] || c.h[0] > c.h[1] || c.theta[0] > c.theta[1] {
+            return CylBounds::EMPTY;
+        }
+        let span = c.theta[1] as f64 - c.theta[0] as f64;
+        let full = span >= TAU;
+        CylBounds {
+            r: [c.r[0] as f64, c.r[1] as f64],
+            theta: if full {
+                ThetaInterval::FULL
+            } else {
+                ThetaInterval::new(c.theta[0] as f64, span)
+            },
+            h: [
+                c.h[0] as f64 + frame.anchor.z,
+                c.h[1] as f64 + frame.anchor.z,
+            ],
+            straddles_axis: full && c.r[0] <= 0.0,
+        }
+    }
+
+    #[inline(always)]
+    fn compact_contains(c: &SectorF32, q: DVec3) -> bool {
+        if !(q.x >= c.r[0] as f64
+            && q.x <= c.r[1] as f64
+            && q.z >= c.h[0] as f64
+            && q.z <= c.h[1] as f64)
+        {
+            return false;
+        }
+        if q.x == 0.0 {
+            // On the axis every angle is the point's.
+            return c.theta[0] <= c.theta[1];
+        }
+        let t0 = c.theta[0] as f64;
+        let mut d = q.y - t0;
+        if d < 0.0 {
+            d += TAU;
+            if d < 0.0 {
+                d += TAU;
+            }
+        } else if d >= TAU {
+            d -= TAU;
+        }
+        if !(0.0..TAU).contains(&d) {
+            d = d.rem_euclid(TAU);
+        }
+        d <= c.theta[1] as f64 - t0
+    }
+
+    fn compact_encloses(outer: &SectorF32, inner: &SectorF32) -> bool {
+        outer.r[0] <= inner.r[0]
+            && outer.r[1] >= inner.r[1]
+            && outer.h[0] <= inner.h[0]
+            && outer.h[1] >= inner.h[1]
+            && ((outer.theta[0] <= inner.theta[0] && outer.theta[1] >= inner.theta[1])
+                || outer.theta[1] as f64 - outer.theta[0] as f64 >= TAU)
+    }
+
+    fn compact_holds(c: &SectorF32, b: &Self, frame: &LinearFrame) -> bool {
+        if b.is_empty() {
+            return true;
+        }
+        let rz = b.r[0] >= c.r[0] as f64
+            && b.r[1] <= c.r[1] as f64
+            && b.h[0] - frame.anchor.z >= c.h[0] as f64
+            && b.h[1] - frame.anchor.z <= c.h[1] as f64;
+        let t0 = c.theta[0] as f64;
+        let span = c.theta[1] as f64 - t0;
+        let theta = if span >= TAU {
+            true
+        } else if b.theta.is_full() {
+            false
+        } else {
+            // The arc and the slack `ThetaInterval::contains` allows on either side.
+            let off = (b.theta.start() - ANGLE_SLACK - t0).rem_euclid(TAU);
+            off + b.theta.width() + 2.0 * ANGLE_SLACK <= span
+        };
+        rz && theta
+    }
+
+    fn compact_bits(c: &SectorF32) -> [u32; 6] {
+        [
+            c.r[0].to_bits(),
+            c.r[1].to_bits(),
+            c.theta[0].to_bits(),
+            c.theta[1].to_bits(),
+            c.h[0].to_bits(),
+            c.h[1].to_bits(),
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn f32_rounding_is_outward() {
+        for &x in &[0.1, -0.1, 1e6 + 0.3, -PI, 1e-300, -1e-300, 0.0, 1e40] {
+            assert!((f32_down(x) as f64) <= x, "{x}");
+            assert!((f32_up(x) as f64) >= x, "{x}");
+            if x.abs() < 1e38 {
+                let gap = (f32_up(x) as f64) - (f32_down(x) as f64);
+                assert!(gap <= (x.abs() * 1.2e-7).max(1e-44), "{x}");
+            }
+        }
+        assert!(f32_down(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn sector_area_matches_cylbounds() {
+        let frame = LinearFrame {
+            anchor: DVec3::ZERO,
+            theta0: 2.5,
+            theta_width: 3.0,
+        };
+        for (r0, r1, lo, hi) in [
+            (0.2, 0.9, 0.1, 1.3),
+            (0.0, 1.0, 0.0, TAU),
+            (0.5, 0.6, 2.0, 2.9),
+        ] {
+            let lin = Aabb::new(DVec3::new(r0, lo, -1.0), DVec3::new(r1, hi, 2.0));
+            let b = CylBounds::delinearize(&lin, &frame);
+            let exact = CylBounds {
+                theta: ThetaInterval::new(frame.theta0 + lo, hi - lo),
+                ..b
+            };
+            let a = sector_area(&lin);
+            assert!((a - exact.surface_area()).abs() <= 1e-12 * a, "{a}");
+        }
+    }
+
+    #[test]
+    fn sector_compact_holds_seam_arcs() {
+        // An arc across ±π in a frame starting just before it.
+        let b = CylBounds {
+            r: [1.0, 2.0],
+            theta: ThetaInterval::from_range(3.0, -3.0),
+            h: [0.0, 1.0],
+            straddles_axis: false,
+        };
+        let frame = CylBounds::frame_of(&b);
+        let lin = b.linearize(&frame);
+        assert!(lin.min.y.abs() < 1e-15 && (lin.max.y - (TAU - 6.0)).abs() < 1e-12);
+        let c = CylBounds::compact(&lin, &frame);
+        assert!(CylBounds::compact_holds(&c, &b, &frame));
+        let q = |t: f64| DVec3::new(1.5, t, 0.5 - frame.anchor.z);
+        assert!(CylBounds::compact_contains(&c, q(PI)));
+        assert!(CylBounds::compact_contains(&c, q(-3.05)));
+        assert!(!CylBounds::compact_contains(&c, q(0.0)));
+        assert!(!CylBounds::compact_contains(&c, q(2.9)));
+    }
+}
