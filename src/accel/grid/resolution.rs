@@ -88,8 +88,8 @@ mod tests {
         // Annulus r ∈ [1, 3], a quarter turn, height 2: arc at r = 2 is π.
         let l = lengths(DVec3::new(2.0, std::f64::consts::FRAC_PI_2, 2.0), Some(1.0));
         assert!((l.y - std::f64::consts::PI).abs() < 1e-15);
-        // The product is the sector's volume: (r1² − r0²)/2 · dθ · dh = 4 · π/2 · 2 / 2.
+        // The product is the sector's volume: (r1² − r0²)/2 · dθ · dh = 4 · π/2 · 2.
         let v = l.x * l.y * l.z;
-        assert!((v - 4.0 * std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+        assert!((v - 4.0 * std::f64::consts::PI).abs() < 1e-12);
     }
 }
