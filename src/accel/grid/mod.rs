@@ -57,30 +57,35 @@ pub struct GridParams {
 }
 
 impl GridParams {
-    /// The measured default: memory of about 30–40 bytes per mesh cell and about 2 hexahedra
-    /// tested per point location on the pump datasets (see the module docs and the report of
-    /// `benches/grid.rs`).
+    /// The measured default, chosen for memory: at most about 64 bytes per mesh cell on the pump
+    /// datasets and the real meshes (pump-rotor 300 k: ≈ 55–60 bytes, ≈ 0.5 grid cells and
+    /// ≈ 14 references per mesh cell, ≈ 18–21 candidates offered per point location). Finer
+    /// grids buy few tests for much memory on meshes with thin, stretched cells (pump-rotor
+    /// 300 k: 4× the memory for 30 % fewer tests, 17× for 60 % fewer), so coarse is the default
+    /// and [`GridParams::FAST`] the option.
     pub const DEFAULT: GridParams = GridParams {
-        top_density: 1.0 / 8.0,
+        top_density: 1.0 / 64.0,
+        leaf_density: 0.2,
+    };
+
+    /// Finer cells, fewer hexahedra tested, ten times the memory (pump-rotor 300 k: ≈ 650
+    /// bytes per mesh cell, ≈ 7 tests per location).
+    pub const FAST: GridParams = GridParams {
+        top_density: 1.0 / 4.0,
         leaf_density: 2.0,
     };
 
-    /// Finer cells, fewer hexahedra tested, more memory.
-    pub const FAST: GridParams = GridParams {
-        top_density: 1.0 / 4.0,
-        leaf_density: 6.0,
-    };
-
-    /// Fewer, larger cells: the least memory, more hexahedra tested.
+    /// Fewer, larger cells: the least memory (pump-rotor 300 k: ≈ 45 bytes per mesh cell,
+    /// ≈ 22–25 tests per location).
     pub const COMPACT: GridParams = GridParams {
-        top_density: 1.0 / 16.0,
-        leaf_density: 0.5,
+        top_density: 1.0 / 64.0,
+        leaf_density: 0.125,
     };
 
     /// Close to the talk's grid sizes (about 11 grid cells per hexahedron on the pump rotor).
     pub const PAPER: GridParams = GridParams {
-        top_density: 1.0,
-        leaf_density: 10.0,
+        top_density: 1.0 / 16.0,
+        leaf_density: 3.0,
     };
 
     /// Every preset with its name.
