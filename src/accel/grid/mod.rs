@@ -1,44 +1,265 @@
-//! Sort-based two-level grids (stub; replaced by the grid branch).
+//! Sort-based two-level grids (Kalojanov & Slusallek 2009; Kalojanov, Billeter & Slusallek
+//! 2011), in Cartesian `(x, y, z)` or cylindrical `(r, θ, h)` coordinates.
+//!
+//! # Structure
+//! The grid indexes boxes ([`Pieces<Aabb>`]) given in its own coordinates — for a cylindrical
+//! grid the `(r, θ, h)` boxes of [`super::space::linear_boxes`], θ in `[−π, π]`. The domain is
+//! the union of the boxes. The top level splits it into `R_x × R_y × R_z` cells by the density
+//! rule ([`GridParams::top_density`]); every non-empty top cell is split again, with its own
+//! resolution from its own number of pieces ([`GridParams::leaf_density`]). A second-level
+//! ("leaf") cell holds the sorted, deduplicated **cell ids** of the pieces whose boxes overlap
+//! it. Memory: a `u32` per reference, a `u32` range start per leaf cell (its end is the next
+//! one's start) and 8 bytes per top cell (its first leaf cell and its resolution).
+//!
+//! # Build
+//! Two rounds of the sort-based construction: emit a `(grid cell, id)` pair for every grid cell
+//! a box overlaps — counted per primitive in parallel, prefix-summed, then filled in parallel
+//! into disjoint slices, without locks — sort the pairs in parallel (`par_sort_unstable`),
+//! and read each cell's `[begin, end)` range off the sorted array. Round one pairs top cells
+//! with pieces; round two pairs leaf cells with cell ids (a cell reaching one leaf cell through
+//! two pieces — straddle sectors, both sides of the seam — is kept once).
+//!
+//! # Robustness
+//! A coordinate `x` falls in cell `clamp(⌊(x − origin) · inv⌋, 0, R − 1)` along each axis. The
+//! function is monotone in `x` (subtraction and multiplication by a positive constant round
+//! monotonically), and the build computes a box's cell range with the very same function as the
+//! query. So a point inside a box always maps to a cell that references the box, whatever the
+//! rounding; points on the domain's max face are clamped into the last cell. A point outside
+//! the domain (or NaN) finds nothing and costs nothing.
+//!
+//! # Densities
+//! `top_density` λ₁ sizes the top level (`≈ λ₁N` top cells), `leaf_density` λ₂ each top cell's
+//! second level (`≈ λ₂ n_t` leaf cells for `n_t` pieces in it). The defaults were chosen by
+//! measuring memory per mesh cell against hexahedra tested per point location — see
+//! [`GridParams::DEFAULT`] and `benches/grid.rs`. Pump-rotor, 300 k cells, Cartesian
+//! (cylindrical within ±15 %):
+//!
+//! | λ₁ | λ₂ | grid cells / cell | references / cell | bytes / cell | tests / location |
+//! |---|---|---|---|---|---|
+//! | 1/64 | 0.125 | 0.31 | 10.9 | 45 | 25.4 |
+//! | 1/64 | 0.25 | 0.60 | 16.0 | 66 | 19.5 |
+//! | 1/64 | 1 | 2.34 | 38.7 | 164 | 12.0 |
+//! | 1/16 | 1 | 3.59 | 55.5 | 237 | 10.3 |
+//! | 1/4 | 2 | 12.2 | 150 | 648 | 7.6 |
+//! | 1/4 | 4 | 24.0 | 262 | 1146 | 6.7 |
+//!
+//! The rotor's thin, stretched cells overlap many grid cells whatever their size, so memory
+//! grows much faster than tests fall; the default sits at the ≤ 64 bytes per cell budget.
+
+mod build;
+mod resolution;
+mod traverse;
+mod validation;
+
+use std::mem::size_of;
 
 use glam::DVec3;
 
-use super::space::{Coordinates, Pieces};
-use super::Counters;
+use super::space::Coordinates;
 use crate::geometry::bounds::Aabb;
 
-/// Build parameters.
+pub use build::build_grid;
+
+/// Build parameters: the densities of the two levels.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GridParams {
-    /// Top-level density λ₁.
+    /// Top-level density λ₁: about `λ₁ N` top cells for `N` pieces.
     pub top_density: f64,
-    /// Second-level density λ₂.
+    /// Second-level density λ₂: about `λ₂ n` leaf cells in a top cell holding `n` pieces.
     pub leaf_density: f64,
 }
 
-/// A two-level grid.
-#[derive(Clone, Debug)]
-pub struct TwoLevelGrid {
-    coordinates: Coordinates,
+impl GridParams {
+    /// The measured default, chosen for memory: at most about 64 bytes per mesh cell on the pump
+    /// datasets and the real meshes (pump-rotor 300 k: ≈ 55–60 bytes, ≈ 0.5 grid cells and
+    /// ≈ 14 references per mesh cell, ≈ 18–21 candidates offered per point location). Finer
+    /// grids buy few tests for much memory on meshes with thin, stretched cells (pump-rotor
+    /// 300 k: 4× the memory for 30 % fewer tests, 17× for 60 % fewer), so coarse is the default
+    /// and [`GridParams::FAST`] the option.
+    pub const DEFAULT: GridParams = GridParams {
+        top_density: 1.0 / 64.0,
+        leaf_density: 0.2,
+    };
+
+    /// Finer cells, fewer hexahedra tested, ten times the memory (pump-rotor 300 k: ≈ 650
+    /// bytes per mesh cell, ≈ 7 tests per location).
+    pub const FAST: GridParams = GridParams {
+        top_density: 1.0 / 4.0,
+        leaf_density: 2.0,
+    };
+
+    /// Fewer, larger cells: the least memory (pump-rotor 300 k: ≈ 45 bytes per mesh cell,
+    /// ≈ 22–25 tests per location).
+    pub const COMPACT: GridParams = GridParams {
+        top_density: 1.0 / 64.0,
+        leaf_density: 0.125,
+    };
+
+    /// Close to the talk's grid sizes (about 11 grid cells per hexahedron on the pump rotor).
+    pub const PAPER: GridParams = GridParams {
+        top_density: 1.0 / 16.0,
+        leaf_density: 3.0,
+    };
+
+    /// Every preset with its name.
+    pub const PRESETS: [(&'static str, GridParams); 4] = [
+        ("default", GridParams::DEFAULT),
+        ("fast", GridParams::FAST),
+        ("compact", GridParams::COMPACT),
+        ("paper", GridParams::PAPER),
+    ];
 }
 
-/// Builds a grid over boxes given in `coordinates`.
-pub fn build_grid(
-    coordinates: Coordinates,
-    _pieces: &Pieces<Aabb>,
-    _params: &GridParams,
-) -> TwoLevelGrid {
-    TwoLevelGrid { coordinates }
+impl Default for GridParams {
+    fn default() -> Self {
+        GridParams::DEFAULT
+    }
+}
+
+/// A top-level cell: where its leaf cells start, and its second-level resolution (all zero
+/// for an empty top cell, which has no leaf cells).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct TopCell {
+    /// Index of its first leaf cell.
+    pub(crate) first: u32,
+    /// Second-level resolution.
+    pub(crate) res: [u8; 3],
+}
+
+/// A two-level grid over boxes in `(x, y, z)` or `(r, θ, h)`; see the module documentation.
+#[derive(Clone, Debug)]
+pub struct TwoLevelGrid {
+    /// Coordinates and build time (boxed: rarely read, keeps the grid small).
+    pub(crate) meta: Box<Meta>,
+    /// The union of the boxes (empty for no valid box).
+    pub(crate) domain: Aabb,
+    /// Top-level resolution.
+    pub(crate) top_res: [u32; 3],
+    /// Top cell size per axis (`extent / R`).
+    pub(crate) top_size: DVec3,
+    /// `R / extent` per axis (0 where the extent is 0).
+    pub(crate) top_inv: DVec3,
+    /// Top cells, x fastest.
+    pub(crate) top: Vec<TopCell>,
+    /// Start of each leaf cell's references, plus one final entry (= `refs.len()`).
+    pub(crate) leaf_begin: Vec<u32>,
+    /// Cell ids, sorted and unique within each leaf cell.
+    pub(crate) refs: Vec<u32>,
+}
+
+/// What a query does not need.
+#[derive(Clone, Debug)]
+pub(crate) struct Meta {
+    pub(crate) coordinates: Coordinates,
+    /// Build time in seconds.
+    pub(crate) build_s: f64,
+}
+
+/// Size and cost of a built grid.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GridStats {
+    /// Grid cells of both levels: top cells plus leaf cells.
+    pub grid_cells: usize,
+    /// Top-level cells.
+    pub top_cells: usize,
+    /// Second-level cells.
+    pub leaf_cells: usize,
+    /// References (cell ids) held by the leaf cells.
+    pub references: usize,
+    /// Heap bytes held (the capacity of every array times its element size).
+    pub bytes: usize,
+    /// Build time in seconds.
+    pub build_s: f64,
 }
 
 impl TwoLevelGrid {
-    /// Offers candidates for `q` (in the grid's coordinates) until `accept` says yes.
-    pub fn find(
-        &self,
-        _q: DVec3,
-        _counters: &mut Counters,
-        _accept: impl FnMut(u32) -> bool,
-    ) -> Option<u32> {
-        let _ = self.coordinates;
-        None
+    /// The coordinates the grid works in.
+    pub fn coordinates(&self) -> Coordinates {
+        self.meta.coordinates
+    }
+
+    /// The grid's domain: the union of the boxes it was built over.
+    pub fn domain(&self) -> Aabb {
+        self.domain
+    }
+
+    /// The top-level resolution.
+    pub fn top_resolution(&self) -> [u32; 3] {
+        self.top_res
+    }
+
+    /// Cell counts, references, memory and build time.
+    pub fn stats(&self) -> GridStats {
+        let leaf_cells = self.leaf_begin.len().saturating_sub(1);
+        GridStats {
+            grid_cells: self.top.len() + leaf_cells,
+            top_cells: self.top.len(),
+            leaf_cells,
+            references: self.refs.len(),
+            bytes: self.top.capacity() * size_of::<TopCell>()
+                + self.leaf_begin.capacity() * size_of::<u32>()
+                + self.refs.capacity() * size_of::<u32>()
+                + size_of::<Meta>(),
+            build_s: self.meta.build_s,
+        }
+    }
+}
+
+/// The cell of `x` along one axis: `clamp(⌊(x − origin) · inv⌋, 0, res − 1)` (0 for NaN).
+/// Monotone in `x`; the build and the query both use it, so they agree.
+#[inline]
+pub(crate) fn axis_cell(x: f64, origin: f64, inv: f64, res: u32) -> u32 {
+    let t = (x - origin) * inv;
+    if t >= res as f64 {
+        res - 1
+    } else if t > 0.0 {
+        t as u32
+    } else {
+        0
+    }
+}
+
+/// [`axis_cell`] on all three axes.
+#[inline]
+pub(crate) fn cell_of(p: DVec3, origin: DVec3, inv: DVec3, res: [u32; 3]) -> [u32; 3] {
+    [
+        axis_cell(p.x, origin.x, inv.x, res[0]),
+        axis_cell(p.y, origin.y, inv.y, res[1]),
+        axis_cell(p.z, origin.z, inv.z, res[2]),
+    ]
+}
+
+/// `R / extent`, or 0 where the extent is not positive (one cell there).
+#[inline]
+pub(crate) fn inverse_size(size: DVec3, res: [u32; 3]) -> DVec3 {
+    let f = |s: f64, r: u32| if s > 0.0 { r as f64 / s } else { 0.0 };
+    DVec3::new(f(size.x, res[0]), f(size.y, res[1]), f(size.z, res[2]))
+}
+
+/// Linear index, x fastest.
+#[inline]
+pub(crate) fn linear(c: [u32; 3], res: [u32; 3]) -> usize {
+    (c[2] as usize * res[1] as usize + c[1] as usize) * res[0] as usize + c[0] as usize
+}
+
+impl TwoLevelGrid {
+    /// The top cell's integer coordinates from its linear index.
+    #[inline]
+    pub(crate) fn top_coords(&self, t: usize) -> [u32; 3] {
+        let [rx, ry, _] = self.top_res.map(|r| r as usize);
+        [
+            (t % rx) as u32,
+            ((t / rx) % ry) as u32,
+            (t / (rx * ry)) as u32,
+        ]
+    }
+
+    /// Origin and `R / size` of a top cell's second level.
+    #[inline]
+    pub(crate) fn leaf_frame(&self, tc: [u32; 3], res: [u8; 3]) -> (DVec3, DVec3) {
+        let origin =
+            self.domain.min + DVec3::new(tc[0] as f64, tc[1] as f64, tc[2] as f64) * self.top_size;
+        let inv = inverse_size(self.top_size, res.map(u32::from));
+        (origin, inv)
     }
 }

@@ -1,0 +1,95 @@
+//! The density rules that size both levels of the grid.
+//!
+//! For `N` primitives in a region of volume `V`, a density `λ` asks for about `λN` grid cells
+//! of roughly cubic shape: `R_i = L_i ∛(λN/V)` along each axis, where `L_i` is the region's
+//! length along that axis (Kalojanov & Slusallek 2009). In Cartesian coordinates the lengths
+//! are the extents `d_x, d_y, d_z`. In cylindrical ones a region `[r, r + d_r] × [θ, θ + d_θ]
+//! × [h, h + d_h]` has the lengths `d_r`, the arc at mid radius `d_θ (2r + d_r)/2` and `d_h`,
+//! and `V` is their product — exactly the region's volume `d_r d_θ (2r + d_r)/2 d_h`.
+//!
+//! A region that is flat along some axis (length zero, or negligible beside the others) gets
+//! one cell along it, and the rule is applied to the remaining axes with the matching power
+//! (`(λN/A)^{1/2}` for an area `A`), so a planar mesh still gets a sensible grid.
+
+use glam::DVec3;
+
+/// Lengths at most this fraction of the longest one count as flat.
+const FLAT: f64 = 1e-9;
+
+/// The lengths of a region along each axis for the rule: its extents, or with `inner_r` (the
+/// region's inner radius, in cylindrical coordinates) `(d_r, d_θ (2r + d_r)/2, d_h)`.
+pub(super) fn lengths(extent: DVec3, inner_r: Option<f64>) -> DVec3 {
+    match inner_r {
+        None => extent,
+        Some(r) => DVec3::new(
+            extent.x,
+            extent.y * (2.0 * r.max(0.0) + extent.x) / 2.0,
+            extent.z,
+        ),
+    }
+}
+
+/// The resolution `R_i = L_i ∛(λN/V)` (rounded, at least 1, at most `cap` per axis) of a
+/// region with the given lengths holding `count` primitives at density `density`.
+pub(super) fn resolution(lengths: DVec3, count: f64, density: f64, cap: u32) -> [u32; 3] {
+    let l = lengths.to_array();
+    let longest = l.iter().copied().fold(0.0, f64::max);
+    let want = density * count;
+    let positive = |x: f64| x > 0.0 && x.is_finite();
+    if !positive(longest) || !positive(want) {
+        return [1; 3];
+    }
+    let live: Vec<f64> = l.iter().copied().filter(|&x| x > FLAT * longest).collect();
+    let measure: f64 = live.iter().product();
+    let k = (want / measure).powf(1.0 / live.len() as f64);
+    l.map(|x| {
+        if x > FLAT * longest {
+            let r = (x * k).round();
+            if r >= cap as f64 {
+                cap
+            } else if r >= 1.0 {
+                r as u32
+            } else {
+                1
+            }
+        } else {
+            1
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cube_gets_cubic_cells() {
+        let r = resolution(DVec3::splat(2.0), 1000.0, 1.0, 1 << 20);
+        assert_eq!(r, [10, 10, 10]);
+        let r = resolution(DVec3::new(4.0, 2.0, 1.0), 8000.0, 1.0, 1 << 20);
+        assert_eq!(r, [40, 20, 10]);
+    }
+
+    #[test]
+    fn flat_and_empty_regions() {
+        assert_eq!(resolution(DVec3::ZERO, 100.0, 1.0, 64), [1, 1, 1]);
+        assert_eq!(resolution(DVec3::ONE, 0.0, 1.0, 64), [1, 1, 1]);
+        assert_eq!(resolution(DVec3::ONE, f64::NAN, 1.0, 64), [1, 1, 1]);
+        // A square: the rule in two dimensions.
+        assert_eq!(
+            resolution(DVec3::new(1.0, 1.0, 0.0), 100.0, 1.0, 64),
+            [10, 10, 1]
+        );
+        assert_eq!(resolution(DVec3::splat(1.0), 1e12, 1.0, 64), [64, 64, 64]);
+    }
+
+    #[test]
+    fn cylindrical_lengths_use_mid_radius_arc() {
+        // Annulus r ∈ [1, 3], a quarter turn, height 2: arc at r = 2 is π.
+        let l = lengths(DVec3::new(2.0, std::f64::consts::FRAC_PI_2, 2.0), Some(1.0));
+        assert!((l.y - std::f64::consts::PI).abs() < 1e-15);
+        // The product is the sector's volume: (r1² − r0²)/2 · dθ · dh = 4 · π/2 · 2.
+        let v = l.x * l.y * l.z;
+        assert!((v - 4.0 * std::f64::consts::PI).abs() < 1e-12);
+    }
+}
