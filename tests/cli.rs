@@ -51,7 +51,13 @@ fn info_on_the_mixer_gives_counts_scalars_and_axis() {
     assert_eq!(v["cell_types"]["wedge"], 0);
     // The default is the first point array whose range is not constant: `k` in file order.
     assert_eq!(v["active_scalar"], "k");
-    let out = cylvol(&["info", data("mixer.vtk").to_str().unwrap(), "--json", "--scalar", "p"]);
+    let out = cylvol(&[
+        "info",
+        data("mixer.vtk").to_str().unwrap(),
+        "--json",
+        "--scalar",
+        "p",
+    ]);
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["active_scalar"], "p");
     let range = v["scalar_range"].as_array().unwrap();
@@ -186,4 +192,50 @@ fn a_truncated_file_is_reported_with_its_name_and_where() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("cut.vtk") && err.contains("byte"), "{err}");
+}
+
+#[test]
+fn stats_reports_the_four_structures_with_ratios() {
+    let out = cylvol(&["stats", "pump-rotor:20000", "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).expect("JSON alone on standard output");
+    assert_eq!(v["dataset"], "pump-rotor");
+    let cells = v["cells"].as_u64().unwrap();
+    for grid in ["cart-grid", "cyl-grid"] {
+        let g = &v["structures"][grid];
+        for key in ["grid_cells", "references", "bytes", "build_s"] {
+            assert!(g[key].as_f64().unwrap() > 0.0, "{grid}.{key}");
+        }
+        assert!(
+            g["references"].as_u64().unwrap() >= cells,
+            "every cell is referenced"
+        );
+    }
+    for bvh in ["cart-bvh", "cyl-bvh"] {
+        let b = &v["structures"][bvh];
+        for key in [
+            "nodes",
+            "leaves",
+            "references",
+            "bytes",
+            "surface_area",
+            "build_s",
+        ] {
+            assert!(b[key].as_f64().unwrap() > 0.0, "{bvh}.{key}");
+        }
+        assert_eq!(
+            b["nodes"].as_u64().unwrap(),
+            2 * b["leaves"].as_u64().unwrap() - 1
+        );
+        assert!(b["references"].as_u64().unwrap() >= cells);
+    }
+    let area = |k: &str| v["structures"][k]["surface_area"].as_f64().unwrap();
+    let ratio = v["ratios"]["bvh"]["surface_area"].as_f64().unwrap();
+    assert!((ratio - area("cyl-bvh") / area("cart-bvh")).abs() < 1e-12);
+    // Sectors hug the rotor's curved cells better than boxes.
+    assert!(ratio < 1.0, "cyl ÷ cart BVH area {ratio}");
 }

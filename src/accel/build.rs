@@ -87,16 +87,26 @@ pub struct Accel {
 impl Accel {
     /// Builds `kind` over `mesh`; cylindrical structures work about `axis` (Cartesian ones
     /// ignore it). Fails only for an unusable axis.
-    pub fn build(mesh: &Mesh, kind: StructureKind, axis: &Axis, params: &AccelParams) -> Result<Accel, Error> {
+    pub fn build(
+        mesh: &Mesh,
+        kind: StructureKind,
+        axis: &Axis,
+        params: &AccelParams,
+    ) -> Result<Accel, Error> {
         let started = Instant::now();
         let (coordinates, structure) = if kind.is_cylindrical() {
-            let bad_axis = || Error::Invalid(format!("cannot build {kind} about the axis {axis:?}"));
+            let bad_axis =
+                || Error::Invalid(format!("cannot build {kind} about the axis {axis:?}"));
             let frame = CylFrame::new(axis.origin, axis.direction).ok_or_else(bad_axis)?;
             let pieces = cylindrical_pieces(mesh, &frame, params.straddle_sectors);
             let (frame, pieces) = seam_frame(axis, pieces).ok_or_else(bad_axis)?;
             let coordinates = Coordinates::Cylindrical(frame);
             let structure = if kind.is_grid() {
-                Structure::Grid(build_grid(coordinates, &linear_boxes(&pieces), &params.grid))
+                Structure::Grid(build_grid(
+                    coordinates,
+                    &linear_boxes(&pieces),
+                    &params.grid,
+                ))
             } else {
                 Structure::CylBvh(build_bvh(&pieces, &params.bvh))
             };
@@ -177,13 +187,16 @@ impl Accel {
     /// every cell is referenced wherever its bounds reach, and every node holds its children.
     pub fn assert_well_formed(&self, mesh: &Mesh) {
         match (&self.structure, self.coordinates) {
-            (Structure::Grid(g), Coordinates::Cartesian) => g.assert_well_formed(&cartesian_pieces(mesh)),
+            (Structure::Grid(g), Coordinates::Cartesian) => {
+                g.assert_well_formed(&cartesian_pieces(mesh))
+            }
             (Structure::CartBvh(b), _) => b.assert_well_formed(&cartesian_pieces(mesh)),
             (structure, _) => {
                 let frame = CylFrame::new(self.axis.origin, self.axis.direction)
                     .expect("the axis was usable at build time");
                 let pieces = cylindrical_pieces(mesh, &frame, self.params.straddle_sectors);
-                let (_, pieces) = seam_frame(&self.axis, pieces).expect("the axis was usable at build time");
+                let (_, pieces) =
+                    seam_frame(&self.axis, pieces).expect("the axis was usable at build time");
                 match structure {
                     Structure::Grid(g) => g.assert_well_formed(&linear_boxes(&pieces)),
                     Structure::CylBvh(b) => b.assert_well_formed(&pieces),

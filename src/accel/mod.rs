@@ -7,6 +7,7 @@
 //! inverse trilinear map. Counters record the work: hexahedra tested, internal and leaf nodes
 //! visited (for grids: top-level cells and second-level cells visited).
 
+mod build;
 pub mod bvh;
 pub mod grid;
 pub mod space;
@@ -20,6 +21,7 @@ use glam::DVec3;
 use crate::geometry::bounds::Aabb;
 use crate::geometry::cylindrical::CylBounds;
 
+pub use build::{Accel, AccelParams, StructureStats};
 pub use bvh::{Bvh, BvhParams};
 pub use grid::{GridParams, TwoLevelGrid};
 pub use space::{Coordinates, Pieces};

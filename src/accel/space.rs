@@ -24,7 +24,7 @@ use crate::axis::Axis;
 use crate::geometry::bounds::Aabb;
 use crate::geometry::containment::{reject_box, CONTAINMENT_TOLERANCE};
 use crate::geometry::cylindrical::{
-    normalize_angle, straddle_sectors, CylBounds, CylFrame, ThetaInterval,
+    cylindrical_bounds, normalize_angle, straddle_sectors, CylBounds, CylFrame, ThetaInterval,
 };
 use crate::Mesh;
 
@@ -95,26 +95,43 @@ pub fn cartesian_pieces(mesh: &Mesh) -> Pieces<Aabb> {
 }
 
 /// The padded sector pieces of every cell in `frame`: one per cell, or up to
-/// `straddle_sectors` for a cell straddling the axis.
+/// `straddle_sectors_k` for a cell straddling the axis.
 pub fn cylindrical_pieces(
     mesh: &Mesh,
     frame: &CylFrame,
     straddle_sectors_k: usize,
 ) -> Pieces<CylBounds> {
-    let per_cell: Vec<Vec<CylBounds>> = (0..mesh.cell_count())
+    let margin =
+        |corners: &[DVec3; 8]| 4.0 * CONTAINMENT_TOLERANCE * reject_box(corners).diagonal();
+    // One pass, no allocation per cell: the bounds of every cell.
+    let whole: Vec<CylBounds> = (0..mesh.cell_count())
         .into_par_iter()
         .map(|c| {
             let corners = mesh.cell_corners(c);
-            let margin = 4.0 * CONTAINMENT_TOLERANCE * reject_box(&corners).diagonal();
-            straddle_sectors(&corners, frame, straddle_sectors_k)
-                .into_iter()
-                .map(|b| pad(b, margin))
-                .collect()
+            pad(cylindrical_bounds(&corners, frame), margin(&corners))
         })
         .collect();
-    let mut pieces = Pieces::default();
-    for (c, list) in per_cell.into_iter().enumerate() {
-        for b in list {
+    let straddling = whole.iter().filter(|b| b.straddles_axis).count();
+    if straddling == 0 {
+        let cells = (0..whole.len() as u32).collect();
+        return Pieces {
+            bounds: whole,
+            cells,
+        };
+    }
+    // Cells on the axis (few: the O-grid's core) are cut into sectors.
+    let mut pieces = Pieces {
+        bounds: Vec::with_capacity(whole.len() + straddling * straddle_sectors_k),
+        cells: Vec::with_capacity(whole.len() + straddling * straddle_sectors_k),
+    };
+    for (c, b) in whole.into_iter().enumerate() {
+        if b.straddles_axis {
+            let corners = mesh.cell_corners(c);
+            for sector in straddle_sectors(&corners, frame, straddle_sectors_k) {
+                pieces.bounds.push(pad(sector, margin(&corners)));
+                pieces.cells.push(c as u32);
+            }
+        } else {
             pieces.bounds.push(b);
             pieces.cells.push(c as u32);
         }

@@ -3,6 +3,7 @@
 mod demo;
 mod gen;
 mod info;
+mod stats;
 
 use std::path::PathBuf;
 
@@ -20,6 +21,8 @@ struct Cli {
 enum Command {
     /// Describe a mesh: counts, cell types, scalars, bounds and the detected machine axis.
     Info(info::InfoArgs),
+    /// Build the four acceleration structures and report their size, with cyl ÷ cart ratios.
+    Stats(stats::StatsArgs),
     /// Write a synthetic dataset (pump-inlet, pump-rotor, pump-diffuser) to a .vtk or .vtu file.
     Gen(gen::GenArgs),
     /// The main job on the built-in default dataset.
@@ -86,6 +89,7 @@ pub fn run() -> i32 {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Info(a) => info::run(&a),
+        Command::Stats(a) => stats::run(&a),
         Command::Gen(a) => gen::run(&a),
         Command::Demo(a) => demo::run(&a),
     };

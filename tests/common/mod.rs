@@ -82,16 +82,32 @@ pub fn sector(
             *c = c.map(last);
         }
     }
-    finish(points, cells.clone(), vec![CellKind::Hexahedron; cells.len()], frame)
+    finish(
+        points,
+        cells.clone(),
+        vec![CellKind::Hexahedron; cells.len()],
+        frame,
+    )
 }
 
 /// An O-grid cylinder about `frame`: wedges with an edge on the axis in the centre, then
 /// `rings` rings of hexahedra, `nt` around, `nh` high.
-pub fn o_grid_with_axis_wedges(frame: &CylFrame, radius: f64, nt: usize, rings: usize, nh: usize) -> Mesh {
+pub fn o_grid_with_axis_wedges(
+    frame: &CylFrame,
+    radius: f64,
+    nt: usize,
+    rings: usize,
+    nh: usize,
+) -> Mesh {
     let per_level = 1 + nt * rings;
     let id = |k: usize, ring: usize, j: usize| -> u32 {
         // ring 0 is the axis point; ring ≥ 1 has nt points.
-        (k * per_level + if ring == 0 { 0 } else { 1 + (ring - 1) * nt + j % nt }) as u32
+        (k * per_level
+            + if ring == 0 {
+                0
+            } else {
+                1 + (ring - 1) * nt + j % nt
+            }) as u32
     };
     let mut points = Vec::new();
     for k in 0..=nh {
@@ -137,7 +153,12 @@ pub fn o_grid_with_axis_wedges(frame: &CylFrame, radius: f64, nt: usize, rings: 
     finish(points, cells, kinds, frame)
 }
 
-fn finish(points: Vec<DVec3>, cells: Vec<[u32; 8]>, kinds: Vec<CellKind>, frame: &CylFrame) -> Mesh {
+fn finish(
+    points: Vec<DVec3>,
+    cells: Vec<[u32; 8]>,
+    kinds: Vec<CellKind>,
+    frame: &CylFrame,
+) -> Mesh {
     let pressure = points
         .iter()
         .map(|p| {
