@@ -239,3 +239,44 @@ fn stats_reports_the_four_structures_with_ratios() {
     // Sectors hug the rotor's curved cells better than boxes.
     assert!(ratio < 1.0, "cyl ÷ cart BVH area {ratio}");
 }
+
+#[test]
+fn stats_measures_lookups_and_takes_presets() {
+    let out = cylvol(&[
+        "stats",
+        "pump-inlet:8000",
+        "--json",
+        "--lookups",
+        "2000",
+        "--grid",
+        "paper",
+        "--bvh",
+        "fine",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    for kind in ["cart-grid", "cyl-grid", "cart-bvh", "cyl-bvh"] {
+        let s = &v["structures"][kind];
+        assert_eq!(s["lookup"]["lookups"], 2000);
+        // Every point lies inside a cell, so every lookup finds one, after at least one test.
+        assert_eq!(s["lookup"]["found"], 2000, "{kind}");
+        assert!(s["hex_tests"].as_f64().unwrap() >= 1.0, "{kind}");
+    }
+    let paper = v["structures"]["cart-grid"]["grid_cells"].as_f64().unwrap();
+    let out = cylvol(&["stats", "pump-inlet:8000", "--json", "--lookups", "0"]);
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v["structures"]["cart-grid"]["lookup"].is_null());
+    assert!(
+        paper > v["structures"]["cart-grid"]["grid_cells"].as_f64().unwrap(),
+        "the paper preset is finer"
+    );
+    for bad in [["--grid", "nope"], ["--grid", "1,-2"], ["--bvh", "x"]] {
+        let out = cylvol(&["stats", "pump-inlet:8000", bad[0], bad[1]]);
+        assert!(!out.status.success());
+        assert!(String::from_utf8_lossy(&out.stderr).contains(bad[0]));
+    }
+}

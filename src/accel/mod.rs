@@ -10,6 +10,7 @@
 mod build;
 pub mod bvh;
 pub mod grid;
+pub mod probe;
 pub mod space;
 
 use std::fmt;

@@ -5,7 +5,8 @@
 use serde_json::{json, Map, Value};
 
 use super::{log, InputArgs};
-use cylvol::accel::{Accel, AccelParams, StructureKind, StructureStats};
+use cylvol::accel::probe::{lookup_cost, points_in_cells};
+use cylvol::accel::{Accel, AccelParams, BvhParams, GridParams, StructureKind, StructureStats};
 use cylvol::Error;
 
 /// Arguments of `cylvol stats`.
@@ -16,6 +17,50 @@ pub struct StatsArgs {
     /// Print JSON on standard output.
     #[arg(long)]
     json: bool,
+    /// Points (inside random cells, seeded) to locate through each structure to measure the
+    /// work per lookup; 0 skips it.
+    #[arg(long, default_value_t = 100_000)]
+    lookups: usize,
+    /// Grid densities: a preset (default, fast, compact, paper) or `TOP,LEAF` densities.
+    #[arg(long, value_name = "PRESET|λ1,λ2", default_value = "default")]
+    grid: String,
+    /// BVH parameters: a preset (balanced, fast-build, fine).
+    #[arg(long, value_name = "PRESET", default_value = "balanced")]
+    bvh: String,
+}
+
+/// The structure parameters `--grid` and `--bvh` name.
+pub fn params_from(grid: &str, bvh: &str) -> Result<AccelParams, Error> {
+    let grid_params = match GridParams::PRESETS.iter().find(|(n, _)| *n == grid) {
+        Some((_, p)) => *p,
+        None => {
+            let bad = || {
+                Error::Invalid(format!(
+                    "--grid '{grid}': expected default, fast, compact, paper, or two densities TOP,LEAF"
+                ))
+            };
+            let (a, b) = grid.split_once(',').ok_or_else(bad)?;
+            let top: f64 = a.trim().parse().map_err(|_| bad())?;
+            let leaf: f64 = b.trim().parse().map_err(|_| bad())?;
+            if !(top > 0.0 && leaf > 0.0 && top.is_finite() && leaf.is_finite()) {
+                return Err(bad());
+            }
+            GridParams {
+                top_density: top,
+                leaf_density: leaf,
+            }
+        }
+    };
+    params.bvh = BvhParams::PRESETS
+        .iter()
+        .find(|(n, _)| *n == bvh)
+        .map(|(_, p)| *p)
+        .ok_or_else(|| {
+            Error::Invalid(format!(
+                "--bvh '{bvh}': expected balanced, fast-build or fine"
+            ))
+        })?;
+    Ok(params)
 }
 
 /// The JSON object of one structure's figures.
@@ -40,11 +85,15 @@ pub fn stats_json(stats: &StructureStats) -> Value {
 }
 
 /// Builds the four structures over `mesh` about `axis`, logging each.
-pub fn build_all(mesh: &cylvol::Mesh, axis: &cylvol::axis::Axis) -> Result<Vec<Accel>, Error> {
+pub fn build_all(
+    mesh: &cylvol::Mesh,
+    axis: &cylvol::axis::Axis,
+    params: &AccelParams,
+) -> Result<Vec<Accel>, Error> {
     StructureKind::ALL
         .iter()
         .map(|&kind| {
-            let accel = Accel::build(mesh, kind, axis, &AccelParams::default())?;
+            let accel = Accel::build(mesh, kind, axis, params)?;
             let s = accel.stats();
             log(format_args!(
                 "built {kind}: {} references, {:.1} MB, {:.2} s",
@@ -73,13 +122,51 @@ fn ratios(cart: &Value, cyl: &Value, keys: &[&str]) -> Value {
 pub fn run(args: &StatsArgs) -> Result<(), Error> {
     let mesh = args.input.load()?;
     let (axis, _) = args.input.axis(&mesh);
-    let built = build_all(&mesh, &axis)?;
+    let params = params_from(&args.grid, &args.bvh)?;
+    let built = build_all(&mesh, &axis, &params)?;
+    let points = points_in_cells(&mesh, args.lookups, 0x00C7_1D0F);
     let mut structures = Map::new();
     for accel in &built {
-        structures.insert(accel.kind().name().to_string(), stats_json(&accel.stats()));
+        let mut entry = stats_json(&accel.stats());
+        if !points.is_empty() {
+            let cost = lookup_cost(accel, &mesh, &points);
+            log(format_args!(
+                "{}: {:.2} hexahedra tested, {:.1} internal and {:.2} leaf visits per lookup, {:.0} ns",
+                accel.kind(),
+                cost.hex_tests,
+                cost.internal_visits,
+                cost.leaf_visits,
+                cost.ns_per_lookup
+            ));
+            entry["lookup"] = json!({
+                "lookups": cost.lookups,
+                "found": cost.found,
+                "hex_tests": cost.hex_tests,
+                "internal_visits": cost.internal_visits,
+                "leaf_visits": cost.leaf_visits,
+                "ns_per_lookup": cost.ns_per_lookup,
+            });
+            for (k, v) in [
+                ("hex_tests", cost.hex_tests),
+                ("internal_visits", cost.internal_visits),
+                ("leaf_visits", cost.leaf_visits),
+            ] {
+                entry[k] = json!(v);
+            }
+        }
+        structures.insert(accel.kind().name().to_string(), entry);
     }
-    let grid_keys = ["grid_cells", "references", "bytes", "build_s"];
-    let bvh_keys = ["nodes", "references", "bytes", "surface_area", "build_s"];
+    let grid_keys = ["grid_cells", "references", "bytes", "build_s", "hex_tests"];
+    let bvh_keys = [
+        "nodes",
+        "references",
+        "bytes",
+        "surface_area",
+        "build_s",
+        "hex_tests",
+        "internal_visits",
+        "leaf_visits",
+    ];
     let report = json!({
         "dataset": cylvol::input::Input::parse(&args.input.input)?.label(),
         "cells": mesh.cell_count(),
@@ -103,31 +190,39 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
         mesh.cell_count()
     );
     println!(
-        "{:<10} {:>12} {:>12} {:>10} {:>12} {:>9}",
-        "structure", "grid cells", "references", "B/cell", "area", "build s"
+        "{:<10} {:>12} {:>12} {:>8} {:>10} {:>8} {:>8} {:>9} {:>7}",
+        "structure",
+        "grid cells",
+        "references",
+        "B/cell",
+        "area",
+        "build s",
+        "hex/lk",
+        "inner/lk",
+        "leaf/lk"
     );
     for accel in &built {
-        let s = stats_json(&accel.stats());
-        let num = |k: &str| {
+        let s = &structures[accel.kind().name()];
+        let fmt = |k: &str, digits: usize| {
             s[k].as_f64()
-                .map(|v| format!("{v:.0}"))
+                .map(|v| format!("{v:.digits$}"))
                 .unwrap_or_else(|| "-".into())
         };
         println!(
-            "{:<10} {:>12} {:>12} {:>10.1} {:>12} {:>9.3}",
+            "{:<10} {:>12} {:>12} {:>8.1} {:>10} {:>8.3} {:>8} {:>9} {:>7}",
             accel.kind().name(),
             if accel.kind().is_grid() {
-                num("grid_cells")
+                fmt("grid_cells", 0)
             } else {
-                num("nodes") + " n"
+                fmt("nodes", 0) + " n"
             },
-            num("references"),
+            fmt("references", 0),
             s["bytes"].as_f64().unwrap_or(0.0) / cells,
-            s["surface_area"]
-                .as_f64()
-                .map(|v| format!("{v:.2}"))
-                .unwrap_or_else(|| "-".into()),
-            s["build_s"].as_f64().unwrap_or(0.0)
+            fmt("surface_area", 2),
+            s["build_s"].as_f64().unwrap_or(0.0),
+            fmt("hex_tests", 2),
+            fmt("internal_visits", 2),
+            fmt("leaf_visits", 2),
         );
     }
     for (name, keys) in [("grid", &grid_keys[..]), ("bvh", &bvh_keys[..])] {
