@@ -51,7 +51,7 @@ pub fn params_from(grid: &str, bvh: &str) -> Result<AccelParams, Error> {
             }
         }
     };
-    params.bvh = BvhParams::PRESETS
+    let bvh_params = BvhParams::PRESETS
         .iter()
         .find(|(n, _)| *n == bvh)
         .map(|(_, p)| *p)
@@ -60,7 +60,11 @@ pub fn params_from(grid: &str, bvh: &str) -> Result<AccelParams, Error> {
                 "--bvh '{bvh}': expected balanced, fast-build or fine"
             ))
         })?;
-    Ok(params)
+    Ok(AccelParams {
+        grid: grid_params,
+        bvh: bvh_params,
+        ..AccelParams::default()
+    })
 }
 
 /// The JSON object of one structure's figures.
