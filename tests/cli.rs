@@ -280,3 +280,32 @@ fn stats_measures_lookups_and_takes_presets() {
         assert!(String::from_utf8_lossy(&out.stderr).contains(bad[0]));
     }
 }
+
+#[test]
+fn demo_writes_the_mesh_and_the_comparison_with_the_talk() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("demo");
+    let out = cylvol(&[
+        "demo",
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--cells",
+        "20000",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("BVH: surface area"), "{text}");
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(out_dir.join("demo.json")).unwrap()).unwrap();
+    let rows = report["comparison"].as_array().unwrap();
+    assert_eq!(rows.len(), 7);
+    assert!(rows
+        .iter()
+        .all(|r| r["talk"].as_f64().is_some() && r["cylvol"].as_f64().is_some()));
+    let back = info(out_dir.join("pump-rotor.vtu").to_str().unwrap());
+    assert_eq!(back["cells"], report["info"]["cells"]);
+}
