@@ -24,7 +24,9 @@ echo "== cargo fmt --check"
 cargo fmt --all -- --check
 echo "== cargo clippy"
 cargo clippy --all-targets --locked -- -D warnings
+echo "== benchmarks compile (they run with cargo bench, not here)"
+cargo bench --locked --no-run
 echo "== cargo test"
-cargo test --locked --all-targets
+cargo test --locked --lib --bins --tests
 echo "== doc tests"
 cargo test --locked --doc
