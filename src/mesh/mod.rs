@@ -7,6 +7,7 @@
 
 mod cell_kind;
 mod data;
+pub mod topology;
 pub mod validate;
 mod vtk_cells;
 
