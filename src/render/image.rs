@@ -45,14 +45,14 @@ impl Image {
             let a = p[3] as f64;
             match background {
                 Some(bg) => {
-                    for k in 0..3 {
-                        out.push(to_u8(p[k] as f64 + (1.0 - a) * bg[k]));
+                    for (c, b) in p.iter().zip(bg) {
+                        out.push(to_u8(*c as f64 + (1.0 - a) * b));
                     }
                     out.push(255);
                 }
                 None => {
-                    for k in 0..3 {
-                        out.push(to_u8(if a > 0.0 { p[k] as f64 / a } else { 0.0 }));
+                    for c in &p[..3] {
+                        out.push(to_u8(if a > 0.0 { *c as f64 / a } else { 0.0 }));
                     }
                     out.push(to_u8(a));
                 }

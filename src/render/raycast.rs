@@ -438,7 +438,7 @@ impl<'a> Renderer<'a> {
         let mut k = 0u64;
         loop {
             let t = t_in + (k as f64 + 0.5) * step;
-            if !(t < t_out) {
+            if t >= t_out || t.is_nan() {
                 break;
             }
             k += 1;
@@ -471,7 +471,7 @@ impl<'a> Renderer<'a> {
                 Association::Cell => (vol.scalars[cell as usize], None),
             };
             let [r, g, b, a] = self.table.lookup(s);
-            if !(a > 0.0) {
+            if a <= 0.0 || a.is_nan() {
                 continue;
             }
             let c = match (&opts.shading, values) {
