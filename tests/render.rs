@@ -583,6 +583,8 @@ fn face_neighbours_change_the_work_not_the_image() {
         .with_neighbours(&lookup);
     let (b, sb) = with.render(&camera, None).expect("render");
     assert!(max_difference(&a, &b) <= 1e-6);
+    assert_eq!(sa.neighbour_hits, 0);
+    assert!(sb.neighbour_hits > 0 && sb.previous_cell_hits > 0);
     assert!(
         sb.internal_visits + sb.leaf_visits < sa.internal_visits + sa.leaf_visits,
         "neighbours spare structure traversals: {sb:?} vs {sa:?}"

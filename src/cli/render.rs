@@ -8,7 +8,7 @@
 //! ([`cylvol::render::default_step`]), `--view 0,0,1` (VTK's reset camera: looking down `−z`
 //! at the bounds' centre), `--path fast`, no shading. The transfer function is
 //! [`cylvol::render::TransferFunction::default_for_range`] over the scalar range with a
-//! maximum opacity of 0.3 per twentieth of the mesh's diagonal; the background is black.
+//! maximum opacity of 0.3 per hundredth of the mesh's diagonal; the background is black.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -117,7 +117,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let b = mesh.bounds();
     let diagonal = ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
     let [lo, hi] = volume.scalar_range();
-    let transfer = TransferFunction::default_for_range(lo, hi, 0.3, (diagonal / 20.0).max(1e-300));
+    let transfer = TransferFunction::default_for_range(lo, hi, 0.3, (diagonal / 100.0).max(1e-300));
     let (width, height) = args.size;
     let mut options = RenderOptions::new(width, height, step);
     options.path = path;

@@ -117,6 +117,10 @@ pub struct RenderStats {
     pub samples_located: u64,
     /// Samples skipped because their cell is transparent (fast path).
     pub samples_skipped: u64,
+    /// Samples found in the previous sample's cell (fast path).
+    pub previous_cell_hits: u64,
+    /// Samples found in a face neighbour of the previous sample's cell (fast path).
+    pub neighbour_hits: u64,
     /// Cells tested with the inverse map.
     pub hex_tests: u64,
     /// Internal nodes (grids: top-level cells) visited.
@@ -135,6 +139,8 @@ impl AddAssign for RenderStats {
         self.samples += o.samples;
         self.samples_located += o.samples_located;
         self.samples_skipped += o.samples_skipped;
+        self.previous_cell_hits += o.previous_cell_hits;
+        self.neighbour_hits += o.neighbour_hits;
         self.hex_tests += o.hex_tests;
         self.internal_visits += o.internal_visits;
         self.leaf_visits += o.leaf_visits;
@@ -385,11 +391,13 @@ impl<'a> Renderer<'a> {
         p: DVec3,
         prev: Option<(u32, DVec3)>,
         counters: &mut Counters,
+        stats: &mut RenderStats,
     ) -> Option<(u32, DVec3)> {
         let mesh = self.volume.mesh;
         if let Some((c, q)) = prev {
             counters.hex_tests += 1;
             if let Some(q) = locate_in_cell(&mesh.cell_corners(c as usize), p, Some(q)) {
+                stats.previous_cell_hits += 1;
                 return Some((c, q));
             }
             for n in self.neighbours.neighbours(c) {
@@ -398,6 +406,7 @@ impl<'a> Renderer<'a> {
                 }
                 counters.hex_tests += 1;
                 if let Some(q) = locate_in_cell(&mesh.cell_corners(n as usize), p, None) {
+                    stats.neighbour_hits += 1;
                     return Some((n, q));
                 }
             }
@@ -445,7 +454,7 @@ impl<'a> Renderer<'a> {
             stats.samples += 1;
             let p = origin + dir * t;
             let found = if fast {
-                let f = self.locate_fast(p, prev, &mut counters);
+                let f = self.locate_fast(p, prev, &mut counters, stats);
                 prev = f;
                 f
             } else {
