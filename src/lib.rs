@@ -8,6 +8,8 @@
 //! - [`geometry`]: cell geometry — the trilinear map, its Jacobian and inverse, containment,
 //!   Cartesian and cylindrical bounds;
 //! - [`axis`]: detection of the axis a machine turns about;
+//! - [`render`]: the ray caster — camera, transfer function, the `paper` and `fast` paths,
+//!   shading, images;
 //! - [`io`]: readers and writers for legacy VTK, VTU and PLOT3D files;
 //! - [`datasets`]: the deterministic synthetic pump datasets;
 //! - [`input`]: resolution of a command-line `INPUT` (a file or a synthetic dataset name).
@@ -21,6 +23,7 @@ pub mod geometry;
 pub mod input;
 pub mod io;
 pub mod mesh;
+pub mod render;
 
 pub use error::{Error, MeshError, ReadError};
 pub use mesh::{Association, CellKind, Component, DataArray, Mesh, MeshParts};

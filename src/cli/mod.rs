@@ -3,6 +3,7 @@
 mod demo;
 mod gen;
 mod info;
+mod render;
 mod stats;
 
 use std::path::PathBuf;
@@ -23,6 +24,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Build the four acceleration structures and report their size, with cyl ÷ cart ratios.
     Stats(stats::StatsArgs),
+    /// Volume-render a mesh to a PNG image.
+    Render(render::RenderArgs),
     /// Write a synthetic dataset (pump-inlet, pump-rotor, pump-diffuser) to a .vtk or .vtu file.
     Gen(gen::GenArgs),
     /// The main job on the built-in default dataset.
@@ -90,6 +93,7 @@ pub fn run() -> i32 {
     let result = match cli.command {
         Command::Info(a) => info::run(&a),
         Command::Stats(a) => stats::run(&a),
+        Command::Render(a) => render::run(&a),
         Command::Gen(a) => gen::run(&a),
         Command::Demo(a) => demo::run(&a),
     };

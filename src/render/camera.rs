@@ -1,0 +1,329 @@
+//! The camera: perspective or parallel projection from an eye, a focal point, a view-up vector
+//! and a view angle (or parallel scale), with VTK's conventions, and the rays through pixels.
+//!
+//! # Conventions (those of `vtkCamera` and `vtkRenderer::ResetCamera`)
+//! - `view_angle` is the **vertical full angle** in degrees (VTK's default 30).
+//! - `parallel_scale` is **half the viewport height** in world units.
+//! - The default camera ([`Camera::reset`]) looks at the centre of the bounds from `+z`
+//!   (direction of projection `−z`, view-up `+y`, VTK's initial camera) from the distance at
+//!   which the bounding sphere fits the view: `radius / sin(angle / 2)` with `radius` half the
+//!   bounds' diagonal (`1` for a point); for a window taller than wide the horizontal angle is
+//!   the one that must hold the sphere, as `ResetCamera` does. Its parallel scale is `radius`
+//!   (divided by the aspect for a tall window).
+//! - [`Camera::azimuth`] rotates the eye about the view-up through the focal point;
+//!   [`Camera::elevation`] about `view_plane_normal × view_up` (VTK's axis: the negated first
+//!   row of the view transform), then re-orthogonalises the view-up (VTK's
+//!   `OrthogonalizeViewUp`); [`Camera::zoom`] divides the view angle (perspective; VTK does the
+//!   same through the tangent-free `ViewAngle / factor`) or the parallel scale.
+//!
+//! # Rays
+//! Pixel `(i, j)` (row `j = 0` at the top) is sampled at its centre. A perspective ray leaves
+//! the eye with a unit direction; a parallel ray leaves the eye's plane (the plane through the
+//! eye normal to the direction of projection) along the direction of projection. The ray
+//! parameter `t` is therefore a distance in world units from the eye (its plane).
+
+use glam::{DQuat, DVec3};
+
+use crate::Error;
+
+/// Perspective or parallel projection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// A pinhole at the eye; the value is the vertical full view angle in degrees.
+    Perspective(f64),
+    /// Parallel rays; the value is half the viewport height in world units.
+    Parallel(f64),
+}
+
+/// A camera in VTK's terms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Where the camera is (VTK's `Position`).
+    pub eye: DVec3,
+    /// The point it looks at.
+    pub focal: DVec3,
+    /// The view-up vector (need not be unit or orthogonal to the view direction).
+    pub up: DVec3,
+    /// The projection and its view angle or parallel scale.
+    pub projection: Projection,
+}
+
+/// VTK's default view angle in degrees.
+pub const DEFAULT_VIEW_ANGLE: f64 = 30.0;
+
+/// The orthonormal frame of a camera: direction of projection, right and up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraFrame {
+    /// Unit direction of projection (from the eye to the focal point).
+    pub forward: DVec3,
+    /// Unit right vector (`forward × up`).
+    pub right: DVec3,
+    /// Unit up vector, orthogonal to both.
+    pub up: DVec3,
+}
+
+impl Camera {
+    /// A perspective camera; fails on a degenerate frame (eye on the focal point, up parallel
+    /// to the view direction, non-finite values) or an angle outside `(0, 180)`.
+    ///
+    /// ```
+    /// use cylvol::render::Camera;
+    /// use glam::DVec3;
+    /// let c = Camera::perspective(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO, DVec3::Y, 30.0).unwrap();
+    /// assert_eq!(c.frame().unwrap().forward, -DVec3::Z);
+    /// ```
+    pub fn perspective(
+        eye: DVec3,
+        focal: DVec3,
+        up: DVec3,
+        view_angle: f64,
+    ) -> Result<Camera, Error> {
+        let c = Camera {
+            eye,
+            focal,
+            up,
+            projection: Projection::Perspective(view_angle),
+        };
+        c.check()?;
+        Ok(c)
+    }
+
+    /// A parallel camera with the given half viewport height in world units.
+    pub fn parallel(
+        eye: DVec3,
+        focal: DVec3,
+        up: DVec3,
+        parallel_scale: f64,
+    ) -> Result<Camera, Error> {
+        let c = Camera {
+            eye,
+            focal,
+            up,
+            projection: Projection::Parallel(parallel_scale),
+        };
+        c.check()?;
+        Ok(c)
+    }
+
+    fn check(&self) -> Result<(), Error> {
+        let ok_projection = match self.projection {
+            Projection::Perspective(a) => a > 0.0 && a < 180.0,
+            Projection::Parallel(s) => s > 0.0 && s.is_finite(),
+        };
+        if !ok_projection {
+            return Err(Error::Invalid(format!(
+                "bad camera projection {:?} (view angle in (0, 180) degrees, parallel scale > 0)",
+                self.projection
+            )));
+        }
+        self.frame().map(|_| ())
+    }
+
+    /// The camera's orthonormal frame, or an error when it is degenerate.
+    pub fn frame(&self) -> Result<CameraFrame, Error> {
+        let forward = (self.focal - self.eye).normalize_or_zero();
+        let right = forward.cross(self.up).normalize_or_zero();
+        if !(forward.is_finite() && right.is_finite())
+            || forward == DVec3::ZERO
+            || right == DVec3::ZERO
+        {
+            return Err(Error::Invalid(format!(
+                "degenerate camera: eye {}, focal point {}, view-up {}",
+                self.eye, self.focal, self.up
+            )));
+        }
+        Ok(CameraFrame {
+            forward,
+            right,
+            up: right.cross(forward),
+        })
+    }
+
+    /// VTK's `ResetCamera` for the default camera (looking down `−z`, up `+y`, view angle 30°):
+    /// focal point at the centre of `bounds` (`[xmin, xmax, ymin, ymax, zmin, zmax]`), distance
+    /// such that the bounding sphere fits a `width × height` window. `parallel` picks the
+    /// projection (parallel scale = the sphere's radius, divided by the aspect when tall).
+    pub fn reset(bounds: [f64; 6], width: u32, height: u32, parallel: bool) -> Camera {
+        let lo = DVec3::new(bounds[0], bounds[2], bounds[4]);
+        let hi = DVec3::new(bounds[1], bounds[3], bounds[5]);
+        let centre = (lo + hi) * 0.5;
+        let diag = (hi - lo).length();
+        let radius = if diag > 0.0 && diag.is_finite() {
+            diag * 0.5
+        } else {
+            1.0
+        };
+        let aspect = width.max(1) as f64 / height.max(1) as f64;
+        let mut angle = DEFAULT_VIEW_ANGLE.to_radians();
+        let mut scale = radius;
+        if aspect < 1.0 {
+            angle = 2.0 * ((angle * 0.5).tan() * aspect).atan();
+            scale /= aspect;
+        }
+        let distance = radius / (angle * 0.5).sin();
+        Camera {
+            eye: centre + DVec3::Z * distance,
+            focal: centre,
+            up: DVec3::Y,
+            projection: if parallel {
+                Projection::Parallel(scale)
+            } else {
+                Projection::Perspective(DEFAULT_VIEW_ANGLE)
+            },
+        }
+    }
+
+    /// The `--view AZIMUTH,ELEVATION,ZOOM` preset: [`Camera::reset`], then
+    /// [`Camera::azimuth`], [`Camera::elevation`] and [`Camera::zoom`] in that order.
+    pub fn view(
+        bounds: [f64; 6],
+        width: u32,
+        height: u32,
+        azimuth: f64,
+        elevation: f64,
+        zoom: f64,
+    ) -> Camera {
+        let mut c = Camera::reset(bounds, width, height, false);
+        c.azimuth(azimuth);
+        c.elevation(elevation);
+        c.zoom(zoom);
+        c
+    }
+
+    /// Rotates the eye about the view-up vector through the focal point by `degrees`.
+    pub fn azimuth(&mut self, degrees: f64) {
+        let axis = self.up.normalize_or_zero();
+        if axis == DVec3::ZERO || !degrees.is_finite() {
+            return;
+        }
+        let q = DQuat::from_axis_angle(axis, degrees.to_radians());
+        self.eye = self.focal + q * (self.eye - self.focal);
+    }
+
+    /// Rotates the eye about `view_plane_normal × view_up` through the focal point by
+    /// `degrees` (positive moves the eye up), rotating the view-up with it.
+    pub fn elevation(&mut self, degrees: f64) {
+        let vpn = (self.eye - self.focal).normalize_or_zero();
+        let axis = vpn.cross(self.up).normalize_or_zero();
+        if axis == DVec3::ZERO || !degrees.is_finite() {
+            return;
+        }
+        let q = DQuat::from_axis_angle(axis, degrees.to_radians());
+        self.eye = self.focal + q * (self.eye - self.focal);
+        // The rotated up is the old up orthogonalised against the new view plane normal.
+        let up = q * self.up;
+        let new_vpn = (self.eye - self.focal).normalize_or_zero();
+        self.up = (up - new_vpn * up.dot(new_vpn)).normalize_or_zero();
+    }
+
+    /// Divides the view angle (perspective) or the parallel scale by `factor` (> 1 zooms in).
+    pub fn zoom(&mut self, factor: f64) {
+        if !(factor > 0.0 && factor.is_finite()) {
+            return;
+        }
+        self.projection = match self.projection {
+            Projection::Perspective(a) => Projection::Perspective(a / factor),
+            Projection::Parallel(s) => Projection::Parallel(s / factor),
+        };
+    }
+}
+
+/// Generates the rays of a `width × height` image for a camera.
+#[derive(Clone, Copy, Debug)]
+pub struct RayGenerator {
+    eye: DVec3,
+    frame: CameraFrame,
+    parallel: bool,
+    /// Half extents of the image plane at unit distance (perspective) or in world units.
+    half_w: f64,
+    half_h: f64,
+    width: u32,
+    height: u32,
+}
+
+impl RayGenerator {
+    /// Prepares ray generation; fails for a degenerate camera or an empty image.
+    pub fn new(camera: &Camera, width: u32, height: u32) -> Result<RayGenerator, Error> {
+        camera.check()?;
+        if width == 0 || height == 0 {
+            return Err(Error::Invalid(format!("empty image {width}x{height}")));
+        }
+        let frame = camera.frame()?;
+        let aspect = width as f64 / height as f64;
+        let (parallel, half_h) = match camera.projection {
+            Projection::Perspective(a) => (false, (a.to_radians() * 0.5).tan()),
+            Projection::Parallel(s) => (true, s),
+        };
+        Ok(RayGenerator {
+            eye: camera.eye,
+            frame,
+            parallel,
+            half_w: half_h * aspect,
+            half_h,
+            width,
+            height,
+        })
+    }
+
+    /// The ray through the centre of pixel `(i, j)` (row 0 at the top): origin and unit
+    /// direction.
+    #[inline]
+    pub fn ray(&self, i: u32, j: u32) -> (DVec3, DVec3) {
+        let x = ((i as f64 + 0.5) / self.width as f64) * 2.0 - 1.0;
+        let y = 1.0 - ((j as f64 + 0.5) / self.height as f64) * 2.0;
+        let f = &self.frame;
+        if self.parallel {
+            (
+                self.eye + f.right * (x * self.half_w) + f.up * (y * self.half_h),
+                f.forward,
+            )
+        } else {
+            let d = f.forward + f.right * (x * self.half_w) + f.up * (y * self.half_h);
+            (self.eye, d.normalize())
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reset_fits_the_bounding_sphere() {
+        let b = [-1.0, 1.0, -2.0, 2.0, 0.0, 4.0];
+        let c = Camera::reset(b, 100, 100, false);
+        assert_eq!(c.focal, DVec3::new(0.0, 0.0, 2.0));
+        let radius = (2.0f64 * 2.0 + 4.0 * 4.0 + 4.0 * 4.0).sqrt() * 0.5;
+        let d = (c.eye - c.focal).length();
+        // The sphere's tangent cone from the eye has half angle 15°.
+        assert!(((radius / d).asin().to_degrees() - 15.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn azimuth_and_elevation_move_the_eye_as_vtk_does() {
+        let b = [-1.0, 1.0, -1.0, 1.0, -1.0, 1.0];
+        let mut c = Camera::reset(b, 10, 10, false);
+        let d = c.eye.z;
+        c.azimuth(90.0);
+        // About +y by +90°: +z goes to +x.
+        assert!((c.eye - DVec3::new(d, 0.0, 0.0)).length() < 1e-12);
+        let mut c = Camera::reset(b, 10, 10, false);
+        c.elevation(90.0);
+        assert!((c.eye - DVec3::new(0.0, d, 0.0)).length() < 1e-12);
+        assert!((c.up - -DVec3::Z).length() < 1e-12);
+        c.zoom(2.0);
+        assert_eq!(c.projection, Projection::Perspective(15.0));
+    }
+
+    #[test]
+    fn centre_ray_goes_to_the_focal_point() {
+        let c =
+            Camera::perspective(DVec3::new(1.0, 2.0, 3.0), DVec3::ZERO, DVec3::Y, 30.0).unwrap();
+        let g = RayGenerator::new(&c, 3, 3).unwrap();
+        let (o, d) = g.ray(1, 1);
+        assert_eq!(o, c.eye);
+        assert!((d - (-c.eye).normalize()).length() < 1e-15);
+        assert!(Camera::perspective(DVec3::ZERO, DVec3::ZERO, DVec3::Y, 30.0).is_err());
+        assert!(Camera::perspective(DVec3::Z, DVec3::ZERO, DVec3::Z, 30.0).is_err());
+    }
+}

@@ -1,0 +1,80 @@
+//! Rendered images: premultiplied floating-point RGBA with a depth per pixel, their 8-bit
+//! conversion, and PNG output (through the `png` crate).
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::Path;
+
+use crate::Error;
+
+/// A rendered image, rows top to bottom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Premultiplied `[r, g, b, a]` per pixel, `a = 1 − transmittance`, all in `[0, 1]`.
+    pub rgba: Vec<[f32; 4]>,
+    /// Per pixel, the ray distance of the depth sample (see [`crate::render::RenderOptions`]),
+    /// `+∞` where there is none.
+    pub depth: Vec<f32>,
+}
+
+fn to_u8(x: f64) -> u8 {
+    (x.clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
+impl Image {
+    /// A transparent image with infinite depth.
+    pub fn new(width: u32, height: u32) -> Image {
+        let n = width as usize * height as usize;
+        Image {
+            width,
+            height,
+            rgba: vec![[0.0; 4]; n],
+            depth: vec![f32::INFINITY; n],
+        }
+    }
+
+    /// 8-bit RGBA, row after row. With a background colour the image is composited over it
+    /// (alpha 255); without, the colour is un-premultiplied and alpha kept (straight alpha).
+    pub fn to_rgba8(&self, background: Option<[f64; 3]>) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.rgba.len() * 4);
+        for p in &self.rgba {
+            let a = p[3] as f64;
+            match background {
+                Some(bg) => {
+                    for (c, b) in p.iter().zip(bg) {
+                        out.push(to_u8(*c as f64 + (1.0 - a) * b));
+                    }
+                    out.push(255);
+                }
+                None => {
+                    for c in &p[..3] {
+                        out.push(to_u8(if a > 0.0 { *c as f64 / a } else { 0.0 }));
+                    }
+                    out.push(to_u8(a));
+                }
+            }
+        }
+        out
+    }
+
+    /// Writes the image as an 8-bit RGBA PNG (see [`Image::to_rgba8`] for `background`).
+    pub fn write_png(&self, path: &Path, background: Option<[f64; 3]>) -> Result<(), Error> {
+        let file = File::create(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut encoder = png::Encoder::new(BufWriter::new(file), self.width, self.height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        let enc = |e: png::EncodingError| Error::Invalid(format!("{}: {e}", path.display()));
+        let mut writer = encoder.write_header().map_err(enc)?;
+        writer
+            .write_image_data(&self.to_rgba8(background))
+            .map_err(enc)?;
+        writer.finish().map_err(enc)
+    }
+}

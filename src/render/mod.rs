@@ -1,0 +1,34 @@
+//! Volume rendering by ray casting: the camera, the transfer function, the two sampling paths
+//! (`paper` and `fast`), shading, images and the work counters.
+//!
+//! ```
+//! use cylvol::accel::{Accel, AccelParams, StructureKind};
+//! use cylvol::axis::Axis;
+//! use cylvol::render::{default_step, Camera, Renderer, RenderOptions, TransferFunction, Volume};
+//! let mesh = cylvol::datasets::generate(cylvol::datasets::Dataset::PumpInlet, 2000).unwrap();
+//! let accel = Accel::build(&mesh, StructureKind::CartBvh, &Axis::Z, &AccelParams::default()).unwrap();
+//! let volume = Volume::new(&mesh, &accel).unwrap();
+//! let [lo, hi] = volume.scalar_range();
+//! let tf = TransferFunction::default_for_range(lo, hi, 0.3, 0.1);
+//! let options = RenderOptions::new(16, 16, default_step(&mesh));
+//! let renderer = Renderer::new(&volume, &tf, &options).unwrap();
+//! let camera = Camera::view(mesh.bounds(), 16, 16, 30.0, 20.0, 1.0);
+//! let (image, stats) = renderer.render(&camera, None).unwrap();
+//! assert_eq!(image.rgba.len(), 256);
+//! assert_eq!(stats.rays, 256);
+//! ```
+
+pub mod camera;
+pub mod image;
+pub mod raycast;
+pub mod shading;
+pub mod transfer;
+
+pub use camera::{Camera, CameraFrame, Projection, RayGenerator, DEFAULT_VIEW_ANGLE};
+pub use image::Image;
+pub use raycast::{
+    default_step, Neighbours, NoNeighbours, RayResult, RenderOptions, RenderPath, RenderStats,
+    Renderer, Volume, MAX_SAMPLES_PER_RAY,
+};
+pub use shading::Shading;
+pub use transfer::{TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};

@@ -1,0 +1,570 @@
+//! The ray caster: the `paper` and `fast` paths, front-to-back compositing, early termination,
+//! depth in and out, and the parallel loop over image tiles.
+//!
+//! # Sampling
+//! A ray (origin `o`, unit direction `d`) is clipped to the mesh's bounding box (padded by
+//! `1e-9` of its diagonal so samples on the boundary are kept) and to `t ≥ 0` (a camera inside
+//! the mesh starts at the eye), then to the opaque-geometry depth if one is given. Samples lie
+//! at `t_k = t_in + (k + ½)·step`, `k = 0, 1, …` while `t_k < t_out`; each stands for a segment
+//! of length `step` (midpoint rule), so the transfer table's opacities are corrected to `step`.
+//!
+//! # Compositing and depth
+//! Front to back: `C += T α c`, `T *= 1 − α` with `α` the step-corrected opacity and `c` the
+//! (shaded) colour; the ray stops once `1 − T ≥ early_termination` (default 0.99). The depth
+//! output of a pixel is the `t` of the first sample at which the accumulated opacity `1 − T`
+//! reaches [`RenderOptions::depth_opacity`] (default 0.5), `+∞` if it never does. A depth
+//! image given as input (same convention: distance along the ray from the eye or its plane)
+//! stops each ray there, as opaque geometry would.
+//!
+//! # The two paths
+//! - **paper**: every sample is located from scratch through the structure
+//!   ([`Accel::locate`]) and interpolated trilinearly — what the talk measured.
+//! - **fast**: the sample is first tested in the previous sample's cell (Newton warm-started at
+//!   the previous parameters), then in that cell's face neighbours (from a [`Neighbours`]
+//!   source; [`NoNeighbours`] until the mesh topology is plugged in), and only then through the
+//!   structure; a sample whose cell's scalar range the transfer function maps to zero opacity
+//!   everywhere is skipped without interpolation (it would add nothing). The image equals the
+//!   paper path's up to the choice between two cells on a shared face (both valid, values equal
+//!   to the inverse map's tolerance, `~1e-9` relative).
+//!
+//! Both count their work in [`RenderStats`].
+//!
+//! # Threads
+//! The image is cut into square tiles ([`RenderOptions::tile`], default 16) rendered in
+//! parallel with rayon; every pixel is computed alone, and the counters are integer sums, so
+//! image and counters are identical whatever the number of threads.
+
+use std::ops::AddAssign;
+
+use glam::DVec3;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::camera::{Camera, RayGenerator};
+use super::image::Image;
+use super::shading::Shading;
+use super::transfer::{TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
+use crate::accel::{Accel, Counters};
+use crate::geometry::bounds::{cell_bounds, Aabb};
+use crate::geometry::containment::locate_in_cell;
+use crate::geometry::trilinear::{interpolate, physical_gradient};
+use crate::mesh::Association;
+use crate::{Error, Mesh};
+
+/// Which sampling path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RenderPath {
+    /// Every sample located from scratch through the structure.
+    Paper,
+    /// Previous cell, face neighbours, then the structure; transparent cells skipped.
+    Fast,
+}
+
+impl RenderPath {
+    /// `paper` or `fast`.
+    pub fn name(self) -> &'static str {
+        match self {
+            RenderPath::Paper => "paper",
+            RenderPath::Fast => "fast",
+        }
+    }
+}
+
+impl std::str::FromStr for RenderPath {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s {
+            "paper" => Ok(RenderPath::Paper),
+            "fast" => Ok(RenderPath::Fast),
+            _ => Err(Error::Invalid(format!(
+                "unknown path '{s}' (expected paper or fast)"
+            ))),
+        }
+    }
+}
+
+/// The face neighbours of a cell, for the fast path: six cell ids, `u32::MAX` for none.
+/// Closures `Fn(u32) -> [u32; 6]` implement it.
+pub trait Neighbours: Sync {
+    /// The cells across the six faces of `cell` (`u32::MAX` where there is none).
+    fn neighbours(&self, cell: u32) -> [u32; 6];
+}
+
+impl<F: Fn(u32) -> [u32; 6] + Sync> Neighbours for F {
+    fn neighbours(&self, cell: u32) -> [u32; 6] {
+        self(cell)
+    }
+}
+
+/// No neighbours known: the fast path goes from the previous cell straight to the structure.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoNeighbours;
+
+impl Neighbours for NoNeighbours {
+    fn neighbours(&self, _cell: u32) -> [u32; 6] {
+        [u32::MAX; 6]
+    }
+}
+
+/// The work of a render.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct RenderStats {
+    /// Rays cast (pixels).
+    pub rays: u64,
+    /// Sample positions taken along the rays (inside the mesh's box, before termination).
+    pub samples: u64,
+    /// Samples found in a cell.
+    pub samples_located: u64,
+    /// Samples skipped because their cell is transparent (fast path).
+    pub samples_skipped: u64,
+    /// Samples found in the previous sample's cell (fast path).
+    pub previous_cell_hits: u64,
+    /// Samples found in a face neighbour of the previous sample's cell (fast path).
+    pub neighbour_hits: u64,
+    /// Cells tested with the inverse map.
+    pub hex_tests: u64,
+    /// Internal nodes (grids: top-level cells) visited.
+    pub internal_visits: u64,
+    /// Leaf nodes (grids: second-level cells) visited.
+    pub leaf_visits: u64,
+    /// Gradients evaluated (shading only).
+    pub gradient_evaluations: u64,
+    /// Rays stopped by early termination.
+    pub early_terminations: u64,
+}
+
+impl AddAssign for RenderStats {
+    fn add_assign(&mut self, o: RenderStats) {
+        self.rays += o.rays;
+        self.samples += o.samples;
+        self.samples_located += o.samples_located;
+        self.samples_skipped += o.samples_skipped;
+        self.previous_cell_hits += o.previous_cell_hits;
+        self.neighbour_hits += o.neighbour_hits;
+        self.hex_tests += o.hex_tests;
+        self.internal_visits += o.internal_visits;
+        self.leaf_visits += o.leaf_visits;
+        self.gradient_evaluations += o.gradient_evaluations;
+        self.early_terminations += o.early_terminations;
+    }
+}
+
+impl RenderStats {
+    fn add_counters(&mut self, c: &Counters) {
+        self.hex_tests += c.hex_tests;
+        self.internal_visits += c.internal_visits;
+        self.leaf_visits += c.leaf_visits;
+    }
+}
+
+/// How to render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Distance between samples along a ray, in world units.
+    pub step: f64,
+    /// Paper or fast path.
+    pub path: RenderPath,
+    /// Shading, or `None` for none (then no gradient is evaluated).
+    pub shading: Option<Shading>,
+    /// Rays stop once their accumulated opacity reaches this (default 0.99; 1 or more never).
+    pub early_termination: f64,
+    /// The depth output is where the accumulated opacity first reaches this (default 0.5).
+    pub depth_opacity: f64,
+    /// Tile side in pixels for the parallel loop (default 16).
+    pub tile: u32,
+    /// Entries of the transfer-function table (default 1024).
+    pub table_size: usize,
+}
+
+impl RenderOptions {
+    /// Defaults for a `width × height` image with the given step: fast path, no shading,
+    /// early termination at 0.99, depth at 0.5, 16-pixel tiles, 1024 table entries.
+    pub fn new(width: u32, height: u32, step: f64) -> RenderOptions {
+        RenderOptions {
+            width,
+            height,
+            step,
+            path: RenderPath::Fast,
+            shading: None,
+            early_termination: 0.99,
+            depth_opacity: 0.5,
+            tile: 16,
+            table_size: DEFAULT_TABLE_SIZE,
+        }
+    }
+}
+
+/// The default step: half the mean cell size, the cell size being its box diagonal ÷ √3 (the
+/// edge of a cube with that diagonal). Falls back to 1/1000 of the mesh diagonal if every cell
+/// is flat.
+pub fn default_step(mesh: &Mesh) -> f64 {
+    let n = mesh.cell_count().max(1) as f64;
+    let total: f64 = (0..mesh.cell_count())
+        .into_par_iter()
+        .map(|c| cell_bounds(&mesh.cell_corners(c)).diagonal())
+        .sum();
+    let step = total / n / 3f64.sqrt() / 2.0;
+    if step > 0.0 && step.is_finite() {
+        step
+    } else {
+        let b = mesh.bounds();
+        let d = DVec3::new(b[1] - b[0], b[3] - b[2], b[5] - b[4]).length();
+        if d > 0.0 && d.is_finite() {
+            d / 1000.0
+        } else {
+            1.0
+        }
+    }
+}
+
+/// A mesh with its structure and active scalar, ready to render: the scalars and the
+/// per-cell scalar ranges are gathered once here.
+#[derive(Clone, Debug)]
+pub struct Volume<'a> {
+    mesh: &'a Mesh,
+    accel: &'a Accel,
+    association: Association,
+    scalars: Vec<f64>,
+    cell_ranges: Vec<[f64; 2]>,
+    range: [f64; 2],
+    bounds: Aabb,
+}
+
+impl<'a> Volume<'a> {
+    /// Gathers the active scalar of `mesh` (an error if it has none) and each cell's range.
+    pub fn new(mesh: &'a Mesh, accel: &'a Accel) -> Result<Volume<'a>, Error> {
+        let (association, scalars) = mesh
+            .active_scalars()
+            .ok_or_else(|| Error::Invalid("the mesh has no scalar array to render".into()))?;
+        let range = mesh
+            .scalar_range()
+            .ok_or_else(|| Error::Invalid("the mesh has no scalar array to render".into()))?;
+        let cell_ranges = match association {
+            Association::Point => mesh
+                .cells()
+                .par_iter()
+                .map(|c| {
+                    c.iter()
+                        .fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], &i| {
+                            let v = scalars[i as usize];
+                            [lo.min(v), hi.max(v)]
+                        })
+                })
+                .collect(),
+            Association::Cell => scalars.iter().map(|&v| [v, v]).collect(),
+        };
+        let b = mesh.bounds();
+        let bounds = Aabb::new(DVec3::new(b[0], b[2], b[4]), DVec3::new(b[1], b[3], b[5]));
+        Ok(Volume {
+            mesh,
+            accel,
+            association,
+            scalars,
+            cell_ranges,
+            range,
+            bounds,
+        })
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &Mesh {
+        self.mesh
+    }
+
+    /// The structure.
+    pub fn accel(&self) -> &Accel {
+        self.accel
+    }
+
+    /// `[min, max]` of the active scalar.
+    pub fn scalar_range(&self) -> [f64; 2] {
+        self.range
+    }
+
+    /// `[min, max]` of the scalar over cell `c` (its corners' values for point data).
+    pub fn cell_range(&self, c: u32) -> [f64; 2] {
+        self.cell_ranges[c as usize]
+    }
+}
+
+/// The result of one ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayResult {
+    /// Premultiplied colour and accumulated opacity.
+    pub rgba: [f64; 4],
+    /// The depth sample's `t` (see the module documentation), `+∞` if none.
+    pub depth: f64,
+}
+
+/// A volume with a transfer table and options: casts rays and renders images.
+pub struct Renderer<'a> {
+    volume: &'a Volume<'a>,
+    table: TransferTable,
+    options: RenderOptions,
+    neighbours: &'a dyn Neighbours,
+    clip_box: Aabb,
+}
+
+/// Samples per ray beyond which a render is refused (a step far too small for the mesh).
+pub const MAX_SAMPLES_PER_RAY: f64 = 1e7;
+
+impl<'a> Renderer<'a> {
+    /// Samples `transfer` over the volume's scalar range for `options.step`; fails on a bad
+    /// transfer function, step, or one so small that a ray would take more than
+    /// [`MAX_SAMPLES_PER_RAY`] samples across the mesh.
+    pub fn new(
+        volume: &'a Volume<'a>,
+        transfer: &TransferFunction,
+        options: &RenderOptions,
+    ) -> Result<Renderer<'a>, Error> {
+        let [lo, hi] = volume.range;
+        let table = transfer.table(lo, hi, options.step, options.table_size)?;
+        let diag = volume.bounds.diagonal();
+        if diag / options.step > MAX_SAMPLES_PER_RAY {
+            return Err(Error::Invalid(format!(
+                "step {} is too small for a mesh of diagonal {diag}",
+                options.step
+            )));
+        }
+        let mag = volume
+            .bounds
+            .min
+            .abs()
+            .max(volume.bounds.max.abs())
+            .max_element();
+        let clip_box = volume.bounds.padded(1e-9 * diag + 8.0 * f64::EPSILON * mag);
+        Ok(Renderer {
+            volume,
+            table,
+            options: *options,
+            neighbours: &NoNeighbours,
+            clip_box,
+        })
+    }
+
+    /// Uses `neighbours` for the fast path's second test.
+    pub fn with_neighbours(mut self, neighbours: &'a dyn Neighbours) -> Renderer<'a> {
+        self.neighbours = neighbours;
+        self
+    }
+
+    /// The options.
+    pub fn options(&self) -> &RenderOptions {
+        &self.options
+    }
+
+    /// The transfer table in use.
+    pub fn table(&self) -> &TransferTable {
+        &self.table
+    }
+
+    /// The ray's `[t_in, t_out]` within the mesh's (padded) box and `t ≥ 0`, if not empty.
+    pub fn clip(&self, origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
+        let (mut t_in, mut t_out) = (0.0f64, f64::INFINITY);
+        for a in 0..3 {
+            let (o, d) = (origin[a], dir[a]);
+            let (lo, hi) = (self.clip_box.min[a], self.clip_box.max[a]);
+            if d == 0.0 {
+                // Parallel to this slab: inside it or missing the box.
+                if !(o >= lo && o <= hi) {
+                    return None;
+                }
+                continue;
+            }
+            let (t0, t1) = ((lo - o) / d, (hi - o) / d);
+            t_in = t_in.max(t0.min(t1));
+            t_out = t_out.min(t0.max(t1));
+        }
+        if !(t_in.is_finite() && t_out.is_finite()) {
+            return None;
+        }
+        (t_in < t_out).then_some((t_in, t_out))
+    }
+
+    #[inline]
+    fn locate_fast(
+        &self,
+        p: DVec3,
+        prev: Option<(u32, DVec3)>,
+        counters: &mut Counters,
+        stats: &mut RenderStats,
+    ) -> Option<(u32, DVec3)> {
+        let mesh = self.volume.mesh;
+        if let Some((c, q)) = prev {
+            counters.hex_tests += 1;
+            if let Some(q) = locate_in_cell(&mesh.cell_corners(c as usize), p, Some(q)) {
+                stats.previous_cell_hits += 1;
+                return Some((c, q));
+            }
+            for n in self.neighbours.neighbours(c) {
+                if n == u32::MAX || n == c || n as usize >= mesh.cell_count() {
+                    continue;
+                }
+                counters.hex_tests += 1;
+                if let Some(q) = locate_in_cell(&mesh.cell_corners(n as usize), p, None) {
+                    stats.neighbour_hits += 1;
+                    return Some((n, q));
+                }
+            }
+        }
+        self.volume.accel.locate(mesh, p, counters)
+    }
+
+    /// Casts one ray (unit `dir`), stopping at `t_stop` (opaque geometry; `+∞` for none).
+    pub fn cast(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t_stop: f64,
+        stats: &mut RenderStats,
+    ) -> RayResult {
+        stats.rays += 1;
+        let mut out = RayResult {
+            rgba: [0.0; 4],
+            depth: f64::INFINITY,
+        };
+        let Some((t_in, t_out)) = self.clip(origin, dir) else {
+            return out;
+        };
+        let t_out = if t_stop.is_nan() {
+            t_out
+        } else {
+            t_out.min(t_stop)
+        };
+        let opts = &self.options;
+        let step = opts.step;
+        let vol = self.volume;
+        let mesh = vol.mesh;
+        let fast = opts.path == RenderPath::Fast;
+        let mut counters = Counters::default();
+        let mut transmittance = 1.0f64;
+        let mut color = [0.0f64; 3];
+        let mut prev: Option<(u32, DVec3)> = None;
+        let mut k = 0u64;
+        loop {
+            let t = t_in + (k as f64 + 0.5) * step;
+            if t >= t_out || t.is_nan() {
+                break;
+            }
+            k += 1;
+            stats.samples += 1;
+            let p = origin + dir * t;
+            let found = if fast {
+                let f = self.locate_fast(p, prev, &mut counters, stats);
+                prev = f;
+                f
+            } else {
+                vol.accel.locate(mesh, p, &mut counters)
+            };
+            let Some((cell, param)) = found else {
+                continue;
+            };
+            stats.samples_located += 1;
+            if fast {
+                let [a, b] = vol.cell_ranges[cell as usize];
+                if self.table.transparent_over(a, b) {
+                    stats.samples_skipped += 1;
+                    continue;
+                }
+            }
+            let param = param.clamp(DVec3::ZERO, DVec3::ONE);
+            let (s, values) = match vol.association {
+                Association::Point => {
+                    let values = mesh.cells()[cell as usize].map(|i| vol.scalars[i as usize]);
+                    (interpolate(&values, param), Some(values))
+                }
+                Association::Cell => (vol.scalars[cell as usize], None),
+            };
+            let [r, g, b, a] = self.table.lookup(s);
+            if a <= 0.0 || a.is_nan() {
+                continue;
+            }
+            let c = match (&opts.shading, values) {
+                (Some(shading), Some(values)) => {
+                    stats.gradient_evaluations += 1;
+                    let grad = physical_gradient(&mesh.cell_corners(cell as usize), &values, param);
+                    shading.shade([r, g, b], grad, dir)
+                }
+                (Some(shading), None) => shading.shade([r, g, b], None, dir),
+                (None, _) => [r, g, b],
+            };
+            let w = transmittance * a;
+            for ch in 0..3 {
+                color[ch] += w * c[ch];
+            }
+            transmittance *= 1.0 - a;
+            let alpha = 1.0 - transmittance;
+            if out.depth.is_infinite() && alpha >= opts.depth_opacity {
+                out.depth = t;
+            }
+            if alpha >= opts.early_termination {
+                stats.early_terminations += 1;
+                break;
+            }
+        }
+        stats.add_counters(&counters);
+        out.rgba = [color[0], color[1], color[2], 1.0 - transmittance];
+        out
+    }
+
+    /// Renders the image seen by `camera`; `depth_in` (one distance per pixel, rows top to
+    /// bottom, the ray-distance convention of the module documentation) stops rays at opaque
+    /// geometry.
+    pub fn render(
+        &self,
+        camera: &Camera,
+        depth_in: Option<&[f32]>,
+    ) -> Result<(Image, RenderStats), Error> {
+        let (w, h) = (self.options.width, self.options.height);
+        let rays = RayGenerator::new(camera, w, h)?;
+        let n = w as usize * h as usize;
+        if let Some(d) = depth_in {
+            if d.len() != n {
+                return Err(Error::Invalid(format!(
+                    "depth image has {} values for a {w}x{h} image",
+                    d.len()
+                )));
+            }
+        }
+        let tile = self.options.tile.max(1);
+        let (tx, ty) = (w.div_ceil(tile), h.div_ceil(tile));
+        let tiles: Vec<(u32, u32)> = (0..ty).flat_map(|y| (0..tx).map(move |x| (x, y))).collect();
+        let rendered: Vec<(Vec<RayResult>, RenderStats)> = tiles
+            .par_iter()
+            .map(|&(x, y)| {
+                let mut stats = RenderStats::default();
+                let mut px = Vec::with_capacity((tile * tile) as usize);
+                for j in y * tile..((y + 1) * tile).min(h) {
+                    for i in x * tile..((x + 1) * tile).min(w) {
+                        let (o, d) = rays.ray(i, j);
+                        let stop = depth_in
+                            .map(|dd| dd[j as usize * w as usize + i as usize] as f64)
+                            .unwrap_or(f64::INFINITY);
+                        px.push(self.cast(o, d, stop, &mut stats));
+                    }
+                }
+                (px, stats)
+            })
+            .collect();
+        let mut image = Image::new(w, h);
+        let mut stats = RenderStats::default();
+        for (&(x, y), (px, s)) in tiles.iter().zip(rendered) {
+            stats += s;
+            let mut it = px.into_iter();
+            for j in y * tile..((y + 1) * tile).min(h) {
+                for i in x * tile..((x + 1) * tile).min(w) {
+                    if let Some(r) = it.next() {
+                        let at = j as usize * w as usize + i as usize;
+                        image.rgba[at] = r.rgba.map(|v| v as f32);
+                        image.depth[at] = r.depth as f32;
+                    }
+                }
+            }
+        }
+        Ok((image, stats))
+    }
+}

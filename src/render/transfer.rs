@@ -1,0 +1,264 @@
+//! The transfer function, as VTK's volume property holds it: a piecewise-linear RGB colour
+//! function and a piecewise-linear scalar opacity function of the scalar, with the opacity
+//! given per **unit distance** (VTK's `ScalarOpacityUnitDistance`), sampled into a table.
+//!
+//! # Table and lookup
+//! [`TransferFunction::table`] samples both functions at `n` (default [`DEFAULT_TABLE_SIZE`])
+//! evenly spaced scalars spanning `[lo, hi]` (entry `k` at `lo + k (hi − lo)/(n − 1)`). The
+//! opacity stored is already corrected to the ray step:
+//! `α_step = 1 − (1 − α)^(step / unit_distance)`, so that a homogeneous medium of opacity `α`
+//! per unit distance gives the transmittance `(1 − α)^(L / unit)` = `exp(−σ L)` with
+//! `σ = −ln(1 − α)/unit`, whatever the step. A lookup clamps the scalar to `[lo, hi]` and
+//! interpolates linearly between the two entries around it. Functions are constant beyond
+//! their first and last points (VTK's clamping).
+//!
+//! # Transparency queries
+//! [`TransferTable::transparent_over`] says in O(1) whether every lookup of a scalar in
+//! `[a, b]` gives zero opacity: it checks that the entries a lookup in that range can touch
+//! (the one below `a` to the one above `b`) are all zero, with a prefix count of non-zero
+//! entries. The fast path skips the samples of such cells, which changes nothing in the image.
+
+use crate::Error;
+
+/// Table entries by default.
+pub const DEFAULT_TABLE_SIZE: usize = 1024;
+
+/// A piecewise-linear colour and opacity transfer function.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TransferFunction {
+    /// `(scalar, [r, g, b])` points in increasing scalar order, components in `[0, 1]`.
+    pub color: Vec<(f64, [f64; 3])>,
+    /// `(scalar, opacity per unit distance)` points in increasing scalar order, in `[0, 1]`.
+    pub opacity: Vec<(f64, f64)>,
+    /// The distance over which `opacity` applies (VTK's `ScalarOpacityUnitDistance`, default 1).
+    pub unit_distance: f64,
+}
+
+/// Evaluates a piecewise-linear function of sorted points, constant beyond its ends.
+fn piecewise<const N: usize>(points: &[(f64, [f64; N])], s: f64) -> [f64; N] {
+    let Some(first) = points.first() else {
+        return [0.0; N];
+    };
+    if s <= first.0 {
+        return first.1;
+    }
+    for w in points.windows(2) {
+        let ((s0, v0), (s1, v1)) = (w[0], w[1]);
+        if s <= s1 {
+            let f = if s1 > s0 { (s - s0) / (s1 - s0) } else { 1.0 };
+            let mut out = [0.0; N];
+            for k in 0..N {
+                out[k] = v0[k] + (v1[k] - v0[k]) * f;
+            }
+            return out;
+        }
+    }
+    points[points.len() - 1].1
+}
+
+impl TransferFunction {
+    /// A constant colour and opacity (per unit distance) at every scalar.
+    pub fn constant(color: [f64; 3], opacity: f64, unit_distance: f64) -> TransferFunction {
+        TransferFunction {
+            color: vec![(0.0, color)],
+            opacity: vec![(0.0, opacity)],
+            unit_distance,
+        }
+    }
+
+    /// The CLI's default over `[lo, hi]`: a cool-to-warm colour map (blue, white, red) and an
+    /// opacity ramp that is zero over the lowest 25 % of the range and rises linearly to
+    /// `max_opacity` per `unit_distance` at `hi`.
+    pub fn default_for_range(
+        lo: f64,
+        hi: f64,
+        max_opacity: f64,
+        unit_distance: f64,
+    ) -> TransferFunction {
+        let at = |f: f64| lo + (hi - lo) * f;
+        TransferFunction {
+            color: vec![
+                (at(0.0), [0.23, 0.30, 0.75]),
+                (at(0.5), [0.87, 0.87, 0.87]),
+                (at(1.0), [0.71, 0.02, 0.15]),
+            ],
+            opacity: vec![(at(0.0), 0.0), (at(0.25), 0.0), (at(1.0), max_opacity)],
+            unit_distance,
+        }
+    }
+
+    fn check(&self) -> Result<(), Error> {
+        let bad = |m: &str| Err(Error::Invalid(format!("bad transfer function: {m}")));
+        if !(self.unit_distance > 0.0 && self.unit_distance.is_finite()) {
+            return bad("unit distance must be positive and finite");
+        }
+        if self.color.is_empty() || self.opacity.is_empty() {
+            return bad("needs at least one colour and one opacity point");
+        }
+        let sorted_finite = |xs: &mut dyn Iterator<Item = f64>| {
+            let v: Vec<f64> = xs.collect();
+            v.iter().all(|x| x.is_finite()) && v.windows(2).all(|w| w[0] <= w[1])
+        };
+        if !sorted_finite(&mut self.color.iter().map(|p| p.0))
+            || !sorted_finite(&mut self.opacity.iter().map(|p| p.0))
+        {
+            return bad("points must be finite and in increasing scalar order");
+        }
+        let in_unit = |x: f64| (0.0..=1.0).contains(&x);
+        if !self.color.iter().all(|p| p.1.iter().all(|&c| in_unit(c)))
+            || !self.opacity.iter().all(|p| in_unit(p.1))
+        {
+            return bad("colours and opacities must lie in [0, 1]");
+        }
+        Ok(())
+    }
+
+    /// The colour at scalar `s`.
+    pub fn color_at(&self, s: f64) -> [f64; 3] {
+        piecewise(&self.color, s)
+    }
+
+    /// The opacity per unit distance at scalar `s`.
+    pub fn opacity_at(&self, s: f64) -> f64 {
+        let pts: Vec<(f64, [f64; 1])> = self.opacity.iter().map(|&(x, a)| (x, [a])).collect();
+        piecewise(&pts, s)[0]
+    }
+
+    /// Samples the function over `[lo, hi]` into `entries` entries, with opacities corrected
+    /// to the ray step `step` (see the module documentation).
+    ///
+    /// ```
+    /// use cylvol::render::TransferFunction;
+    /// let tf = TransferFunction::constant([1.0, 0.5, 0.0], 0.5, 1.0);
+    /// let t = tf.table(0.0, 1.0, 2.0, 16).unwrap();
+    /// assert!((t.lookup(0.3)[3] - 0.75).abs() < 1e-15); // 1 − (1 − ½)²
+    /// ```
+    pub fn table(
+        &self,
+        lo: f64,
+        hi: f64,
+        step: f64,
+        entries: usize,
+    ) -> Result<TransferTable, Error> {
+        self.check()?;
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return Err(Error::Invalid(format!("bad scalar range [{lo}, {hi}]")));
+        }
+        if !(step > 0.0 && step.is_finite()) {
+            return Err(Error::Invalid(format!("bad step {step}")));
+        }
+        let n = entries.max(2);
+        let exponent = step / self.unit_distance;
+        let opacity: Vec<(f64, [f64; 1])> = self.opacity.iter().map(|&(x, a)| (x, [a])).collect();
+        let mut rgba = Vec::with_capacity(n);
+        let mut nonzero_prefix = Vec::with_capacity(n + 1);
+        nonzero_prefix.push(0u32);
+        for k in 0..n {
+            let s = lo + (hi - lo) * k as f64 / (n - 1) as f64;
+            let c = piecewise(&self.color, s);
+            let a = piecewise(&opacity, s)[0];
+            let a_step = if a >= 1.0 {
+                1.0
+            } else {
+                1.0 - (1.0 - a).powf(exponent)
+            };
+            rgba.push([c[0], c[1], c[2], a_step]);
+            let last = nonzero_prefix[k];
+            nonzero_prefix.push(last + u32::from(a_step > 0.0));
+        }
+        let scale = if hi > lo {
+            (n - 1) as f64 / (hi - lo)
+        } else {
+            0.0
+        };
+        Ok(TransferTable {
+            lo,
+            scale,
+            rgba,
+            nonzero_prefix,
+        })
+    }
+}
+
+/// A transfer function sampled for one scalar range and one step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TransferTable {
+    lo: f64,
+    scale: f64,
+    rgba: Vec<[f64; 4]>,
+    nonzero_prefix: Vec<u32>,
+}
+
+impl TransferTable {
+    /// Number of entries.
+    pub fn len(&self) -> usize {
+        self.rgba.len()
+    }
+
+    /// Whether the table is empty (never: it has at least two entries).
+    pub fn is_empty(&self) -> bool {
+        self.rgba.is_empty()
+    }
+
+    /// The fractional table position of scalar `s`, clamped to the table.
+    #[inline]
+    fn position(&self, s: f64) -> f64 {
+        let x = (s - self.lo) * self.scale;
+        // NaN goes to 0 through max.
+        x.max(0.0).min((self.rgba.len() - 1) as f64)
+    }
+
+    /// `[r, g, b, α_step]` at scalar `s` (linear between entries).
+    #[inline]
+    pub fn lookup(&self, s: f64) -> [f64; 4] {
+        let x = self.position(s);
+        let i = (x as usize).min(self.rgba.len() - 2);
+        let f = x - i as f64;
+        let (a, b) = (self.rgba[i], self.rgba[i + 1]);
+        [
+            a[0] + (b[0] - a[0]) * f,
+            a[1] + (b[1] - a[1]) * f,
+            a[2] + (b[2] - a[2]) * f,
+            a[3] + (b[3] - a[3]) * f,
+        ]
+    }
+
+    /// Whether every lookup of a scalar in `[a, b]` has zero opacity.
+    #[inline]
+    pub fn transparent_over(&self, a: f64, b: f64) -> bool {
+        let last = self.rgba.len() - 1;
+        let i0 = (self.position(a) as usize).min(last);
+        let i1 = ((self.position(b) as usize) + 1).min(last);
+        self.nonzero_prefix[i1 + 1] == self.nonzero_prefix[i0]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interpolates_and_clamps() {
+        let tf = TransferFunction::default_for_range(0.0, 4.0, 0.5, 1.0);
+        let t = tf.table(0.0, 4.0, 1.0, 5).unwrap();
+        assert_eq!(t.lookup(-3.0), t.lookup(0.0));
+        assert_eq!(t.lookup(9.0)[3], 0.5);
+        assert!((t.lookup(3.0)[3] - tf.opacity_at(3.0)).abs() < 1e-15);
+        assert!((t.lookup(2.5)[0] - tf.color_at(2.5)[0]).abs() < 1e-15);
+        assert!(t.transparent_over(0.0, 0.99));
+        assert!(!t.transparent_over(0.0, 1.01));
+        assert!(!t.transparent_over(3.0, 3.0));
+        assert!(t.lookup(f64::NAN)[3] == 0.0);
+    }
+
+    #[test]
+    fn opacity_correction_follows_the_step() {
+        let tf = TransferFunction::constant([1.0; 3], 0.3, 2.0);
+        let t = tf.table(0.0, 1.0, 0.5, 8).unwrap();
+        let expect = 1.0 - 0.7f64.powf(0.25);
+        assert!((t.lookup(0.5)[3] - expect).abs() < 1e-15);
+        assert!(TransferFunction::constant([2.0; 3], 0.3, 1.0)
+            .table(0.0, 1.0, 1.0, 8)
+            .is_err());
+    }
+}
