@@ -96,6 +96,12 @@ impl<F: Fn(u32) -> [u32; 6] + Sync> Neighbours for F {
     }
 }
 
+impl Neighbours for crate::mesh::topology::FaceNeighbors {
+    fn neighbours(&self, cell: u32) -> [u32; 6] {
+        self.neighbors(cell)
+    }
+}
+
 /// No neighbours known: the fast path goes from the previous cell straight to the structure.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct NoNeighbours;
