@@ -181,13 +181,22 @@ impl ThetaInterval {
     /// assert!(a.contains(std::f64::consts::PI) && !a.contains(0.0));
     /// ```
     pub fn from_angles(angles: impl IntoIterator<Item = f64>) -> Self {
-        let mut a: Vec<f64> = angles.into_iter().map(normalize_angle).collect();
+        let mut a: Vec<f64> = angles.into_iter().collect();
+        Self::from_angles_in(&mut a)
+    }
+
+    /// [`ThetaInterval::from_angles`] of the angles in `a` (reordered; no allocation).
+    fn from_angles_in(a: &mut [f64]) -> Self {
+        for x in a.iter_mut() {
+            *x = normalize_angle(*x);
+        }
         if a.iter().any(|x| x.is_nan()) {
             return Self::FULL;
         }
         if a.is_empty() {
             return Self::EMPTY;
         }
+        // A stable sort: for the few angles of a cell, an insertion sort without allocation.
         a.sort_by(f64::total_cmp);
         // Largest gap, including the wrap-around gap from the last to the first.
         let n = a.len();
@@ -458,36 +467,62 @@ fn cross(a: DVec2, b: DVec2) -> f64 {
     a.x * b.y - a.y * b.x
 }
 
-/// The convex hull of the points, counter-clockwise, without collinear points (1 or 2 points
-/// when degenerate).
-fn convex_hull(points: &[DVec2]) -> Vec<DVec2> {
-    let mut p: Vec<DVec2> = points.to_vec();
-    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    p.dedup();
-    if p.len() <= 2 {
-        return p;
+/// Most points [`convex_hull`] takes (a cell's corners).
+const HULL_INPUT: usize = 8;
+
+/// A convex polygon of at most `2 · HULL_INPUT` vertices, held without allocation.
+struct Hull {
+    points: [DVec2; 2 * HULL_INPUT],
+    len: usize,
+}
+
+impl Hull {
+    fn as_slice(&self) -> &[DVec2] {
+        &self.points[..self.len]
     }
-    let mut hull: Vec<DVec2> = Vec::with_capacity(2 * p.len());
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &DVec2>> = if pass == 0 {
-            Box::new(p.iter())
-        } else {
-            Box::new(p.iter().rev())
-        };
-        for &q in iter {
-            while hull.len() >= start + 2
-                && cross(
-                    hull[hull.len() - 1] - hull[hull.len() - 2],
-                    q - hull[hull.len() - 2],
-                ) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(q);
+}
+
+/// The convex hull of the points (at most [`HULL_INPUT`]; the rest are ignored),
+/// counter-clockwise, without collinear points (1 or 2 points when degenerate). Andrew's
+/// monotone chain, on the stack.
+fn convex_hull(points: &[DVec2]) -> Hull {
+    let mut p = [DVec2::ZERO; HULL_INPUT];
+    let m = points.len().min(HULL_INPUT);
+    p[..m].copy_from_slice(&points[..m]);
+    // A stable sort; for 8 points an insertion sort without allocation.
+    p[..m].sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    // Drop consecutive duplicates.
+    let mut n = 0;
+    for i in 0..m {
+        if n == 0 || p[i] != p[n - 1] {
+            p[n] = p[i];
+            n += 1;
         }
-        hull.pop();
     }
+    let mut hull = Hull {
+        points: [DVec2::ZERO; 2 * HULL_INPUT],
+        len: 0,
+    };
+    if n <= 2 {
+        hull.points[..n].copy_from_slice(&p[..n]);
+        hull.len = n;
+        return hull;
+    }
+    let h = &mut hull.points;
+    let mut len = 0usize;
+    for pass in 0..2 {
+        let start = len;
+        for j in 0..n {
+            let q = if pass == 0 { p[j] } else { p[n - 1 - j] };
+            while len >= start + 2 && cross(h[len - 1] - h[len - 2], q - h[len - 2]) <= 0.0 {
+                len -= 1;
+            }
+            h[len] = q;
+            len += 1;
+        }
+        len -= 1;
+    }
+    hull.len = len;
     hull
 }
 
@@ -538,7 +573,8 @@ fn hull_distance(hull: &[DVec2]) -> f64 {
 /// ```
 pub fn cylindrical_bounds(corners: &[DVec3; 8], frame: &CylFrame) -> CylBounds {
     let pr = project(corners, frame);
-    let r_max = pr.xy.iter().map(|p| p.length()).fold(0.0, f64::max);
+    let radii = pr.xy.map(|p| p.length());
+    let r_max = radii.iter().copied().fold(0.0, f64::max);
     let (h_lo, h_hi) =
         pr.h.iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &h| {
@@ -556,7 +592,7 @@ pub fn cylindrical_bounds(corners: &[DVec3; 8], frame: &CylFrame) -> CylBounds {
         };
     }
     let hull = convex_hull(&pr.xy);
-    let dist = hull_distance(&hull);
+    let dist = hull_distance(hull.as_slice());
     let touch = (AXIS_TOUCH_TOLERANCE * r_max).max(2.0 * pr.pad);
     if dist <= touch {
         return CylBounds {
@@ -567,13 +603,9 @@ pub fn cylindrical_bounds(corners: &[DVec3; 8], frame: &CylFrame) -> CylBounds {
         };
     }
     // Each corner's angle is uncertain by about pad / r.
-    let dtheta = pr
-        .xy
-        .iter()
-        .map(|p| pr.pad / p.length())
-        .fold(0.0, f64::max)
-        + ANGLE_SLACK;
-    let theta = ThetaInterval::from_angles(pr.xy.iter().map(|p| p.y.atan2(p.x))).padded(dtheta);
+    let dtheta = radii.iter().map(|r| pr.pad / r).fold(0.0, f64::max) + ANGLE_SLACK;
+    let mut angles = pr.xy.map(|p| p.y.atan2(p.x));
+    let theta = ThetaInterval::from_angles_in(&mut angles).padded(dtheta);
     CylBounds {
         r: [(dist - pr.pad).max(0.0), r_hi],
         theta,
@@ -615,7 +647,7 @@ pub fn straddle_sectors(corners: &[DVec3; 8], frame: &CylFrame, k: usize) -> Vec
     }
     let k = k.max(3);
     let pr = project(corners, frame);
-    let mut hull = convex_hull(&pr.xy);
+    let mut hull = convex_hull(&pr.xy).as_slice().to_vec();
     if hull.len() < 3 {
         // A segment or a point: thicken into a polygon for clipping.
         let a = hull.first().copied().unwrap_or(DVec2::ZERO);
