@@ -175,17 +175,36 @@ pub fn seam_frame(axis: &Axis, pieces: Pieces<CylBounds>) -> Option<(CylFrame, P
     let frame = CylFrame::new(axis.origin, axis.direction)?;
     const BINS: usize = 4096;
     let bin_of = |t: f64| (((t + PI) / TAU * BINS as f64) as usize).min(BINS - 1);
-    let mut covered = vec![false; BINS];
-    for b in pieces.bounds.iter().filter(|b| !b.is_empty()) {
-        if b.theta.is_full() {
-            return Some((frame, pieces));
-        }
-        for [lo, hi] in b.theta.ranges() {
-            for slot in &mut covered[bin_of(lo)..=bin_of(hi)] {
-                *slot = true;
+    // The bins the pieces' arcs cover, marked in parallel chunks and merged (`None` once a
+    // piece covers the whole circle).
+    let covered = pieces
+        .bounds
+        .par_chunks(1 << 14)
+        .map(|chunk| {
+            let mut covered = vec![false; BINS];
+            for b in chunk.iter().filter(|b| !b.is_empty()) {
+                if b.theta.is_full() {
+                    return None;
+                }
+                for [lo, hi] in b.theta.ranges() {
+                    for slot in &mut covered[bin_of(lo)..=bin_of(hi)] {
+                        *slot = true;
+                    }
+                }
             }
-        }
-    }
+            Some(covered)
+        })
+        .reduce_with(|a, b| {
+            let (mut a, b) = (a?, b?);
+            for (x, y) in a.iter_mut().zip(b) {
+                *x |= y;
+            }
+            Some(a)
+        })
+        .unwrap_or_else(|| Some(vec![false; BINS]));
+    let Some(covered) = covered else {
+        return Some((frame, pieces));
+    };
     // Widest circular run of uncovered bins.
     let (mut best_len, mut best_start) = (0usize, 0usize);
     let mut run = 0usize;
@@ -236,15 +255,41 @@ pub fn seam_frame(axis: &Axis, pieces: Pieces<CylBounds>) -> Option<(CylFrame, P
 /// Sector pieces as boxes in `(r, θ, h)` with θ in `[−π, π]`: an arc crossing the seam gives
 /// two boxes (the cell is referenced on both sides). For the grids.
 pub fn linear_boxes(pieces: &Pieces<CylBounds>) -> Pieces<Aabb> {
-    let mut out = Pieces::default();
-    for (b, &cell) in pieces.bounds.iter().zip(&pieces.cells) {
-        for [lo, hi] in b.theta.ranges() {
-            out.bounds.push(Aabb::new(
-                DVec3::new(b.r[0], lo, b.h[0]),
-                DVec3::new(b.r[1], hi, b.h[1]),
-            ));
-            out.cells.push(cell);
-        }
+    const CHUNK: usize = 1 << 14;
+    let n = pieces.bounds.len().min(pieces.cells.len());
+    let (bounds, cells) = (&pieces.bounds[..n], &pieces.cells[..n]);
+    // Boxes per chunk of pieces (one or two per piece, none for an empty one), so every chunk
+    // fills its own slices of the output, in piece order.
+    let counts: Vec<usize> = bounds
+        .par_chunks(CHUNK)
+        .map(|chunk| chunk.iter().map(|b| b.theta.ranges().count()).sum())
+        .collect();
+    let total = counts.iter().sum();
+    let mut out = Pieces {
+        bounds: vec![Aabb::EMPTY; total],
+        cells: vec![0; total],
+    };
+    let mut tasks = Vec::with_capacity(counts.len());
+    let (mut rest_b, mut rest_c) = (&mut out.bounds[..], &mut out.cells[..]);
+    for (k, &count) in counts.iter().enumerate() {
+        let (head_b, tail_b) = std::mem::take(&mut rest_b).split_at_mut(count);
+        let (head_c, tail_c) = std::mem::take(&mut rest_c).split_at_mut(count);
+        tasks.push((k, head_b, head_c));
+        (rest_b, rest_c) = (tail_b, tail_c);
     }
+    tasks.into_par_iter().for_each(|(k, out_b, out_c)| {
+        let from = k * CHUNK..((k + 1) * CHUNK).min(n);
+        let mut j = 0;
+        for (b, &cell) in bounds[from.clone()].iter().zip(&cells[from]) {
+            for [lo, hi] in b.theta.ranges() {
+                out_b[j] = Aabb::new(
+                    DVec3::new(b.r[0], lo, b.h[0]),
+                    DVec3::new(b.r[1], hi, b.h[1]),
+                );
+                out_c[j] = cell;
+                j += 1;
+            }
+        }
+    });
     out
 }

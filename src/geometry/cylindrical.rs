@@ -20,7 +20,7 @@
 //! coordinates' magnitude) plus `1e-12` of the cell's extent, so the bounds stay conservative.
 
 use glam::{DVec2, DVec3};
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use super::bounds::cell_bounds;
 
@@ -181,13 +181,22 @@ impl ThetaInterval {
     /// assert!(a.contains(std::f64::consts::PI) && !a.contains(0.0));
     /// ```
     pub fn from_angles(angles: impl IntoIterator<Item = f64>) -> Self {
-        let mut a: Vec<f64> = angles.into_iter().map(normalize_angle).collect();
+        let mut a: Vec<f64> = angles.into_iter().collect();
+        Self::from_angles_in(&mut a)
+    }
+
+    /// [`ThetaInterval::from_angles`] of the angles in `a` (reordered; no allocation).
+    fn from_angles_in(a: &mut [f64]) -> Self {
+        for x in a.iter_mut() {
+            *x = normalize_angle(*x);
+        }
         if a.iter().any(|x| x.is_nan()) {
             return Self::FULL;
         }
         if a.is_empty() {
             return Self::EMPTY;
         }
+        // A stable sort: for the few angles of a cell, an insertion sort without allocation.
         a.sort_by(f64::total_cmp);
         // Largest gap, including the wrap-around gap from the last to the first.
         let n = a.len();
@@ -458,40 +467,67 @@ fn cross(a: DVec2, b: DVec2) -> f64 {
     a.x * b.y - a.y * b.x
 }
 
-/// The convex hull of the points, counter-clockwise, without collinear points (1 or 2 points
-/// when degenerate).
-fn convex_hull(points: &[DVec2]) -> Vec<DVec2> {
-    let mut p: Vec<DVec2> = points.to_vec();
-    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    p.dedup();
-    if p.len() <= 2 {
-        return p;
+/// Most points [`convex_hull`] takes (a cell's corners).
+const HULL_INPUT: usize = 8;
+
+/// A convex polygon of at most `2 · HULL_INPUT` vertices, held without allocation.
+struct Hull {
+    points: [DVec2; 2 * HULL_INPUT],
+    len: usize,
+}
+
+impl Hull {
+    fn as_slice(&self) -> &[DVec2] {
+        &self.points[..self.len]
     }
-    let mut hull: Vec<DVec2> = Vec::with_capacity(2 * p.len());
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &DVec2>> = if pass == 0 {
-            Box::new(p.iter())
-        } else {
-            Box::new(p.iter().rev())
-        };
-        for &q in iter {
-            while hull.len() >= start + 2
-                && cross(
-                    hull[hull.len() - 1] - hull[hull.len() - 2],
-                    q - hull[hull.len() - 2],
-                ) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(q);
+}
+
+/// The convex hull of the points (at most [`HULL_INPUT`]; the rest are ignored),
+/// counter-clockwise, without collinear points (1 or 2 points when degenerate). Andrew's
+/// monotone chain, on the stack.
+fn convex_hull(points: &[DVec2]) -> Hull {
+    let mut p = [DVec2::ZERO; HULL_INPUT];
+    let m = points.len().min(HULL_INPUT);
+    p[..m].copy_from_slice(&points[..m]);
+    // A stable sort; for 8 points an insertion sort without allocation.
+    p[..m].sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    // Drop consecutive duplicates.
+    let mut n = 0;
+    for i in 0..m {
+        if n == 0 || p[i] != p[n - 1] {
+            p[n] = p[i];
+            n += 1;
         }
-        hull.pop();
     }
+    let mut hull = Hull {
+        points: [DVec2::ZERO; 2 * HULL_INPUT],
+        len: 0,
+    };
+    if n <= 2 {
+        hull.points[..n].copy_from_slice(&p[..n]);
+        hull.len = n;
+        return hull;
+    }
+    let h = &mut hull.points;
+    let mut len = 0usize;
+    for pass in 0..2 {
+        let start = len;
+        for j in 0..n {
+            let q = if pass == 0 { p[j] } else { p[n - 1 - j] };
+            while len >= start + 2 && cross(h[len - 1] - h[len - 2], q - h[len - 2]) <= 0.0 {
+                len -= 1;
+            }
+            h[len] = q;
+            len += 1;
+        }
+        len -= 1;
+    }
+    hull.len = len;
     hull
 }
 
-fn segment_distance(a: DVec2, b: DVec2) -> f64 {
+/// The squared distance from the origin to the segment (its root is the distance).
+fn segment_distance_squared(a: DVec2, b: DVec2) -> f64 {
     let ab = b - a;
     let len2 = ab.length_squared();
     let t = if len2 > 0.0 {
@@ -499,7 +535,11 @@ fn segment_distance(a: DVec2, b: DVec2) -> f64 {
     } else {
         0.0
     };
-    (a + ab * t).length()
+    (a + ab * t).length_squared()
+}
+
+fn segment_distance(a: DVec2, b: DVec2) -> f64 {
+    segment_distance_squared(a, b).sqrt()
 }
 
 /// Distance from the origin to the convex polygon (0 when inside or on it).
@@ -513,9 +553,11 @@ fn hull_distance(hull: &[DVec2]) -> f64 {
             if inside {
                 0.0
             } else {
+                // The least root is the root of the least square (monotone, correctly rounded).
                 (0..n)
-                    .map(|i| segment_distance(hull[i], hull[(i + 1) % n]))
+                    .map(|i| segment_distance_squared(hull[i], hull[(i + 1) % n]))
                     .fold(f64::INFINITY, f64::min)
+                    .sqrt()
             }
         }
     }
@@ -538,7 +580,10 @@ fn hull_distance(hull: &[DVec2]) -> f64 {
 /// ```
 pub fn cylindrical_bounds(corners: &[DVec3; 8], frame: &CylFrame) -> CylBounds {
     let pr = project(corners, frame);
-    let r_max = pr.xy.iter().map(|p| p.length()).fold(0.0, f64::max);
+    // Squared radii: the extreme radii are the roots of the extreme squares (the square root
+    // is monotone and correctly rounded), so one root each instead of eight.
+    let r2 = pr.xy.map(|p| p.length_squared());
+    let r_max = r2.iter().copied().fold(0.0, f64::max).sqrt();
     let (h_lo, h_hi) =
         pr.h.iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &h| {
@@ -556,7 +601,7 @@ pub fn cylindrical_bounds(corners: &[DVec3; 8], frame: &CylFrame) -> CylBounds {
         };
     }
     let hull = convex_hull(&pr.xy);
-    let dist = hull_distance(&hull);
+    let dist = hull_distance(hull.as_slice());
     let touch = (AXIS_TOUCH_TOLERANCE * r_max).max(2.0 * pr.pad);
     if dist <= touch {
         return CylBounds {
@@ -567,19 +612,92 @@ pub fn cylindrical_bounds(corners: &[DVec3; 8], frame: &CylFrame) -> CylBounds {
         };
     }
     // Each corner's angle is uncertain by about pad / r.
-    let dtheta = pr
-        .xy
-        .iter()
-        .map(|p| pr.pad / p.length())
-        .fold(0.0, f64::max)
-        + ANGLE_SLACK;
-    let theta = ThetaInterval::from_angles(pr.xy.iter().map(|p| p.y.atan2(p.x))).padded(dtheta);
+    // max over corners of pad / r is pad over the least r (division is monotone too).
+    let r_min = r2.iter().copied().fold(f64::INFINITY, f64::min).sqrt();
+    let dtheta = 0.0f64.max(pr.pad / r_min) + ANGLE_SLACK;
+    let theta = corner_arc(&pr.xy).padded(dtheta);
     CylBounds {
         r: [(dist - pr.pad).max(0.0), r_hi],
         theta,
         h,
         straddles_axis: false,
     }
+}
+
+/// [`ThetaInterval::from_angles`] of the corners' angles `atan2(y, x)`, exactly, with fewer
+/// arc tangents: when every corner lies within a quarter turn of the first one, the corners
+/// are ordered by the tangent of their angle from it, and only those that may be the arc's
+/// ends (within a generous tolerance of the extreme tangents) get their `atan2`. The arc's
+/// start and end are then the same angles as the sorted list's, and its width is computed by
+/// the same expression. Anything unusual (a corner a quarter turn away or more, NaN, ends
+/// that straddle the seam, an arc near half a turn) takes the full path.
+fn corner_arc(xy: &[DVec2; 8]) -> ThetaInterval {
+    corner_arc_fast(xy).unwrap_or_else(|| {
+        let mut angles = xy.map(|p| p.y.atan2(p.x));
+        ThetaInterval::from_angles_in(&mut angles)
+    })
+}
+
+/// [`corner_arc`]'s quick path; `None` where it must sort all the angles.
+fn corner_arc_fast(xy: &[DVec2; 8]) -> Option<ThetaInterval> {
+    let u = xy[0];
+    let mut t = [0.0f64; 8];
+    for (t, p) in t.iter_mut().zip(xy) {
+        let d = u.dot(*p);
+        // NaN fails this test too.
+        if d.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+        *t = cross(u, *p) / d;
+    }
+    let lo = t.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = t.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    // Rounding moves a tangent by a few ulps of 1 + t²; the tolerance is far wider.
+    let (tol_lo, tol_hi) = (1e-7 * (1.0 + lo * lo), 1e-7 * (1.0 + hi * hi));
+    let (mut start, mut end) = (f64::NAN, f64::NAN);
+    let (mut start_span, mut end_span) = (
+        [f64::INFINITY, f64::NEG_INFINITY],
+        [f64::INFINITY, f64::NEG_INFINITY],
+    );
+    for (p, &tj) in xy.iter().zip(&t) {
+        let near_lo = tj <= lo + tol_lo;
+        let near_hi = tj >= hi - tol_hi;
+        if !(near_lo || near_hi) {
+            continue;
+        }
+        let a = normalize_angle(p.y.atan2(p.x));
+        if near_lo {
+            if start.is_nan() || a.total_cmp(&start).is_lt() {
+                start = a;
+            }
+            start_span = [start_span[0].min(a), start_span[1].max(a)];
+        }
+        if near_hi {
+            if end.is_nan() || a.total_cmp(&end).is_gt() {
+                end = a;
+            }
+            end_span = [end_span[0].min(a), end_span[1].max(a)];
+        }
+    }
+    // Candidates for one end on both sides of the seam: the ordering there is unclear.
+    if start_span[1] - start_span[0] > FRAC_PI_2 || end_span[1] - end_span[0] > FRAC_PI_2 {
+        return None;
+    }
+    // The sorted angles' largest gap: across the seam (from the last to the first) when the
+    // arc does not cross it, else between the arc's end and its start.
+    let gap = if start.total_cmp(&end).is_le() {
+        start + TAU - end
+    } else {
+        start - end
+    };
+    // Every other gap is then at most the arc's width, far below this one.
+    if gap.partial_cmp(&(PI + 1e-6)) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    Some(ThetaInterval::new(start, TAU - gap))
 }
 
 /// Clip a convex polygon by the half-plane `n · p ≥ −pad`.
@@ -615,7 +733,7 @@ pub fn straddle_sectors(corners: &[DVec3; 8], frame: &CylFrame, k: usize) -> Vec
     }
     let k = k.max(3);
     let pr = project(corners, frame);
-    let mut hull = convex_hull(&pr.xy);
+    let mut hull = convex_hull(&pr.xy).as_slice().to_vec();
     if hull.len() < 3 {
         // A segment or a point: thicken into a polygon for clipping.
         let a = hull.first().copied().unwrap_or(DVec2::ZERO);
@@ -697,6 +815,53 @@ mod tests {
         let sides = 2.0 * 1.0 * 3.0;
         assert!((b.surface_area() - (caps + curved + sides)).abs() < 1e-12);
         assert!((b.volume() - PI / 4.0 * 3.0 * 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn corner_arc_is_bit_identical_to_sorting_all_angles() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut fast_paths = 0;
+        for case in 0..200_000 {
+            // Centres anywhere, often right at the seam or at 0; spreads from none to wide.
+            let centre = match case % 4 {
+                0 => PI,
+                1 => PI * (1.0 - 1e-12 * next()),
+                2 => 0.0,
+                _ => (2.0 * next() - 1.0) * PI,
+            };
+            let spread = [0.0, 1e-9, 0.05, 1.0, 2.9, 3.2][case % 6] * next();
+            let mut xy = [DVec2::ZERO; 8];
+            for i in 0..8 {
+                // Half the corners share another corner's angle at another radius (radial
+                // edges), where the angles of the two may round apart.
+                let theta = if i >= 4 && case % 3 == 0 {
+                    xy[i - 4].y.atan2(xy[i - 4].x)
+                } else {
+                    centre + spread * (next() - 0.5)
+                };
+                let r = [1.0, 1e-6, 1e6][case % 5 % 3] * (0.5 + next());
+                xy[i] = DVec2::new(r * theta.cos(), r * theta.sin());
+            }
+            if case % 7 == 0 {
+                xy[3] = xy[1] * 2.0; // exactly radial
+            }
+            let fast = corner_arc(&xy);
+            let mut angles = xy.map(|p| p.y.atan2(p.x));
+            let full = ThetaInterval::from_angles_in(&mut angles);
+            assert_eq!(
+                (fast.start().to_bits(), fast.width().to_bits()),
+                (full.start().to_bits(), full.width().to_bits()),
+                "case {case}: {xy:?}"
+            );
+            fast_paths += usize::from(corner_arc_fast(&xy).is_some());
+        }
+        assert!(fast_paths > 50_000);
     }
 
     #[test]

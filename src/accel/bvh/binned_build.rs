@@ -53,7 +53,6 @@ pub fn build_bvh<B: BvhBounds>(pieces: &Pieces<B>, params: &BvhParams) -> Bvh<B>
             let lin = b.linearize(&frame);
             Item {
                 lin,
-                centre: lin.center(),
                 piece: i as u32,
             }
         })
@@ -66,7 +65,7 @@ pub fn build_bvh<B: BvhBounds>(pieces: &Pieces<B>, params: &BvhParams) -> Bvh<B>
             params,
             _b: PhantomData,
         };
-        let built = ctx.build_par(&mut items, 0, 0);
+        let built = ctx.build_par(&mut items, 0, 0, None);
         let mut nodes = Vec::with_capacity(built.len());
         flatten(built, &mut nodes);
         nodes
@@ -128,19 +127,48 @@ fn flatten<C: Copy>(built: Built<C>, out: &mut Vec<Node<C>>) {
     }
 }
 
-/// A piece during the build: its linear box, the box's centre, its index. The build
-/// partitions these in place, so every pass reads them in order.
+/// A piece during the build: its linear box and its index. The build partitions these in
+/// place, so every pass reads them in order; they are kept small (the centre is recomputed
+/// where needed) because the passes over them are bound by memory.
 #[derive(Clone, Copy)]
 struct Item {
     lin: Aabb,
-    centre: DVec3,
     piece: u32,
+}
+
+impl Item {
+    /// The centre of the linear box.
+    #[inline]
+    fn centre(&self) -> DVec3 {
+        self.lin.center()
+    }
+}
+
+/// `b` grown to hold `l`: [`Aabb::union`] for a `b` without NaN (as every bin and node box
+/// built from [`Aabb::EMPTY`] by unions is), by plain comparisons.
+#[inline]
+fn merge(b: &mut Aabb, l: &Aabb) {
+    b.min = DVec3::select(l.min.cmplt(b.min), l.min, b.min);
+    b.max = DVec3::select(l.max.cmpgt(b.max), l.max, b.max);
 }
 
 struct Ctx<B> {
     frame: LinearFrame,
     params: BvhParams,
     _b: PhantomData<B>,
+}
+
+/// A node's bounds (the union of its pieces' linear boxes) and the box of their centroids.
+type Scan = (Aabb, Aabb);
+
+/// The cheapest SAH split of a node: the axis, the first bin on the right, its cost, and the
+/// bounds of the two sides.
+struct BestSplit {
+    axis: usize,
+    bin: usize,
+    cost: f64,
+    left: Aabb,
+    right: Aabb,
 }
 
 #[derive(Clone, Copy)]
@@ -165,7 +193,10 @@ impl<B: BvhBounds> Ctx<B> {
     fn scan(&self, idx: &[Item]) -> (Aabb, Aabb) {
         let fold = |(b, c): (Aabb, Aabb), it: &Item| {
             let l = &it.lin;
-            (b.union(l), if l.is_empty() { c } else { c.grow(it.centre) })
+            (
+                b.union(l),
+                if l.is_empty() { c } else { c.grow(it.centre()) },
+            )
         };
         if idx.len() > PARALLEL_THRESHOLD {
             idx.par_iter()
@@ -187,20 +218,28 @@ impl<B: BvhBounds> Ctx<B> {
         }
     }
 
-    fn build_par(&self, idx: &mut [Item], offset: usize, depth: usize) -> Built<B::Compact> {
+    /// Builds the subtree over `idx`; `known` is its bounds and centroid box when the parent's
+    /// split already computed them (else they are scanned).
+    fn build_par(
+        &self,
+        idx: &mut [Item],
+        offset: usize,
+        depth: usize,
+        known: Option<Scan>,
+    ) -> Built<B::Compact> {
         if idx.len() <= PARALLEL_THRESHOLD {
             let mut out = Vec::with_capacity(2 * idx.len() / self.params.max_leaf_size + 1);
-            self.build_seq(idx, offset, depth, &mut out);
+            self.build_seq(idx, offset, depth, known, &mut out);
             return Built::Flat(out);
         }
-        let (bounds, centroids) = self.scan(idx);
+        let (bounds, centroids) = known.unwrap_or_else(|| self.scan(idx));
         match self.split(idx, &bounds, &centroids, depth) {
             None => Built::Flat(vec![self.node(&bounds, idx.len() as u32, offset as u32)]),
-            Some(mid) => {
+            Some((mid, [kl, kr])) => {
                 let (l, r) = idx.split_at_mut(mid);
                 let (left, right) = rayon::join(
-                    || self.build_par(l, offset, depth + 1),
-                    || self.build_par(r, offset + mid, depth + 1),
+                    || self.build_par(l, offset, depth + 1, kl),
+                    || self.build_par(r, offset + mid, depth + 1, kr),
                 );
                 Built::Split {
                     node: self.node(&bounds, 0, 0),
@@ -216,24 +255,32 @@ impl<B: BvhBounds> Ctx<B> {
         idx: &mut [Item],
         offset: usize,
         depth: usize,
+        known: Option<Scan>,
         out: &mut Vec<Node<B::Compact>>,
     ) {
-        let (bounds, centroids) = self.scan(idx);
+        let (bounds, centroids) = known.unwrap_or_else(|| self.scan(idx));
         let at = out.len();
         match self.split(idx, &bounds, &centroids, depth) {
             None => out.push(self.node(&bounds, idx.len() as u32, offset as u32)),
-            Some(mid) => {
+            Some((mid, [kl, kr])) => {
                 out.push(self.node(&bounds, 0, 0));
                 let (l, r) = idx.split_at_mut(mid);
-                self.build_seq(l, offset, depth + 1, out);
+                self.build_seq(l, offset, depth + 1, kl, out);
                 out[at].index = out.len() as u32;
-                self.build_seq(r, offset + mid, depth + 1, out);
+                self.build_seq(r, offset + mid, depth + 1, kr, out);
             }
         }
     }
 
-    /// Where to split the node (after partitioning `idx`), or `None` for a leaf.
-    fn split(&self, idx: &mut [Item], bounds: &Aabb, cent: &Aabb, depth: usize) -> Option<usize> {
+    /// Where to split the node (after partitioning `idx`), or `None` for a leaf; with the
+    /// split, the two sides' bounds and centroid boxes where the SAH split found them.
+    fn split(
+        &self,
+        idx: &mut [Item],
+        bounds: &Aabb,
+        cent: &Aabb,
+        depth: usize,
+    ) -> Option<(usize, [Option<Scan>; 2])> {
         let n = idx.len();
         let max_leaf = self.params.max_leaf_size;
         if n <= 1 {
@@ -241,21 +288,21 @@ impl<B: BvhBounds> Ctx<B> {
         }
         if depth < MEDIAN_DEPTH {
             let area = B::linear_area(bounds);
-            if let Some((axis, bin, cost)) = self.best_bin_split(idx, cent, area) {
+            if let Some(best) = self.best_bin_split(idx, cent, area) {
                 let leaf_cost = n as f64 * area;
-                if n <= max_leaf && leaf_cost <= cost {
+                if n <= max_leaf && leaf_cost <= best.cost {
                     return None;
                 }
-                let mid = self.partition(idx, cent, axis, bin);
+                let (mid, [cl, cr]) = self.partition(idx, cent, best.axis, best.bin);
                 if mid > 0 && mid < n {
-                    return Some(mid);
+                    return Some((mid, [Some((best.left, cl)), Some((best.right, cr))]));
                 }
             }
         }
         if n <= max_leaf {
             return None;
         }
-        Some(self.median_split(idx, cent))
+        Some((self.median_split(idx, cent), [None, None]))
     }
 
     /// Bins for a node of `n` pieces: no more than pieces.
@@ -263,8 +310,8 @@ impl<B: BvhBounds> Ctx<B> {
         self.params.bins.min(n).max(2)
     }
 
-    /// The cheapest bin boundary: `(axis, first bin on the right, cost)`.
-    fn best_bin_split(&self, idx: &[Item], cent: &Aabb, area: f64) -> Option<(usize, usize, f64)> {
+    /// The cheapest bin boundary.
+    fn best_bin_split(&self, idx: &[Item], cent: &Aabb, area: f64) -> Option<BestSplit> {
         let k = self.bins_for(idx.len());
         // Bin arrays sized to the node: small nodes, the most numerous, clear little memory.
         if k <= 4 {
@@ -284,7 +331,7 @@ impl<B: BvhBounds> Ctx<B> {
         cent: &Aabb,
         area: f64,
         k: usize,
-    ) -> Option<(usize, usize, f64)> {
+    ) -> Option<BestSplit> {
         let k = k.min(K);
         let ext = cent.extent();
         let min = cent.min;
@@ -300,30 +347,50 @@ impl<B: BvhBounds> Ctx<B> {
         if scale == DVec3::ZERO {
             return None;
         }
-        let mut bins = [[EMPTY_BIN; K]; 3];
-        for it in idx.iter() {
-            let l = &it.lin;
-            let c = it.centre;
-            for a in 0..3 {
-                if scale[a] > 0.0 {
-                    let b = &mut bins[a][bin_of(c[a], min[a], scale[a], k)];
-                    b.bounds = b.bounds.union(l);
-                    b.count += 1;
+        let fill = |chunk: &[Item]| {
+            let mut bins = [[EMPTY_BIN; K]; 3];
+            for it in chunk {
+                let l = &it.lin;
+                let c = it.centre();
+                for a in 0..3 {
+                    if scale[a] > 0.0 {
+                        let b = &mut bins[a][bin_of(c[a], min[a], scale[a], k)];
+                        merge(&mut b.bounds, l);
+                        b.count += 1;
+                    }
                 }
             }
-        }
+            bins
+        };
+        // Bins are unions and counts, so binning in parallel chunks gives the same bins.
+        let bins = if idx.len() > PARALLEL_THRESHOLD {
+            idx.par_chunks(PARALLEL_THRESHOLD)
+                .map(fill)
+                .reduce_with(|mut a, b| {
+                    for (a, b) in a.iter_mut().flatten().zip(b.iter().flatten()) {
+                        a.bounds = a.bounds.union(&b.bounds);
+                        a.count += b.count;
+                    }
+                    a
+                })
+                .unwrap_or([[EMPTY_BIN; K]; 3])
+        } else {
+            fill(idx)
+        };
         let traversal = self.params.traversal_cost * area;
-        let mut best: Option<(usize, usize, f64)> = None;
+        let mut best: Option<BestSplit> = None;
         for (a, bins) in bins.iter().enumerate() {
             if scale[a] <= 0.0 {
                 continue;
             }
-            // Right-hand areas × counts for splits before bin s.
+            // Right-hand areas × counts (and bounds) for splits before bin s.
             let mut right_cost = [0.0f64; K];
+            let mut right_bounds = [Aabb::EMPTY; K];
             let mut acc = EMPTY_BIN;
             for s in (1..k).rev() {
                 acc.bounds = acc.bounds.union(&bins[s].bounds);
                 acc.count += bins[s].count;
+                right_bounds[s] = acc.bounds;
                 right_cost[s] = if acc.count == 0 {
                     f64::NAN
                 } else {
@@ -339,30 +406,53 @@ impl<B: BvhBounds> Ctx<B> {
                 }
                 let cost =
                     traversal + B::linear_area(&left.bounds) * left.count as f64 + right_cost[s];
-                if best.map_or(true, |(_, _, c)| cost < c) {
-                    best = Some((a, s, cost));
+                if best.as_ref().map_or(true, |b| cost < b.cost) {
+                    best = Some(BestSplit {
+                        axis: a,
+                        bin: s,
+                        cost,
+                        left: left.bounds,
+                        right: right_bounds[s],
+                    });
                 }
             }
         }
         best
     }
 
-    /// Moves the pieces whose centroid falls in a bin before `bin` to the front.
-    fn partition(&self, idx: &mut [Item], cent: &Aabb, axis: usize, bin: usize) -> usize {
+    /// Moves the pieces whose centroid falls in a bin before `bin` to the front; returns
+    /// how many they are and the centroid boxes of the two sides (as [`Ctx::scan`] would).
+    fn partition(
+        &self,
+        idx: &mut [Item],
+        cent: &Aabb,
+        axis: usize,
+        bin: usize,
+    ) -> (usize, [Aabb; 2]) {
         let k = self.bins_for(idx.len());
         let min = cent.min[axis];
         let scale = k as f64 / cent.extent()[axis];
-        let left = |it: &Item| bin_of(it.centre[axis], min, scale, k) < bin;
+        let left = |it: &Item| bin_of(it.centre()[axis], min, scale, k) < bin;
+        let grow = |c: Aabb, it: &Item| {
+            if it.lin.is_empty() {
+                c
+            } else {
+                c.grow(it.centre())
+            }
+        };
         let (mut lo, mut hi) = (0usize, idx.len());
+        let (mut cl, mut cr) = (Aabb::EMPTY, Aabb::EMPTY);
         while lo < hi {
             if left(&idx[lo]) {
+                cl = grow(cl, &idx[lo]);
                 lo += 1;
             } else {
+                cr = grow(cr, &idx[lo]);
                 hi -= 1;
                 idx.swap(lo, hi);
             }
         }
-        lo
+        (lo, [cl, cr])
     }
 
     /// Halves the pieces at the median centroid along the centroids' longest axis.
@@ -376,7 +466,7 @@ impl<B: BvhBounds> Ctx<B> {
             2
         };
         let mid = idx.len() / 2;
-        let key = |it: &Item| it.centre[axis];
+        let key = |it: &Item| it.centre()[axis];
         idx.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
         mid
     }

@@ -1,5 +1,6 @@
 //! The sort-based build: emit `(grid cell, id)` pairs in parallel, sort them, read off ranges.
 
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 
 use glam::DVec3;
@@ -16,8 +17,10 @@ const TOP_CAP: u32 = 1 << 12;
 const LEAF_CAP: u32 = 255;
 /// Most top cells in all.
 const MAX_TOP_CELLS: u64 = 1 << 28;
-/// Pieces (or top pairs) handed to one parallel task while emitting.
+/// Fewest pieces handed to one parallel task in round one.
 const CHUNK: usize = 4096;
+/// Most per-chunk top-cell counters in round one (they limit the number of chunks).
+const HISTOGRAM_BUDGET: usize = 1 << 24;
 
 /// Builds a two-level grid over boxes given in `coordinates` (for cylindrical coordinates,
 /// `(r, θ, h)` boxes as [`crate::accel::space::linear_boxes`] makes them). Empty or non-finite
@@ -131,39 +134,23 @@ fn attempt(
     grid.top_inv = inverse_size(extent, top_res);
     let top_cells = top_res.iter().map(|&r| r as usize).product::<usize>();
 
-    // Round one: (top cell, piece) pairs.
+    // Round one: the pieces of every top cell, in piece order (a stable counting sort).
     let valid = |b: &Aabb| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
-    let top_range = |b: &Aabb| {
-        (
-            cell_of(b.min, domain.min, grid.top_inv, top_res),
-            cell_of(b.max, domain.min, grid.top_inv, top_res),
-        )
-    };
-    let mut top_pairs = emit(
+    let top_inv = grid.top_inv;
+    let (top_begin, top_refs) = group_by_top_cell(
         n,
+        top_cells,
         |i| {
             let b = &pieces.bounds[i];
-            if !valid(b) {
-                return 0;
-            }
-            let (lo, hi) = top_range(b);
-            span(lo, hi)
+            valid(b).then(|| {
+                (
+                    cell_of(b.min, domain.min, top_inv, top_res),
+                    cell_of(b.max, domain.min, top_inv, top_res),
+                )
+            })
         },
-        |i, out| {
-            let b = &pieces.bounds[i];
-            if !valid(b) {
-                return;
-            }
-            let (lo, hi) = top_range(b);
-            let mut k = 0;
-            for_each_cell(lo, hi, |c| {
-                out[k] = (linear(c, top_res) as u64) << 32 | i as u64;
-                k += 1;
-            });
-        },
+        top_res,
     )?;
-    top_pairs.par_sort_unstable();
-    let top_begin = ranges(&top_pairs, top_cells);
 
     // Second-level resolution of every top cell, and where its leaf cells start.
     let mut top: Vec<TopCell> = (0..top_cells)
@@ -196,55 +183,236 @@ fn attempt(
         return None;
     }
     grid.top = top;
-
-    // Round two: (leaf cell, mesh cell) pairs, from every (top cell, piece) pair.
-    let leaf_range = |pair: u64| {
-        let t = (pair >> 32) as usize;
-        let b = &pieces.bounds[(pair & 0xffff_ffff) as usize];
-        let tc = grid.top[t];
-        let (origin, inv) = grid.leaf_frame(grid.top_coords(t), tc.res);
-        let res = tc.res.map(u32::from);
-        (
-            tc.first,
-            res,
-            cell_of(b.min, origin, inv, res),
-            cell_of(b.max, origin, inv, res),
-        )
-    };
-    let mut leaf_pairs = emit(
-        top_pairs.len(),
-        |k| {
-            let (_, _, lo, hi) = leaf_range(top_pairs[k]);
-            span(lo, hi)
-        },
-        |k, out| {
-            let pair = top_pairs[k];
-            let cell = pieces.cells[(pair & 0xffff_ffff) as usize] as u64;
-            let (first, res, lo, hi) = leaf_range(pair);
-            let mut j = 0;
-            for_each_cell(lo, hi, |c| {
-                out[j] = (first as u64 + linear(c, res) as u64) << 32 | cell;
-                j += 1;
-            });
-        },
-    )?;
-    drop(top_pairs);
-    leaf_pairs.par_sort_unstable();
-    leaf_pairs.dedup();
-    if leaf_pairs.len() >= u32::MAX as usize {
-        return None;
-    }
-    let leaf_begin = ranges(&leaf_pairs, leaves as usize);
-    grid.leaf_begin = leaf_begin.into_iter().map(|x| x as u32).collect();
-    grid.refs = leaf_pairs.par_iter().map(|&p| p as u32).collect();
+    let (refs, leaf_begin) = fill_leaves(&grid, pieces, &top_begin, &top_refs)?;
+    drop(top_refs);
+    grid.leaf_begin = leaf_begin;
+    grid.refs = refs;
     Some(grid)
 }
 
-/// Number of cells in the inclusive index range `lo..=hi`.
-fn span(lo: [u32; 3], hi: [u32; 3]) -> usize {
-    (0..3)
-        .map(|a| (hi[a].saturating_sub(lo[a]) + 1) as usize)
-        .product()
+/// The leaf cells a top cell's piece overlaps: `(lo, hi)` inclusive, in the top cell's second
+/// level of resolution `res` with origin and inverse cell size `frame`.
+#[inline]
+fn leaf_range(b: &Aabb, (origin, inv): (DVec3, DVec3), res: [u32; 3]) -> ([u32; 3], [u32; 3]) {
+    (
+        cell_of(b.min, origin, inv, res),
+        cell_of(b.max, origin, inv, res),
+    )
+}
+
+/// Round two, top cell by top cell in parallel (a top cell's leaf cells and their references
+/// are contiguous, so every top cell fills its own slices): counts the references of each leaf
+/// cell, then writes the cell ids of each leaf cell's pieces, sorted and without duplicates (a
+/// cell reaching one leaf cell through two pieces is kept once), and packs the result.
+/// Returns the references and the leaf cells' starts; `None` if they overflow 32 bits.
+fn fill_leaves(
+    grid: &TwoLevelGrid,
+    pieces: &Pieces<Aabb>,
+    top_begin: &[usize],
+    top_refs: &[u32],
+) -> Option<(Vec<u32>, Vec<u32>)> {
+    let top = &grid.top;
+    let leaves = top
+        .last()
+        .map_or(0, |tc| tc.first as usize + leaf_count(tc.res));
+    // What a top cell's task needs: its index, its leaf frame and resolution, its pieces.
+    let task = |t: usize| {
+        let tc = top[t];
+        let res = tc.res.map(u32::from);
+        let frame = grid.leaf_frame(grid.top_coords(t), tc.res);
+        (res, frame, &top_refs[top_begin[t]..top_begin[t + 1]])
+    };
+
+    // Counts per leaf cell.
+    let mut counts = vec![0usize; leaves];
+    split_by_top_cell(top, &mut counts, |t| leaf_count(top[t].res))
+        .into_par_iter()
+        .for_each(|(t, counts)| {
+            let (res, frame, mine) = task(t);
+            for &i in mine {
+                let (lo, hi) = leaf_range(&pieces.bounds[i as usize], frame, res);
+                for_each_cell(lo, hi, |c| counts[linear(c, res)] += 1);
+            }
+        });
+    let mut begin = Vec::with_capacity(leaves + 1);
+    let mut total = 0usize;
+    begin.push(0);
+    for &c in &counts {
+        total = total.checked_add(c)?;
+        begin.push(total);
+    }
+    if total as u64 >= 1 << 36 {
+        return None;
+    }
+
+    // References per top cell, each leaf cell's sorted and deduplicated at the front of its
+    // top cell's slice; `counts` becomes the number kept per leaf cell, `kept` per top cell.
+    let mut refs = vec![0u32; total];
+    let slices = {
+        let mut rest: &mut [u32] = &mut refs;
+        let mut out = Vec::with_capacity(top.len());
+        for (t, tc) in top.iter().enumerate() {
+            let (a, b) = (tc.first as usize, tc.first as usize + leaf_count(tc.res));
+            let (head, tail) = rest.split_at_mut(begin[b] - begin[a]);
+            out.push((t, head));
+            rest = tail;
+        }
+        out
+    };
+    let kept: Vec<usize> = slices
+        .into_par_iter()
+        .zip(split_by_top_cell(top, &mut counts, |t| {
+            leaf_count(top[t].res)
+        }))
+        .map(|((t, out), (_, counts))| {
+            let (res, frame, mine) = task(t);
+            let first = top[t].first as usize;
+            let base = begin[first];
+            let mut cursor: Vec<usize> = begin[first..first + counts.len()]
+                .iter()
+                .map(|&b| b - base)
+                .collect();
+            for &i in mine {
+                let cell = pieces.cells[i as usize];
+                let (lo, hi) = leaf_range(&pieces.bounds[i as usize], frame, res);
+                for_each_cell(lo, hi, |c| {
+                    let k = &mut cursor[linear(c, res)];
+                    out[*k] = cell;
+                    *k += 1;
+                });
+            }
+            // Sort (pieces come in piece order, usually already in cell order) and pack.
+            let mut w = 0;
+            for (j, count) in counts.iter_mut().enumerate() {
+                let (s, e) = (begin[first + j] - base, begin[first + j + 1] - base);
+                let seg = &mut out[s..e];
+                if !seg.windows(2).all(|p| p[0] <= p[1]) {
+                    seg.sort_unstable();
+                }
+                let w0 = w;
+                for k in s..e {
+                    if k == s || out[k] != out[k - 1] {
+                        out[w] = out[k];
+                        w += 1;
+                    }
+                }
+                *count = w - w0;
+            }
+            w
+        })
+        .collect();
+
+    // Pack the top cells' slices (only where duplicates were dropped).
+    let kept_total: usize = kept.iter().sum();
+    if kept_total >= u32::MAX as usize {
+        return None;
+    }
+    if kept_total < total {
+        let mut w = 0;
+        for (tc, &k) in top.iter().zip(&kept) {
+            let s = begin[tc.first as usize];
+            refs.copy_within(s..s + k, w);
+            w += k;
+        }
+        refs.truncate(w);
+        refs.shrink_to_fit();
+    }
+    let mut leaf_begin = Vec::with_capacity(leaves + 1);
+    let mut acc = 0u32;
+    leaf_begin.push(0);
+    for &c in &counts {
+        acc += c as u32;
+        leaf_begin.push(acc);
+    }
+    Some((refs, leaf_begin))
+}
+
+/// Leaf cells of a top cell of second-level resolution `res`.
+fn leaf_count(res: [u8; 3]) -> usize {
+    res.iter().map(|&r| r as usize).product()
+}
+
+/// `data` (one entry per leaf cell) cut into each top cell's slice, with the top cell's index.
+fn split_by_top_cell<'a, T>(
+    top: &[TopCell],
+    data: &'a mut [T],
+    len: impl Fn(usize) -> usize,
+) -> Vec<(usize, &'a mut [T])> {
+    let mut rest = data;
+    let mut out = Vec::with_capacity(top.len());
+    for t in 0..top.len() {
+        let (head, tail) = std::mem::take(&mut rest).split_at_mut(len(t));
+        out.push((t, head));
+        rest = tail;
+    }
+    out
+}
+
+/// Round one: the pieces overlapping each top cell, as `top_cells + 1` starts and the piece
+/// indices, in piece order within each top cell — what sorting the `(top cell, piece)` pairs
+/// would give. A stable counting sort: chunks of pieces count their pairs per top cell in
+/// parallel, the counts are prefix-summed (top cell major, chunk minor), and each chunk writes
+/// its pieces at its own offsets. The result does not depend on the chunking. `range(i)` is
+/// piece `i`'s inclusive range of top cells, `None` to leave it out. `None` if the pairs are
+/// too many.
+fn group_by_top_cell(
+    n: usize,
+    top_cells: usize,
+    range: impl Fn(usize) -> Option<([u32; 3], [u32; 3])> + Sync,
+    res: [u32; 3],
+) -> Option<(Vec<usize>, Vec<u32>)> {
+    // Chunks: a few per thread, but their counts together within a memory budget.
+    let chunks = (4 * rayon::current_num_threads())
+        .min(n.div_ceil(CHUNK))
+        .min((HISTOGRAM_BUDGET / top_cells.max(1)).max(1))
+        .max(1);
+    let size = n.div_ceil(chunks).max(1);
+    let bounds = |c: usize| (c * size).min(n)..((c + 1) * size).min(n);
+    let mut hist: Vec<Vec<usize>> = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut h = vec![0usize; top_cells];
+            for i in bounds(c) {
+                if let Some((lo, hi)) = range(i) {
+                    for_each_cell(lo, hi, |cell| h[linear(cell, res)] += 1);
+                }
+            }
+            h
+        })
+        .collect();
+    // Top cell major, chunk minor: `hist[c][t]` becomes chunk c's first slot in top cell t.
+    let mut begin = Vec::with_capacity(top_cells + 1);
+    let mut total = 0usize;
+    for t in 0..top_cells {
+        begin.push(total);
+        for h in hist.iter_mut() {
+            let c = h[t];
+            h[t] = total;
+            total = total.checked_add(c)?;
+        }
+    }
+    begin.push(total);
+    if total as u64 >= 1 << 36 {
+        return None;
+    }
+    // Every slot is written by exactly one chunk; relaxed atomic stores are plain stores.
+    let out: Vec<AtomicU32> = (0..total)
+        .into_par_iter()
+        .map(|_| AtomicU32::new(0))
+        .collect();
+    hist.into_par_iter().enumerate().for_each(|(c, mut next)| {
+        for i in bounds(c) {
+            if let Some((lo, hi)) = range(i) {
+                for_each_cell(lo, hi, |cell| {
+                    let k = &mut next[linear(cell, res)];
+                    out[*k].store(i as u32, Ordering::Relaxed);
+                    *k += 1;
+                });
+            }
+        }
+    });
+    let refs = out.into_iter().map(AtomicU32::into_inner).collect();
+    Some((begin, refs))
 }
 
 /// Calls `f` on every cell of the inclusive index range, x fastest.
@@ -257,54 +425,4 @@ fn for_each_cell(lo: [u32; 3], hi: [u32; 3], mut f: impl FnMut([u32; 3])) {
             }
         }
     }
-}
-
-/// Emits `count(i)` pairs for each of `n` items into one array, in item order: counts in
-/// parallel, prefix sums, then each task fills its items' disjoint slice (no locks).
-/// `None` if the total does not fit in memory indices.
-fn emit(
-    n: usize,
-    count: impl Fn(usize) -> usize + Sync,
-    fill: impl Fn(usize, &mut [u64]) + Sync,
-) -> Option<Vec<u64>> {
-    let counts: Vec<usize> = (0..n).into_par_iter().map(&count).collect();
-    let mut offsets = Vec::with_capacity(n + 1);
-    let mut total = 0usize;
-    offsets.push(0);
-    for c in counts {
-        total = total.checked_add(c)?;
-        offsets.push(total);
-    }
-    if total as u64 >= 1 << 36 {
-        return None;
-    }
-    let mut out = vec![0u64; total];
-    let mut slices = Vec::with_capacity(n.div_ceil(CHUNK));
-    let mut rest: &mut [u64] = &mut out;
-    for c in (0..n).step_by(CHUNK) {
-        let end = (c + CHUNK).min(n);
-        let (head, tail) = rest.split_at_mut(offsets[end] - offsets[c]);
-        slices.push((c, end, head));
-        rest = tail;
-    }
-    slices.into_par_iter().for_each(|(c, end, slice)| {
-        let base = offsets[c];
-        for i in c..end {
-            fill(i, &mut slice[offsets[i] - base..offsets[i + 1] - base]);
-        }
-    });
-    Some(out)
-}
-
-/// `[begin, end)` of each of `cells` cells in pairs sorted by their high 32 bits: `cells + 1`
-/// starts, the last being `pairs.len()`.
-fn ranges(pairs: &[u64], cells: usize) -> Vec<usize> {
-    let mut begin = vec![0usize; cells + 1];
-    for &p in pairs {
-        begin[(p >> 32) as usize + 1] += 1;
-    }
-    for i in 0..cells {
-        begin[i + 1] += begin[i];
-    }
-    begin
 }

@@ -14,8 +14,10 @@
 //! # Build
 //! Two rounds of the sort-based construction: emit a `(grid cell, id)` pair for every grid cell
 //! a box overlaps — counted per primitive in parallel, prefix-summed, then filled in parallel
-//! into disjoint slices, without locks — sort the pairs in parallel (`par_sort_unstable`),
-//! and read each cell's `[begin, end)` range off the sorted array. Round one pairs top cells
+//! into disjoint slices, without locks — group them by grid cell with counting sorts
+//! (round one: a stable parallel counting sort of pieces by top cell; round two: per top cell in
+//! parallel, straight into the final reference array), so each cell's `[begin, end)` range is
+//! read off directly — the result sorting the pairs would give. Round one pairs top cells
 //! with pieces; round two pairs leaf cells with cell ids (a cell reaching one leaf cell through
 //! two pieces — straddle sectors, both sides of the seam — is kept once).
 //!
