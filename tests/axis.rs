@@ -43,16 +43,7 @@ fn ring(
     for k in 0..nh {
         for j in 0..nt {
             for i in 0..nr {
-                cells.push([
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ]);
+                cells.push(cylvol::io::structured::cell_ids(i, j, k, id));
             }
         }
     }
@@ -219,16 +210,7 @@ fn o_grid_cylinder_with_wedges_on_the_axis() {
             cells.push(CellKind::Wedge.collapse(&w));
             kinds.push(CellKind::Wedge);
             for i in 1..nr {
-                let hex = [
-                    ring_id(i, j, k),
-                    ring_id(i + 1, j, k),
-                    ring_id(i + 1, j + 1, k),
-                    ring_id(i, j + 1, k),
-                    ring_id(i, j, k + 1),
-                    ring_id(i + 1, j, k + 1),
-                    ring_id(i + 1, j + 1, k + 1),
-                    ring_id(i, j + 1, k + 1),
-                ];
+                let hex = cylvol::io::structured::cell_ids(i, j, k, ring_id);
                 let x = hex.map(|i| points[i as usize]);
                 let flip = cylvol::geometry::trilinear::corner_jacobian_determinants(&x)[0] < 0.0;
                 cells.push(if flip {

@@ -272,16 +272,7 @@ fn structured(
     for k in 0..nk {
         for j in 0..nj {
             for i in 0..ni {
-                cells.push([
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ]);
+                cells.push(cylvol::io::structured::cell_ids(i, j, k, id));
             }
         }
     }

@@ -183,16 +183,7 @@ fn block(
         for j in 0..nj {
             for i in 0..ni {
                 if keep(i, j, k) {
-                    cells.push([
-                        id(i, j, k),
-                        id(i + 1, j, k),
-                        id(i + 1, j + 1, k),
-                        id(i, j + 1, k),
-                        id(i, j, k + 1),
-                        id(i + 1, j, k + 1),
-                        id(i + 1, j + 1, k + 1),
-                        id(i, j + 1, k + 1),
-                    ]);
+                    cells.push(cylvol::io::structured::cell_ids(i, j, k, id));
                     where_.push([i, j, k]);
                 }
             }
@@ -387,16 +378,7 @@ fn o_grid(nr: usize, nt: usize, nh: usize, axis: CellKind, duplicate_seam: bool)
     for k in 0..nh {
         for j in 0..nt {
             for i in 0..nr {
-                let hex = [
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ];
+                let hex = cylvol::io::structured::cell_ids(i, j, k, id);
                 if i == 0 && axis == CellKind::Wedge {
                     cells.push(
                         CellKind::Wedge.collapse(&[hex[0], hex[1], hex[2], hex[4], hex[5], hex[6]]),

@@ -749,16 +749,7 @@ fn lattice(n: [usize; 3]) -> Mesh {
     for k in 0..nz {
         for j in 0..ny {
             for i in 0..nx {
-                cells.push([
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ]);
+                cells.push(cylvol::io::structured::cell_ids(i, j, k, id));
             }
         }
     }

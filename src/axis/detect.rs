@@ -182,8 +182,7 @@ pub struct Detection {
 /// let id = |i: usize, j: usize, k: usize| (i + nr * (j % nt + nt * k)) as u32;
 /// let mut cells = Vec::new();
 /// for k in 0..nh - 1 { for j in 0..nt { for i in 0..nr - 1 {
-///     cells.push([id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
-///                 id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)]);
+///     cells.push(cylvol::io::structured::cell_ids(i, j, k, id));
 /// }}}
 /// let kinds = vec![CellKind::Hexahedron; cells.len()];
 /// let mesh = Mesh::from_parts(MeshParts { points, cells, kinds, ..Default::default() }).unwrap();

@@ -5,6 +5,28 @@ use glam::DVec3;
 
 use crate::geometry::trilinear::corner_jacobian_determinants;
 
+/// The eight point ids of the structured cell `(i, j, k)` in VTK hexahedron order, given the id
+/// of a grid point `(i, j, k)`.
+///
+/// ```
+/// use cylvol::io::structured::cell_ids;
+/// let id = |i: usize, j: usize, k: usize| (i + 2 * (j + 2 * k)) as u32;
+/// assert_eq!(cell_ids(0, 0, 0, id), [0, 1, 3, 2, 4, 5, 7, 6]);
+/// ```
+#[inline]
+pub fn cell_ids(i: usize, j: usize, k: usize, id: impl Fn(usize, usize, usize) -> u32) -> [u32; 8] {
+    [
+        id(i, j, k),
+        id(i + 1, j, k),
+        id(i + 1, j + 1, k),
+        id(i, j + 1, k),
+        id(i, j, k + 1),
+        id(i + 1, j, k + 1),
+        id(i + 1, j + 1, k + 1),
+        id(i, j + 1, k + 1),
+    ]
+}
+
 /// The `(ni−1)(nj−1)(nk−1)` hexahedra of a structured grid whose points are stored i fastest,
 /// then j, then k. Cells are oriented so that most have a positive Jacobian: a left-handed grid
 /// (as PLOT3D files often are) gets its cells' vertex order mirrored in i, so the mesh it makes
@@ -27,16 +49,7 @@ pub fn hexahedra(dims: [usize; 3], points: &[DVec3]) -> Vec<[u32; 8]> {
     for k in 0..nk - 1 {
         for j in 0..nj - 1 {
             for i in 0..ni - 1 {
-                cells.push([
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ]);
+                cells.push(cell_ids(i, j, k, id));
             }
         }
     }
