@@ -152,18 +152,13 @@ impl Axis {
     /// An orthonormal right-handed frame `(u, v, direction)` about the axis: `u` is the unit
     /// vector perpendicular to the axis closest to the coordinate axis least aligned with it,
     /// `v = direction × u`. Cylindrical coordinates use θ = 0 along `u`.
+    /// (The same frame as [`crate::geometry::cylindrical::CylFrame::new`]; NaN vectors for an
+    /// axis whose fields were set to a zero or non-finite direction.)
     pub fn frame(&self) -> (DVec3, DVec3, DVec3) {
-        let d = self.direction;
-        let a = d.abs();
-        let pick = if a.x <= a.y && a.x <= a.z {
-            DVec3::X
-        } else if a.y <= a.z {
-            DVec3::Y
-        } else {
-            DVec3::Z
-        };
-        let u = (pick - d * pick.dot(d)).normalize();
-        (u, d.cross(u), d)
+        match crate::geometry::cylindrical::CylFrame::new(self.origin, self.direction) {
+            Some(f) => (f.e1, f.e2, f.axis),
+            None => (DVec3::NAN, DVec3::NAN, DVec3::NAN),
+        }
     }
 
     /// Cylindrical coordinates `(r, θ, h)` of `point` about this axis in the [`Axis::frame`]:
