@@ -1,9 +1,16 @@
 //! `cylvol demo [--out DIR]`: the main job on the built-in default dataset.
 //!
 //! It generates the default dataset (`pump-rotor` at a demo size), describes it, builds the
-//! four acceleration structures, measures point location through each, and prints the talk's
-//! cylindrical ÷ Cartesian ratios for the rotor beside ours. It writes the mesh (VTU) and the
-//! figures (JSON) into `DIR`. The ray caster, as it lands, adds its images here.
+//! four acceleration structures, measures point location through each, renders the same
+//! view with each structure along both paths (as `cylvol bench`), and prints the talk's
+//! cylindrical ÷ Cartesian ratios for the rotor beside ours. It writes into `DIR`: the mesh
+//! (VTU), the fast path's image per structure (`cart-grid.png`, `cyl-grid.png`,
+//! `cart-bvh.png`, `cyl-bvh.png`, [`DEMO_IMAGE`]² from [`DEMO_VIEW`]), the price of accuracy
+//! (`accuracy.svg`, the `cylvol accuracy` study through the cylindrical BVH at
+//! [`DEMO_ACCURACY_IMAGE`]²) and all the figures (`demo.json`).
+//!
+//! The sizes are chosen so that the whole demo, builds included, takes well under a minute on
+//! a 2-core machine.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -12,14 +19,38 @@ use serde_json::{json, Value};
 
 use super::log;
 use cylvol::accel::probe::{lookup_cost, points_in_cells};
-use cylvol::accel::AccelParams;
+use cylvol::accel::{AccelParams, StructureKind};
 use cylvol::datasets::Dataset;
+use cylvol::render::RenderPath;
 use cylvol::Error;
 
 /// The dataset and size the demo uses.
 pub const DEMO_DATASET: Dataset = Dataset::PumpRotor;
 /// Cells in the demo's dataset: large enough to be a real mesh, small enough for seconds.
 pub const DEMO_CELLS: usize = 400_000;
+
+/// Side of the demo's rendered images.
+pub const DEMO_IMAGE: u32 = 256;
+/// Side of the images of the demo's accuracy study.
+pub const DEMO_ACCURACY_IMAGE: u32 = 96;
+/// The demo's camera: azimuth 30°, elevation 20°, no zoom.
+pub const DEMO_VIEW: [f64; 3] = [30.0, 20.0, 1.0];
+
+/// The talk's per-frame cylindrical ÷ Cartesian ratios on its rotor, beside the bench's:
+/// (family, key in the bench's `ratios`, label, talk). `fps` is the inverse of the
+/// `frame_s` ratio (cart frame time ÷ cyl frame time).
+const TALK_ROTOR_FRAME: [(&str, &str, &str, f64); 5] = [
+    ("grid", "hex_tests", "grid: hexahedra visited", 0.89),
+    ("grid", "fps", "grid: frames per second", 1.09),
+    (
+        "bvh",
+        "internal_visits",
+        "BVH: internal nodes visited",
+        0.88,
+    ),
+    ("bvh", "leaf_visits", "BVH: leaf nodes visited", 0.86),
+    ("bvh", "fps", "BVH: frames per second", 1.14),
+];
 
 /// The talk's cylindrical ÷ Cartesian ratios on its rotor (2.1 M hexahedra), for comparison.
 const TALK_ROTOR: [(&str, &str, &str, f64); 7] = [
@@ -119,9 +150,89 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
     }
     println!();
     println!(
-        "(hexahedra tested and nodes visited: per point located, over 100,000 points inside cells;"
+        "(hexahedra tested and nodes visited: per point located, over 100,000 points inside cells)"
     );
-    println!(" the talk counted them per rendered frame. Rendering comes with the ray caster.)");
+
+    // Rendering: the same view with each structure, paper and fast paths.
+    let setup = super::bench::BenchSetup {
+        width: DEMO_IMAGE,
+        height: DEMO_IMAGE,
+        view: Some(DEMO_VIEW),
+        step: None,
+    };
+    let bench = super::bench::bench_mesh(
+        &mesh,
+        &built,
+        DEMO_DATASET.name(),
+        &setup,
+        &[RenderPath::Paper, RenderPath::Fast],
+    )?;
+    let mut images = Vec::new();
+    for (kind, image) in &bench.images {
+        let path = args.out.join(format!("{}.png", kind.name()));
+        image.write_png(&path, Some([0.0; 3]))?;
+        images.push(path.display().to_string());
+    }
+    println!();
+    super::bench::print_table(&bench.report);
+    println!();
+    println!(
+        "{:<30} {:>14} {:>10} {:>10}",
+        "per frame, cyl ÷ cart", "talk (rotor)", "paper", "fast"
+    );
+    let mut frame_comparison = Vec::new();
+    for (family, key, label, talk) in TALK_ROTOR_FRAME {
+        let ours = |path: &str| -> Option<f64> {
+            let r = &bench.report["ratios"][family][path];
+            match key {
+                "fps" => r["frame_s"].as_f64().filter(|v| *v > 0.0).map(|v| 1.0 / v),
+                k => r[k].as_f64(),
+            }
+        };
+        let (paper, fast) = (ours("paper"), ours("fast"));
+        let show = |v: Option<f64>| v.map(|v| format!("{v:.2}")).unwrap_or_else(|| "-".into());
+        println!(
+            "{:<30} {:>14.2} {:>10} {:>10}",
+            label,
+            talk,
+            show(paper),
+            show(fast)
+        );
+        frame_comparison
+            .push(json!({ "measure": label, "talk": talk, "paper": paper, "fast": fast }));
+    }
+    println!(
+        "(per {}×{} frame of the demo's view; fps = cart frame time ÷ cyl frame time)",
+        DEMO_IMAGE, DEMO_IMAGE
+    );
+
+    // The price of accuracy through the cylindrical BVH.
+    let cyl_bvh = built
+        .iter()
+        .find(|a| a.kind() == StructureKind::CylBvh)
+        .ok_or_else(|| Error::Invalid("demo: the cylindrical BVH is missing".into()))?;
+    let neighbours = super::scene::neighbours(&mesh);
+    let accuracy = super::accuracy::study(
+        &mesh,
+        cyl_bvh,
+        &neighbours,
+        DEMO_DATASET.name(),
+        DEMO_ACCURACY_IMAGE,
+        Some(DEMO_VIEW),
+        RenderPath::Fast,
+    )?;
+    let plot_path = args.out.join("accuracy.svg");
+    super::accuracy::plot(
+        &accuracy.study,
+        &format!(
+            "{} ({} cells): error against time as the step shrinks",
+            DEMO_DATASET.name(),
+            mesh.cell_count()
+        ),
+    )
+    .write(&plot_path)?;
+    println!();
+    super::accuracy::print_table(&accuracy.report, &accuracy.study);
 
     let mesh_path = args.out.join(format!("{}.vtu", DEMO_DATASET.name()));
     cylvol::io::write_file(&mesh, &mesh_path)?;
@@ -130,14 +241,19 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         "info": serde_json::to_value(&info).map_err(|e| Error::Invalid(e.to_string()))?,
         "structures": structures,
         "comparison": comparison,
+        "bench": bench.report,
+        "frame_comparison": frame_comparison,
+        "images": images,
+        "accuracy": accuracy.report,
     });
     let report_path = args.out.join("demo.json");
     let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Invalid(e.to_string()))?;
     std::fs::write(&report_path, text).map_err(io_error(&report_path))?;
     log(format_args!(
-        "wrote {} and {} ({:.2} s in all)",
+        "wrote {}, {}, {} and the images ({:.2} s in all)",
         mesh_path.display(),
         report_path.display(),
+        plot_path.display(),
         started.elapsed().as_secs_f64()
     ));
     Ok(())

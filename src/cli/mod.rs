@@ -1,9 +1,12 @@
 //! Argument parsing and dispatch of the `cylvol` subcommands, one file per subcommand.
 
+mod accuracy;
+mod bench;
 mod demo;
 mod gen;
 mod info;
 mod render;
+mod scene;
 mod stats;
 
 use std::path::PathBuf;
@@ -26,6 +29,10 @@ enum Command {
     Stats(stats::StatsArgs),
     /// Volume-render a mesh to a PNG image.
     Render(render::RenderArgs),
+    /// Render with each structure, paper and fast paths, and report the work and times.
+    Bench(bench::BenchArgs),
+    /// Error against a converged reference, and time, as the sample step shrinks.
+    Accuracy(accuracy::AccuracyArgs),
     /// Write a synthetic dataset (pump-inlet, pump-rotor, pump-diffuser) to a .vtk or .vtu file.
     Gen(gen::GenArgs),
     /// The main job on the built-in default dataset.
@@ -94,6 +101,8 @@ pub fn run() -> i32 {
         Command::Info(a) => info::run(&a),
         Command::Stats(a) => stats::run(&a),
         Command::Render(a) => render::run(&a),
+        Command::Bench(a) => bench::run(&a),
+        Command::Accuracy(a) => accuracy::run(&a),
         Command::Gen(a) => gen::run(&a),
         Command::Demo(a) => demo::run(&a),
     };

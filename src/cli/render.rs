@@ -15,12 +15,9 @@ use std::time::Instant;
 
 use serde_json::json;
 
-use super::{log, InputArgs};
-use cylvol::accel::{Accel, AccelParams, StructureKind};
-use cylvol::mesh::topology::FaceNeighbors;
-use cylvol::render::{
-    default_step, Camera, RenderOptions, RenderPath, Renderer, Shading, TransferFunction, Volume,
-};
+use super::{log, scene, InputArgs};
+use cylvol::accel::{Accel, AccelParams};
+use cylvol::render::{RenderOptions, RenderPath, Renderer, Shading, Volume};
 use cylvol::Error;
 
 /// Arguments of `cylvol render`.
@@ -41,7 +38,7 @@ pub struct RenderArgs {
     #[arg(long)]
     step: Option<f64>,
     /// Camera preset AZIMUTH,ELEVATION,ZOOM in degrees, degrees and a factor.
-    #[arg(long, value_name = "AZIMUTH,ELEVATION,ZOOM", value_parser = parse_view, allow_hyphen_values = true)]
+    #[arg(long, value_name = "AZIMUTH,ELEVATION,ZOOM", value_parser = super::scene::parse_view, allow_hyphen_values = true)]
     view: Option<[f64; 3]>,
     /// paper (locate every sample through the structure) or fast.
     #[arg(long, default_value = "fast")]
@@ -72,34 +69,10 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-fn parse_view(s: &str) -> Result<[f64; 3], String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("view '{s}' is not AZIMUTH,ELEVATION,ZOOM"))?;
-    match v[..] {
-        [a, e, z] if a.is_finite() && e.is_finite() && z > 0.0 && z.is_finite() => Ok([a, e, z]),
-        _ => Err(format!(
-            "view '{s}' must be three finite numbers AZIMUTH,ELEVATION,ZOOM with ZOOM > 0"
-        )),
-    }
-}
-
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let mesh = args.input.load()?;
     let (axis, clear) = args.input.axis(&mesh);
-    let kind = match args.structure.as_str() {
-        "auto" => {
-            // A given axis counts as clear.
-            if clear.unwrap_or(true) {
-                StructureKind::CylBvh
-            } else {
-                StructureKind::CartBvh
-            }
-        }
-        s => s.parse()?,
-    };
+    let kind = scene::structure(&args.structure, clear)?;
     let path: RenderPath = args.path.parse()?;
     let accel = Accel::build(&mesh, kind, &axis, &AccelParams::default())?;
     let s = accel.stats();
@@ -110,38 +83,20 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         s.build_s()
     ));
     let volume = Volume::new(&mesh, &accel)?;
-    let step = match args.step {
-        Some(s) if s > 0.0 && s.is_finite() => s,
-        Some(s) => return Err(Error::Invalid(format!("--step {s} must be positive"))),
-        None => default_step(&mesh),
-    };
-    let b = mesh.bounds();
-    let diagonal = ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
-    let [lo, hi] = volume.scalar_range();
-    let transfer = TransferFunction::default_for_range(lo, hi, 0.3, (diagonal / 100.0).max(1e-300));
+    let step = scene::step(&mesh, args.step)?;
+    let transfer = scene::transfer(&mesh, volume.scalar_range());
     let (width, height) = args.size;
     let mut options = RenderOptions::new(width, height, step);
     options.path = path;
     options.shading = args.shade.then(Shading::default);
     // The fast path walks from a sample's cell to its face neighbours (across duplicated
     // seams too); the paper path locates every sample from scratch and needs none.
-    let neighbours = (path == RenderPath::Fast).then(|| {
-        let started = Instant::now();
-        let n = FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
-        log(format_args!(
-            "face neighbours: {} boundary faces, {} seam faces joined, {:.2} s",
-            n.boundary_face_count(),
-            n.seam_faces(),
-            started.elapsed().as_secs_f64()
-        ));
-        n
-    });
+    let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh));
     let mut renderer = Renderer::new(&volume, &transfer, &options)?;
     if let Some(n) = &neighbours {
         renderer = renderer.with_neighbours(n);
     }
-    let [az, el, zoom] = args.view.unwrap_or([0.0, 0.0, 1.0]);
-    let camera = Camera::view(b, width, height, az, el, zoom);
+    let camera = scene::camera(&mesh, width, height, args.view);
     let started = Instant::now();
     let (image, stats) = renderer.render(&camera, None)?;
     let frame_s = started.elapsed().as_secs_f64();

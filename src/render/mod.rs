@@ -18,8 +18,10 @@
 //! assert_eq!(stats.rays, 256);
 //! ```
 
+pub mod accuracy;
 pub mod camera;
 pub mod image;
+pub mod plot;
 pub mod raycast;
 pub mod shading;
 pub mod transfer;

@@ -1,0 +1,303 @@
+//! `cylvol bench INPUT... [--json] [--size N] [--view A,E,Z] [--step S]`: renders every input
+//! with each of the four structures along both sampling paths and reports the talk's
+//! per-frame figures — samples, hexahedra tested, internal and leaf nodes visited, frame time
+//! — with cylindrical ÷ Cartesian ratios.
+//!
+//! Every structure and path renders the same `N × N` image (default 512) with the same camera
+//! (`--view`, default `0,0,1`), transfer function and step (default half the mean cell size),
+//! as `cylvol render` would ([`super::scene`]). `paper` locates every sample from scratch
+//! through the structure, as the talk measured; `fast` is the project's best path (previous
+//! cell, face neighbours, transparent cells skipped). `frame_s` is the wall time of the
+//! render alone (rays in parallel on all cores); `build_s` the structure's build. The face
+//! neighbours the fast path walks are built once per mesh (`neighbours_s`).
+//!
+//! With `--json`, standard output is a JSON array with one object per input: `dataset`,
+//! `cells`, `width`, `height`, `step`, `view`, `neighbours_s`, `structures` (`cart-grid`,
+//! `cyl-grid`, `cart-bvh`, `cyl-bvh`, each with `build_s`, `paper` and `fast`, each of those
+//! with `samples`, `hex_tests`, `internal_visits`, `leaf_visits`, `frame_s`) and `ratios`
+//! (`grid` and `bvh`, each with `paper` and `fast`, each with the cyl ÷ cart quotients of
+//! `hex_tests`, `internal_visits`, `leaf_visits` and `frame_s`; `null` where the Cartesian
+//! figure is zero). Without it, a table. Progress goes to standard error.
+
+use std::time::Instant;
+
+use serde_json::{json, Map, Value};
+
+use super::{log, scene, InputArgs};
+use cylvol::accel::{Accel, AccelParams, StructureKind};
+use cylvol::axis::Axis;
+use cylvol::render::{Image, RenderOptions, RenderPath, RenderStats, Renderer, Volume};
+use cylvol::{Error, Mesh};
+
+/// Arguments of `cylvol bench`.
+#[derive(clap::Args, Debug)]
+pub struct BenchArgs {
+    /// Mesh files or datasets NAME[:CELLS], e.g. pump-rotor pump-inlet:200000 mixer.vtk.
+    #[arg(required = true, value_name = "INPUT")]
+    inputs: Vec<String>,
+    /// Print JSON on standard output (an array, one object per input).
+    #[arg(long)]
+    json: bool,
+    /// Image side N (an N×N image).
+    #[arg(long, default_value = "512", value_parser = scene::parse_side)]
+    size: u32,
+    /// Camera preset AZIMUTH,ELEVATION,ZOOM in degrees, degrees and a factor.
+    #[arg(long, value_name = "AZIMUTH,ELEVATION,ZOOM", value_parser = scene::parse_view, allow_hyphen_values = true)]
+    view: Option<[f64; 3]>,
+    /// Sample spacing in world units (default: half the mean cell size).
+    #[arg(long)]
+    step: Option<f64>,
+    /// Scalar array to render (for every input).
+    #[arg(long)]
+    scalar: Option<String>,
+    /// Machine axis instead of the detected one (for every input).
+    #[arg(long, value_name = "AXIS")]
+    axis: Option<Axis>,
+}
+
+/// The four structures' figures on one mesh, and the fast path's images.
+pub struct BenchResult {
+    /// The report object of one dataset (see the module documentation).
+    pub report: Value,
+    /// The fast path's image per structure.
+    pub images: Vec<(StructureKind, Image)>,
+}
+
+/// What to render in a benchmark.
+pub struct BenchSetup {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Camera preset.
+    pub view: Option<[f64; 3]>,
+    /// Sample spacing (`None`: the default).
+    pub step: Option<f64>,
+}
+
+fn path_json(stats: &RenderStats, frame_s: f64) -> Value {
+    json!({
+        "samples": stats.samples,
+        "hex_tests": stats.hex_tests,
+        "internal_visits": stats.internal_visits,
+        "leaf_visits": stats.leaf_visits,
+        "frame_s": frame_s,
+        "samples_located": stats.samples_located,
+        "samples_skipped": stats.samples_skipped,
+        "early_terminations": stats.early_terminations,
+    })
+}
+
+/// The keys whose cyl ÷ cart quotients `ratios` holds.
+pub const RATIO_KEYS: [&str; 4] = ["hex_tests", "internal_visits", "leaf_visits", "frame_s"];
+
+/// `ratios` of a `structures` object: per family (`grid`, `bvh`) and path, cyl ÷ cart.
+pub fn ratios(structures: &Map<String, Value>) -> Value {
+    let mut out = Map::new();
+    for (family, cart, cyl) in [
+        ("grid", "cart-grid", "cyl-grid"),
+        ("bvh", "cart-bvh", "cyl-bvh"),
+    ] {
+        let mut paths = Map::new();
+        for path in ["paper", "fast"] {
+            let mut r = Map::new();
+            for key in RATIO_KEYS {
+                let a = structures.get(cart).and_then(|s| s[path][key].as_f64());
+                let b = structures.get(cyl).and_then(|s| s[path][key].as_f64());
+                let q = match (a, b) {
+                    (Some(a), Some(b)) if a > 0.0 => Some(b / a),
+                    _ => None,
+                };
+                r.insert(key.to_string(), json!(q));
+            }
+            paths.insert(path.to_string(), Value::Object(r));
+        }
+        out.insert(family.to_string(), Value::Object(paths));
+    }
+    Value::Object(out)
+}
+
+/// Renders the same view of `mesh` with each structure in `built` (the four, built over
+/// `mesh`), along each of `paths`.
+pub fn bench_mesh(
+    mesh: &Mesh,
+    built: &[Accel],
+    label: &str,
+    setup: &BenchSetup,
+    paths: &[RenderPath],
+) -> Result<BenchResult, Error> {
+    let (width, height) = (setup.width, setup.height);
+    let step = scene::step(mesh, setup.step)?;
+    let camera = scene::camera(mesh, width, height, setup.view);
+    if built.is_empty() {
+        return Err(Error::Invalid("bench: no structure to render with".into()));
+    }
+    let started = Instant::now();
+    let neighbours = paths
+        .contains(&RenderPath::Fast)
+        .then(|| scene::neighbours(mesh));
+    let neighbours_s = started.elapsed().as_secs_f64();
+    let mut structures = Map::new();
+    let mut images = Vec::new();
+    for accel in built {
+        let kind = accel.kind();
+        let build_s = accel.stats().build_s();
+        let volume = Volume::new(mesh, accel)?;
+        let transfer = scene::transfer(mesh, volume.scalar_range());
+        let mut entry = Map::new();
+        entry.insert("build_s".into(), json!(build_s));
+        for &path in paths {
+            let mut options = RenderOptions::new(width, height, step);
+            options.path = path;
+            let mut renderer = Renderer::new(&volume, &transfer, &options)?;
+            if let (RenderPath::Fast, Some(n)) = (path, &neighbours) {
+                renderer = renderer.with_neighbours(n);
+            }
+            let started = Instant::now();
+            let (image, stats) = renderer.render(&camera, None)?;
+            let frame_s = started.elapsed().as_secs_f64();
+            log(format_args!(
+                "{label}: {kind} built in {build_s:.2} s, {} path {frame_s:.3} s: {} samples, {} hexahedra tested, {} internal / {} leaf visits",
+                path.name(),
+                stats.samples,
+                stats.hex_tests,
+                stats.internal_visits,
+                stats.leaf_visits
+            ));
+            entry.insert(path.name().into(), path_json(&stats, frame_s));
+            if path == RenderPath::Fast {
+                images.push((kind, image));
+            }
+        }
+        structures.insert(kind.name().into(), Value::Object(entry));
+    }
+    let ratios = ratios(&structures);
+    let report = json!({
+        "dataset": label,
+        "cells": mesh.cell_count(),
+        "width": width,
+        "height": height,
+        "step": step,
+        "view": setup.view.unwrap_or(scene::DEFAULT_VIEW),
+        "neighbours_s": neighbours.as_ref().map(|_| neighbours_s),
+        "structures": structures,
+        "ratios": ratios,
+    });
+    Ok(BenchResult { report, images })
+}
+
+/// Prints one dataset's report as a table.
+pub fn print_table(report: &Value) {
+    println!(
+        "{} — {} cells, {}×{} image, step {:.4e}",
+        report["dataset"].as_str().unwrap_or(""),
+        report["cells"],
+        report["width"],
+        report["height"],
+        report["step"].as_f64().unwrap_or(0.0)
+    );
+    println!(
+        "{:<10} {:>8} {:<6} {:>12} {:>9} {:>10} {:>9} {:>9}",
+        "structure", "build s", "path", "samples", "hex/smp", "inner/smp", "leaf/smp", "frame s"
+    );
+    for kind in StructureKind::ALL {
+        let s = &report["structures"][kind.name()];
+        for path in ["paper", "fast"] {
+            let p = &s[path];
+            if p.is_null() {
+                continue;
+            }
+            let samples = p["samples"].as_f64().unwrap_or(0.0);
+            let per = |k: &str| {
+                if samples > 0.0 {
+                    format!("{:.3}", p[k].as_f64().unwrap_or(0.0) / samples)
+                } else {
+                    "-".into()
+                }
+            };
+            println!(
+                "{:<10} {:>8.3} {:<6} {:>12} {:>9} {:>10} {:>9} {:>9.3}",
+                kind.name(),
+                s["build_s"].as_f64().unwrap_or(0.0),
+                path,
+                p["samples"],
+                per("hex_tests"),
+                per("internal_visits"),
+                per("leaf_visits"),
+                p["frame_s"].as_f64().unwrap_or(0.0)
+            );
+        }
+    }
+    for family in ["grid", "bvh"] {
+        for path in ["paper", "fast"] {
+            let r = &report["ratios"][family][path];
+            let parts: Vec<String> = RATIO_KEYS
+                .iter()
+                .filter_map(|k| r[*k].as_f64().map(|v| format!("{k} {v:.2}")))
+                .collect();
+            if !parts.is_empty() {
+                println!("cyl ÷ cart {family} {path}: {}", parts.join(", "));
+            }
+        }
+    }
+}
+
+pub fn run(args: &BenchArgs) -> Result<(), Error> {
+    // Refuse a missing file before spending minutes on the inputs before it.
+    for spec in &args.inputs {
+        if let cylvol::input::Input::File(p) = cylvol::input::Input::parse(spec)? {
+            if !p.exists() {
+                return Err(Error::Invalid(format!(
+                    "{}: no such file, and not a dataset name (pump-inlet, pump-rotor, pump-diffuser)",
+                    p.display()
+                )));
+            }
+        }
+    }
+    let setup = BenchSetup {
+        width: args.size,
+        height: args.size,
+        view: args.view,
+        step: args.step,
+    };
+    let mut reports = Vec::new();
+    for (k, spec) in args.inputs.iter().enumerate() {
+        log(format_args!(
+            "bench {}/{}: {spec}",
+            k + 1,
+            args.inputs.len()
+        ));
+        let input = InputArgs {
+            input: spec.clone(),
+            q_file: None,
+            scalar: args.scalar.clone(),
+            axis: args.axis,
+        };
+        let mesh = input.load()?;
+        let (axis, _) = input.axis(&mesh);
+        let label = cylvol::input::Input::parse(spec)?.label();
+        let built = super::stats::build_all(&mesh, &axis, &AccelParams::default())?;
+        let result = bench_mesh(
+            &mesh,
+            &built,
+            &label,
+            &setup,
+            &[RenderPath::Paper, RenderPath::Fast],
+        )?;
+        if !args.json {
+            if k > 0 {
+                println!();
+            }
+            print_table(&result.report);
+        }
+        reports.push(result.report);
+    }
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&Value::Array(reports))
+                .map_err(|e| Error::Invalid(e.to_string()))?
+        );
+    }
+    Ok(())
+}

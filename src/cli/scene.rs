@@ -1,0 +1,102 @@
+//! The scene the rendering commands share (`render`, `bench`, `accuracy`, `demo`): the
+//! structure chosen by `auto`, the default transfer function from the scalar range and the
+//! mesh's diagonal, the camera from a `--view` preset, and the face neighbours of the fast
+//! path. One place, so that every command renders the same picture of the same mesh.
+
+use std::time::Instant;
+
+use super::log;
+use cylvol::accel::StructureKind;
+use cylvol::mesh::topology::FaceNeighbors;
+use cylvol::render::{Camera, TransferFunction};
+use cylvol::{Error, Mesh};
+
+/// The default `--view`: VTK's reset camera (looking down `−z` at the bounds' centre).
+pub const DEFAULT_VIEW: [f64; 3] = [0.0, 0.0, 1.0];
+
+/// Maximum opacity of the default transfer function, per hundredth of the mesh's diagonal.
+pub const MAX_OPACITY: f64 = 0.3;
+
+/// Parses a `--view AZIMUTH,ELEVATION,ZOOM` preset (degrees, degrees, a factor > 0).
+pub fn parse_view(s: &str) -> Result<[f64; 3], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("view '{s}' is not AZIMUTH,ELEVATION,ZOOM"))?;
+    match v[..] {
+        [a, e, z] if a.is_finite() && e.is_finite() && z > 0.0 && z.is_finite() => Ok([a, e, z]),
+        _ => Err(format!(
+            "view '{s}' must be three finite numbers AZIMUTH,ELEVATION,ZOOM with ZOOM > 0"
+        )),
+    }
+}
+
+/// Parses a square image side `N` (1 to 16384).
+pub fn parse_side(s: &str) -> Result<u32, String> {
+    let n: u32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("size '{s}' is not a whole number of pixels"))?;
+    if n == 0 || n > 16384 {
+        return Err(format!("size '{s}' must be between 1 and 16384"));
+    }
+    Ok(n)
+}
+
+/// The structure a `--structure` argument names; `auto` is the cylindrical BVH when the
+/// axis is clear (or was given: `clear` is `None`), else the Cartesian BVH.
+pub fn structure(name: &str, clear: Option<bool>) -> Result<StructureKind, Error> {
+    match name {
+        "auto" => Ok(if clear.unwrap_or(true) {
+            StructureKind::CylBvh
+        } else {
+            StructureKind::CartBvh
+        }),
+        s => s.parse(),
+    }
+}
+
+/// The length of the mesh's bounding-box diagonal.
+pub fn diagonal(mesh: &Mesh) -> f64 {
+    let b = mesh.bounds();
+    ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt()
+}
+
+/// The default transfer function over the scalar range `[lo, hi]`
+/// ([`TransferFunction::default_for_range`]) with a maximum opacity of [`MAX_OPACITY`] per
+/// hundredth of the mesh's diagonal.
+pub fn transfer(mesh: &Mesh, [lo, hi]: [f64; 2]) -> TransferFunction {
+    TransferFunction::default_for_range(lo, hi, MAX_OPACITY, (diagonal(mesh) / 100.0).max(1e-300))
+}
+
+/// The camera of a `--view` preset (default [`DEFAULT_VIEW`]) for a `width × height` image.
+pub fn camera(mesh: &Mesh, width: u32, height: u32, view: Option<[f64; 3]>) -> Camera {
+    let [az, el, zoom] = view.unwrap_or(DEFAULT_VIEW);
+    Camera::view(mesh.bounds(), width, height, az, el, zoom)
+}
+
+/// The face neighbours the fast path walks (duplicated seams joined by position), logged.
+pub fn neighbours(mesh: &Mesh) -> FaceNeighbors {
+    let started = Instant::now();
+    let n = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
+    log(format_args!(
+        "face neighbours: {} boundary faces, {} seam faces joined, {:.2} s",
+        n.boundary_face_count(),
+        n.seam_faces(),
+        started.elapsed().as_secs_f64()
+    ));
+    n
+}
+
+/// The sample spacing: `--step` when given (it must be positive and finite), else
+/// [`cylvol::render::default_step`] (half the mean cell size).
+pub fn step(mesh: &Mesh, given: Option<f64>) -> Result<f64, Error> {
+    match given {
+        Some(s) if s > 0.0 && s.is_finite() => Ok(s),
+        Some(s) => Err(Error::Invalid(format!(
+            "--step {s} must be positive and finite"
+        ))),
+        None => Ok(cylvol::render::default_step(mesh)),
+    }
+}

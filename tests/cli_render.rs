@@ -1,0 +1,276 @@
+//! The rendering commands as other tools use them: `cylvol bench` (every key for the four
+//! structures × both paths, ratios that are the quotients), `cylvol accuracy` (error falling
+//! as the step halves against a 1/32 reference, a well-formed plot), `cylvol demo` (its
+//! images and plot), and clear errors with a non-zero exit.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+const STRUCTURES: [&str; 4] = ["cart-grid", "cyl-grid", "cart-bvh", "cyl-bvh"];
+const PATH_KEYS: [&str; 5] = [
+    "samples",
+    "hex_tests",
+    "internal_visits",
+    "leaf_visits",
+    "frame_s",
+];
+
+fn cylvol(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cylvol"))
+        .args(args)
+        .output()
+        .expect("cylvol runs")
+}
+
+fn json_of(args: &[&str]) -> Value {
+    let out = cylvol(args);
+    assert!(
+        out.status.success(),
+        "cylvol {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("standard output is JSON alone")
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1e-300)
+}
+
+#[test]
+fn bench_reports_every_structure_and_path_with_quotient_ratios() {
+    let v = json_of(&[
+        "bench",
+        "pump-rotor:5000",
+        "pump-inlet:3000",
+        "--size",
+        "40",
+        "--json",
+    ]);
+    let reports = v.as_array().expect("an array, one object per input");
+    assert_eq!(reports.len(), 2);
+    assert_eq!(reports[0]["dataset"], "pump-rotor");
+    assert_eq!(reports[1]["dataset"], "pump-inlet");
+    for r in reports {
+        assert_eq!(r["width"], 40);
+        assert_eq!(r["height"], 40);
+        assert!(r["cells"].as_u64().unwrap() > 1000);
+        for s in STRUCTURES {
+            let entry = &r["structures"][s];
+            assert!(entry["build_s"].as_f64().unwrap() >= 0.0, "{s} build_s");
+            for path in ["paper", "fast"] {
+                for k in PATH_KEYS {
+                    assert!(
+                        entry[path][k].as_f64().is_some(),
+                        "{}: {s} {path} lacks {k}",
+                        r["dataset"]
+                    );
+                }
+            }
+            // The same rays and the same image: the same sample positions.
+            assert_eq!(entry["paper"]["samples"], entry["fast"]["samples"], "{s}");
+            assert!(entry["paper"]["samples"].as_u64().unwrap() > 0, "{s}");
+            // The paper path locates every sample through the structure.
+            assert!(entry["paper"]["hex_tests"].as_u64().unwrap() > 0, "{s}");
+        }
+        for (family, cart, cyl) in [
+            ("grid", "cart-grid", "cyl-grid"),
+            ("bvh", "cart-bvh", "cyl-bvh"),
+        ] {
+            for path in ["paper", "fast"] {
+                for k in ["hex_tests", "internal_visits", "leaf_visits", "frame_s"] {
+                    let a = r["structures"][cart][path][k].as_f64().unwrap();
+                    let b = r["structures"][cyl][path][k].as_f64().unwrap();
+                    let q = &r["ratios"][family][path][k];
+                    if a > 0.0 {
+                        assert!(
+                            close(q.as_f64().unwrap(), b / a),
+                            "{family} {path} {k}: {q} vs {b}/{a}"
+                        );
+                    } else {
+                        assert!(q.is_null());
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn bench_prints_a_table_and_logs_progress() {
+    let out = cylvol(&["bench", "pump-rotor:2000", "--size", "24"]);
+    assert!(out.status.success());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    for s in STRUCTURES {
+        assert!(stdout.contains(s), "{s} missing from\n{stdout}");
+    }
+    assert!(stdout.contains("cyl ÷ cart grid paper"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("paper path"));
+}
+
+/// Checks with Python's XML parser that the SVG is well-formed and returns the number of
+/// point markers in each series; `None` where `/usr/bin/python3` cannot run.
+fn svg_points_per_series(path: &Path) -> Option<Vec<usize>> {
+    let script = r#"
+import sys, xml.etree.ElementTree as ET
+ns = '{http://www.w3.org/2000/svg}'
+root = ET.parse(sys.argv[1]).getroot()
+assert root.tag == ns + 'svg', root.tag
+counts = [len([c for c in g.iter(ns + 'circle') if c.get('class') == 'point'])
+          for g in root.iter(ns + 'g') if g.get('class') == 'series']
+print(' '.join(map(str, counts)))
+"#;
+    let out = Command::new("/usr/bin/python3")
+        .args(["-c", script])
+        .arg(path)
+        .output()
+        .ok()?;
+    assert!(
+        out.status.success(),
+        "{} is not well-formed SVG: {}",
+        path.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Some(
+        String::from_utf8_lossy(&out.stdout)
+            .split_whitespace()
+            .map(|n| n.parse().unwrap())
+            .collect(),
+    )
+}
+
+#[test]
+fn accuracy_error_falls_as_the_step_halves() {
+    let dir = tempfile::tempdir().unwrap();
+    let plot = dir.path().join("acc.svg");
+    let v = json_of(&[
+        "accuracy",
+        "pump-rotor:5000",
+        "--size",
+        "48",
+        "--json",
+        "--plot",
+        plot.to_str().unwrap(),
+    ]);
+    assert_eq!(v["dataset"], "pump-rotor");
+    let runs = v["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 5);
+    // The base is the mean cell size, twice the renderer's default step, computed here
+    // independently of the command.
+    let mesh = cylvol::datasets::generate(cylvol::datasets::Dataset::PumpRotor, 5000).unwrap();
+    let base = 2.0 * cylvol::render::default_step(&mesh);
+    assert!(close(v["mean_cell_size"].as_f64().unwrap(), base));
+    assert!(close(v["reference"]["step"].as_f64().unwrap(), base / 32.0));
+    for (run, factor) in runs.iter().zip([2.0, 1.0, 0.5, 0.25, 0.125]) {
+        assert!(close(run["step"].as_f64().unwrap(), base * factor));
+        let (rmse, max) = (
+            run["rmse"].as_f64().unwrap(),
+            run["max_err"].as_f64().unwrap(),
+        );
+        assert!(rmse > 0.0 && rmse <= max && max <= 1.0, "{run}");
+        assert!(run["time_s"].as_f64().unwrap() >= 0.0);
+    }
+    for w in runs.windows(2) {
+        let (a, b) = (
+            w[0]["rmse"].as_f64().unwrap(),
+            w[1]["rmse"].as_f64().unwrap(),
+        );
+        assert!(b < a, "rmse did not fall from {a} to {b}: {v}");
+    }
+    let order = v["order"].as_array().unwrap();
+    assert_eq!(order.len(), 4);
+    for (k, o) in order.iter().enumerate() {
+        let expect =
+            (runs[k]["rmse"].as_f64().unwrap() / runs[k + 1]["rmse"].as_f64().unwrap()).log2();
+        assert!(close(o.as_f64().unwrap(), expect));
+    }
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert!(svg.contains("<svg"));
+    if let Some(counts) = svg_points_per_series(&plot) {
+        assert_eq!(
+            counts,
+            vec![runs.len(); 2],
+            "rmse and max error, a point per run"
+        );
+    } else {
+        eprintln!("note: /usr/bin/python3 unavailable, SVG not parsed");
+    }
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap();
+    assert!(bytes.len() > 33, "{} too short", path.display());
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{}", path.display());
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    (be(&bytes[16..20]), be(&bytes[20..24]))
+}
+
+#[test]
+fn demo_writes_an_image_per_structure_and_the_accuracy_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = cylvol(&[
+        "demo",
+        "--out",
+        dir.path().to_str().unwrap(),
+        "--cells",
+        "4000",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for s in STRUCTURES {
+        let (w, h) = png_size(&dir.path().join(format!("{s}.png")));
+        assert_eq!((w, h), (256, 256), "{s}");
+    }
+    let plot = dir.path().join("accuracy.svg");
+    if let Some(counts) = svg_points_per_series(&plot) {
+        assert_eq!(counts, vec![5, 5]);
+    }
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("demo.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["frame_comparison"].as_array().unwrap().len(), 5);
+    assert!(report["bench"]["structures"]["cyl-bvh"]["fast"]["samples"].as_u64() > Some(0));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("frames per second"), "{stdout}");
+}
+
+fn fails_with(args: &[&str], message: &str) {
+    let out = cylvol(args);
+    assert!(!out.status.success(), "cylvol {args:?} succeeded");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains(message),
+        "cylvol {args:?}: '{message}' not in {stderr}"
+    );
+    assert!(
+        out.stdout.is_empty(),
+        "nothing on standard output on failure"
+    );
+}
+
+#[test]
+fn bad_arguments_fail_with_a_message() {
+    fails_with(
+        &["accuracy", "pump-rotor:2000", "--structure", "kd-tree"],
+        "unknown structure 'kd-tree'",
+    );
+    fails_with(&["bench", "pump-rotor:2000", "--size", "0"], "size '0'");
+    fails_with(&["bench", "pump-rotor:2000", "--size", "big"], "size 'big'");
+    fails_with(&["accuracy", "pump-rotor:2000", "--size=-4"], "size '-4'");
+    fails_with(
+        &[
+            "bench",
+            "pump-rotor:2000",
+            "/nonexistent/mesh.vtk",
+            "--json",
+        ],
+        "no such file",
+    );
+    fails_with(&["accuracy", "/nonexistent/mesh.vtu"], "no such file");
+    fails_with(&["bench"], "INPUT");
+}
