@@ -4,15 +4,17 @@
 //!
 //! - **BVHs** ([`Skipper::next_entry`]): a closest-hit traversal of the ray against the node
 //!   and piece bounds gives the smallest `t ≥ t₀` at which the ray is inside a piece's bound.
-//!   Boxes are slab-tested. Sectors are tested on `r` (a quadratic in `t`) and `h` (a slab)
-//!   only — θ is ignored, so the answer is a lower bound of the true entry (an annulus holds
-//!   the sector), which is all skipping needs.
+//!   Boxes are slab-tested. Sectors are tested on `r` (a quadratic in `t`), `h` (a slab) and,
+//!   for arcs narrower than π, θ (two half-planes through the axis); a wider arc is tested on
+//!   `r` and `h` only, a lower bound of the true entry, which is all skipping needs.
 //! - **Grids**: a sample is passed over when its second-level cell holds no reference (one
 //!   top-cell and one leaf-cell look-up, no cell tested).
 //!
 //! Every answer is **conservative**: bounds are padded by `1e-9` of the root's extent before
 //! the ray is intersected with them, so a sample the structure could locate is never skipped,
 //! and the fast path's image keeps the paper path's samples.
+
+use std::f64::consts::PI;
 
 use glam::DVec3;
 
@@ -69,6 +71,34 @@ impl LocalRay {
         let mut hi = t1.min(he);
         if lo > hi {
             return None;
+        }
+        // θ: an arc narrower than π is the intersection of two half-planes through the axis,
+        // `cross(e(θ_lo), x) ≥ 0` and `cross(x, e(θ_hi)) ≥ 0` (padded by `pad`).
+        let (th0, th1) = (s.theta[0] as f64, s.theta[1] as f64);
+        if th1 - th0 < PI - 1e-6 {
+            let (s0, c0) = th0.sin_cos();
+            let (s1, c1) = th1.sin_cos();
+            for (f0, f1) in [
+                (c0 * o.y - s0 * o.x, c0 * d.y - s0 * d.x),
+                (s1 * o.x - c1 * o.y, s1 * d.x - c1 * d.y),
+            ] {
+                // f0 + t f1 ≥ −pad
+                if f1 == 0.0 {
+                    if f0 < -pad {
+                        return None;
+                    }
+                } else {
+                    let tc = (-pad - f0) / f1;
+                    if f1 > 0.0 {
+                        lo = lo.max(tc);
+                    } else {
+                        hi = hi.min(tc);
+                    }
+                }
+            }
+            if lo > hi {
+                return None;
+            }
         }
         // r² along the ray: a t² + 2 b t + c.
         let a = d.x * d.x + d.y * d.y;

@@ -60,7 +60,7 @@ pub fn farthest_face(corners: &[DVec3; 8], p: DVec3) -> (usize, f64) {
         let [a, b, c, d] = slots.map(|s| rel[s]);
         let n = (c - a).cross(d - b);
         let len = n.length();
-        if !(len > 0.0) {
+        if len.is_nan() || len <= 0.0 {
             continue;
         }
         let mid = (a + b + c + d) * 0.25;
