@@ -24,7 +24,9 @@ pub mod image;
 pub mod plot;
 pub mod raycast;
 pub mod shading;
+pub mod skip;
 pub mod transfer;
+pub mod walk;
 
 pub use camera::{Camera, CameraFrame, Projection, RayGenerator, DEFAULT_VIEW_ANGLE};
 pub use image::Image;

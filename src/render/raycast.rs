@@ -43,10 +43,11 @@ use serde::Serialize;
 use super::camera::{Camera, RayGenerator};
 use super::image::Image;
 use super::shading::Shading;
+use super::skip::Skipper;
 use super::transfer::{TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
+use super::walk::{walk, WalkEnd, WalkWork};
 use crate::accel::{Accel, Counters};
 use crate::geometry::bounds::{cell_bounds, Aabb};
-use crate::geometry::containment::locate_in_cell;
 use crate::geometry::trilinear::{interpolate, physical_gradient};
 use crate::mesh::Association;
 use crate::{Error, Mesh};
@@ -137,6 +138,16 @@ pub struct RenderStats {
     pub gradient_evaluations: u64,
     /// Rays stopped by early termination.
     pub early_terminations: u64,
+    /// Cells the fast path's walks stepped across by face planes, without an inverse map.
+    pub walk_steps: u64,
+    /// Samples the fast path passed over without point location: outside every piece's
+    /// bound of the structure (empty-space skipping).
+    pub space_skips: u64,
+    /// Samples the fast path located through the structure from scratch.
+    pub structure_locates: u64,
+    /// Samples with no previous cell that the fast path found by a walk from the previous
+    /// ray's first cell.
+    pub entry_walk_hits: u64,
 }
 
 impl AddAssign for RenderStats {
@@ -152,6 +163,10 @@ impl AddAssign for RenderStats {
         self.leaf_visits += o.leaf_visits;
         self.gradient_evaluations += o.gradient_evaluations;
         self.early_terminations += o.early_terminations;
+        self.walk_steps += o.walk_steps;
+        self.space_skips += o.space_skips;
+        self.structure_locates += o.structure_locates;
+        self.entry_walk_hits += o.entry_walk_hits;
     }
 }
 
@@ -391,41 +406,50 @@ impl<'a> Renderer<'a> {
         (t_in < t_out).then_some((t_in, t_out))
     }
 
-    #[inline]
-    fn locate_fast(
-        &self,
-        p: DVec3,
-        prev: Option<(u32, DVec3)>,
-        counters: &mut Counters,
-        stats: &mut RenderStats,
-    ) -> Option<(u32, DVec3)> {
-        let mesh = self.volume.mesh;
-        if let Some((c, q)) = prev {
-            counters.hex_tests += 1;
-            if let Some(q) = locate_in_cell(&mesh.cell_corners(c as usize), p, Some(q)) {
-                stats.previous_cell_hits += 1;
-                return Some((c, q));
-            }
-            for n in self.neighbours.neighbours(c) {
-                if n == u32::MAX || n == c || n as usize >= mesh.cell_count() {
-                    continue;
-                }
-                counters.hex_tests += 1;
-                if let Some(q) = locate_in_cell(&mesh.cell_corners(n as usize), p, None) {
-                    stats.neighbour_hits += 1;
-                    return Some((n, q));
-                }
-            }
-        }
-        self.volume.accel.locate(mesh, p, counters)
-    }
-
     /// Casts one ray (unit `dir`), stopping at `t_stop` (opaque geometry; `+∞` for none).
     pub fn cast(
         &self,
         origin: DVec3,
         dir: DVec3,
         t_stop: f64,
+        stats: &mut RenderStats,
+    ) -> RayResult {
+        let mut hint = None;
+        self.cast_with_hint(origin, dir, t_stop, &mut hint, stats)
+    }
+
+    /// The fast path's location of the sample `p` with no previous cell: a walk from `hint`
+    /// (the first cell of the previous ray, usually near), else the structure.
+    fn locate_entry(
+        &self,
+        p: DVec3,
+        hint: Option<u32>,
+        counters: &mut Counters,
+        stats: &mut RenderStats,
+    ) -> Option<(u32, DVec3)> {
+        let mesh = self.volume.mesh;
+        if let Some(h) = hint {
+            let mut work = WalkWork::default();
+            let end = walk(mesh, self.neighbours, h, None, p, &mut work);
+            counters.hex_tests += work.tests;
+            stats.walk_steps += work.plane_steps;
+            if let WalkEnd::Found(c, q) = end {
+                stats.entry_walk_hits += 1;
+                return Some((c, q));
+            }
+        }
+        stats.structure_locates += 1;
+        self.volume.accel.locate(mesh, p, counters)
+    }
+
+    /// [`Renderer::cast`] with the first cell of the previous ray as a starting point
+    /// (updated to this ray's first cell).
+    fn cast_with_hint(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t_stop: f64,
+        hint: &mut Option<u32>,
         stats: &mut RenderStats,
     ) -> RayResult {
         stats.rays += 1;
@@ -446,30 +470,97 @@ impl<'a> Renderer<'a> {
         let vol = self.volume;
         let mesh = vol.mesh;
         let fast = opts.path == RenderPath::Fast;
+        let skipper = Skipper::new(vol.accel);
         let mut counters = Counters::default();
         let mut transmittance = 1.0f64;
         let mut color = [0.0f64; 3];
+        // The fast path's last located cell and parameters; `None` outside the mesh.
         let mut prev: Option<(u32, DVec3)> = None;
+        let mut first_cell: Option<u32> = None;
+        let sample_t = |k: u64| t_in + (k as f64 + 0.5) * step;
         let mut k = 0u64;
-        loop {
-            let t = t_in + (k as f64 + 0.5) * step;
+        'samples: loop {
+            let t = sample_t(k);
             if t >= t_out || t.is_nan() {
                 break;
             }
-            k += 1;
-            stats.samples += 1;
             let p = origin + dir * t;
-            let found = if fast {
-                let f = self.locate_fast(p, prev, &mut counters, stats);
-                prev = f;
-                f
-            } else {
+            let found = if !fast {
+                stats.samples += 1;
+                k += 1;
                 vol.accel.locate(mesh, p, &mut counters)
+            } else {
+                // With a previous cell, walk from it; a walk that leaves the mesh drops it.
+                let mut walked = None;
+                if let Some((c, q)) = prev {
+                    let mut work = WalkWork::default();
+                    let end = walk(mesh, self.neighbours, c, Some(q), p, &mut work);
+                    counters.hex_tests += work.tests;
+                    stats.walk_steps += work.plane_steps;
+                    match end {
+                        WalkEnd::Found(n, q) => {
+                            if n == c {
+                                stats.previous_cell_hits += 1;
+                            } else {
+                                stats.neighbour_hits += 1;
+                            }
+                            walked = Some(Some((n, q)));
+                        }
+                        WalkEnd::Boundary => prev = None,
+                        WalkEnd::GaveUp => {
+                            stats.structure_locates += 1;
+                            walked = Some(vol.accel.locate(mesh, p, &mut counters));
+                        }
+                    }
+                }
+                match walked {
+                    Some(f) => {
+                        stats.samples += 1;
+                        k += 1;
+                        f
+                    }
+                    None => {
+                        // Outside the mesh or at the ray's start: skip the empty space.
+                        let Some(te) = skipper.next_entry(origin, dir, t, t_out, &mut counters)
+                        else {
+                            while sample_t(k) < t_out {
+                                stats.samples += 1;
+                                stats.space_skips += 1;
+                                k += 1;
+                            }
+                            break 'samples;
+                        };
+                        if te > t {
+                            while sample_t(k) < te {
+                                if sample_t(k) >= t_out {
+                                    break 'samples;
+                                }
+                                stats.samples += 1;
+                                stats.space_skips += 1;
+                                k += 1;
+                            }
+                            continue 'samples;
+                        }
+                        stats.samples += 1;
+                        k += 1;
+                        if !skipper.may_hold(p, &mut counters) {
+                            stats.space_skips += 1;
+                            continue 'samples;
+                        }
+                        self.locate_entry(p, *hint, &mut counters, stats)
+                    }
+                }
             };
+            if fast {
+                prev = found;
+            }
             let Some((cell, param)) = found else {
                 continue;
             };
             stats.samples_located += 1;
+            if first_cell.is_none() {
+                first_cell = Some(cell);
+            }
             if fast {
                 let [a, b] = vol.cell_ranges[cell as usize];
                 if self.table.transparent_over(a, b) {
@@ -512,6 +603,9 @@ impl<'a> Renderer<'a> {
                 break;
             }
         }
+        if first_cell.is_some() {
+            *hint = first_cell;
+        }
         stats.add_counters(&counters);
         out.rgba = [color[0], color[1], color[2], 1.0 - transmittance];
         out
@@ -544,13 +638,14 @@ impl<'a> Renderer<'a> {
             .map(|&(x, y)| {
                 let mut stats = RenderStats::default();
                 let mut px = Vec::with_capacity((tile * tile) as usize);
+                let mut hint = None;
                 for j in y * tile..((y + 1) * tile).min(h) {
                     for i in x * tile..((x + 1) * tile).min(w) {
                         let (o, d) = rays.ray(i, j);
                         let stop = depth_in
                             .map(|dd| dd[j as usize * w as usize + i as usize] as f64)
                             .unwrap_or(f64::INFINITY);
-                        px.push(self.cast(o, d, stop, &mut stats));
+                        px.push(self.cast_with_hint(o, d, stop, &mut hint, &mut stats));
                     }
                 }
                 (px, stats)

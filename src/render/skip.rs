@@ -1,0 +1,329 @@
+//! Empty-space skipping for the fast path: where along a ray the next sample may lie in a
+//! piece's bound, so samples outside every bound (the hub's hole, the corners of the mesh's
+//! box) are passed over without point location.
+//!
+//! - **BVHs** ([`Skipper::next_entry`]): a closest-hit traversal of the ray against the node
+//!   and piece bounds gives the smallest `t ≥ t₀` at which the ray is inside a piece's bound.
+//!   Boxes are slab-tested. Sectors are tested on `r` (a quadratic in `t`), `h` (a slab) and,
+//!   for arcs narrower than π, θ (two half-planes through the axis); a wider arc is tested on
+//!   `r` and `h` only, a lower bound of the true entry, which is all skipping needs.
+//! - **Grids**: a sample is passed over when its second-level cell holds no reference (one
+//!   top-cell and one leaf-cell look-up, no cell tested).
+//!
+//! Every answer is **conservative**: bounds are padded by `1e-9` of the root's extent before
+//! the ray is intersected with them, so a sample the structure could locate is never skipped,
+//! and the fast path's image keeps the paper path's samples.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+
+use crate::accel::bvh::{BoxF32, Bvh, BvhBounds, SectorF32};
+use crate::accel::{Accel, Coordinates, Counters, Structure};
+use crate::geometry::bounds::Aabb;
+use crate::geometry::cylindrical::CylFrame;
+
+/// The ray's `t`-interval inside `[lo, hi]` along one axis (origin `o`, direction `d`).
+#[inline]
+fn slab(o: f64, d: f64, lo: f64, hi: f64) -> (f64, f64) {
+    if d == 0.0 {
+        if o >= lo && o <= hi {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        } else {
+            (f64::INFINITY, f64::NEG_INFINITY)
+        }
+    } else {
+        let inv = 1.0 / d;
+        let (a, b) = ((lo - o) * inv, (hi - o) * inv);
+        (a.min(b), a.max(b))
+    }
+}
+
+/// A ray in the structure's frame, ready for its bounds.
+#[derive(Clone, Copy, Debug)]
+enum LocalRay {
+    /// Origin relative to the BVH's anchor, direction.
+    Boxes { o: DVec3, d: DVec3, pad: f64 },
+    /// In the cylindrical frame: `(x, y)` across the axis, `h` relative to the anchor.
+    Sectors { o: DVec3, d: DVec3, pad: f64 },
+}
+
+impl LocalRay {
+    /// The smallest `t` in `[t0, t1]` inside the (padded) bound, if any.
+    #[inline]
+    fn entry_box(o: DVec3, d: DVec3, pad: f64, b: &BoxF32, t0: f64, t1: f64) -> Option<f64> {
+        let (mut lo, mut hi) = (t0, t1);
+        for a in 0..3 {
+            let (s, e) = slab(o[a], d[a], b.min[a] as f64 - pad, b.max[a] as f64 + pad);
+            lo = lo.max(s);
+            hi = hi.min(e);
+        }
+        (lo <= hi).then_some(lo)
+    }
+
+    #[inline]
+    fn entry_sector(o: DVec3, d: DVec3, pad: f64, s: &SectorF32, t0: f64, t1: f64) -> Option<f64> {
+        if s.r[0] > s.r[1] || s.h[0] > s.h[1] {
+            return None;
+        }
+        let (hs, he) = slab(o.z, d.z, s.h[0] as f64 - pad, s.h[1] as f64 + pad);
+        let mut lo = t0.max(hs);
+        let mut hi = t1.min(he);
+        if lo > hi {
+            return None;
+        }
+        // θ: an arc narrower than π is the intersection of two half-planes through the axis,
+        // `cross(e(θ_lo), x) ≥ 0` and `cross(x, e(θ_hi)) ≥ 0` (padded by `pad`).
+        let (th0, th1) = (s.theta[0] as f64, s.theta[1] as f64);
+        if th1 - th0 < PI - 1e-6 {
+            let (s0, c0) = th0.sin_cos();
+            let (s1, c1) = th1.sin_cos();
+            for (f0, f1) in [
+                (c0 * o.y - s0 * o.x, c0 * d.y - s0 * d.x),
+                (s1 * o.x - c1 * o.y, s1 * d.x - c1 * d.y),
+            ] {
+                // f0 + t f1 ≥ −pad
+                if f1 == 0.0 {
+                    if f0 < -pad {
+                        return None;
+                    }
+                } else {
+                    let tc = (-pad - f0) / f1;
+                    if f1 > 0.0 {
+                        lo = lo.max(tc);
+                    } else {
+                        hi = hi.min(tc);
+                    }
+                }
+            }
+            if lo > hi {
+                return None;
+            }
+        }
+        // r² along the ray: a t² + 2 b t + c.
+        let a = d.x * d.x + d.y * d.y;
+        let b = o.x * d.x + o.y * d.y;
+        let c = o.x * o.x + o.y * o.y;
+        let r1 = s.r[1] as f64 + pad;
+        let r0 = s.r[0] as f64 - pad;
+        // Inside r ≤ r1: one interval.
+        if a <= 1e-300 {
+            if c > r1 * r1 {
+                return None;
+            }
+            if r0 > 0.0 && c < r0 * r0 {
+                return None;
+            }
+            return Some(lo);
+        }
+        let disc1 = b * b - a * (c - r1 * r1);
+        if disc1 < 0.0 {
+            return None;
+        }
+        let sq1 = disc1.sqrt();
+        lo = lo.max((-b - sq1) / a);
+        hi = hi.min((-b + sq1) / a);
+        if lo > hi {
+            return None;
+        }
+        // Outside r < r0: the complement of one interval.
+        if r0 > 0.0 {
+            let disc0 = b * b - a * (c - r0 * r0);
+            if disc0 > 0.0 {
+                let sq0 = disc0.sqrt();
+                let (ia, ib) = ((-b - sq0) / a, (-b + sq0) / a);
+                if lo > ia && lo < ib {
+                    lo = ib;
+                }
+                if lo > hi {
+                    return None;
+                }
+            }
+        }
+        Some(lo)
+    }
+}
+
+/// Empty-space skipping over one structure (see the module documentation).
+#[derive(Clone, Copy, Debug)]
+pub struct Skipper<'a> {
+    accel: &'a Accel,
+}
+
+impl<'a> Skipper<'a> {
+    /// Skipping over `accel`.
+    pub fn new(accel: &'a Accel) -> Skipper<'a> {
+        Skipper { accel }
+    }
+
+    /// For a BVH: the smallest `t ∈ [t0, t1]` at which the ray (unit `dir`) may lie in a
+    /// piece's bound, `None` if it lies in none on that interval. For a grid: `Some(t0)`
+    /// (grids are skipped sample by sample, see [`Skipper::may_hold`]). Node visits are
+    /// counted in `counters`.
+    pub fn next_entry(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        counters: &mut Counters,
+    ) -> Option<f64> {
+        match (self.accel.structure(), self.accel.coordinates()) {
+            (Structure::Grid(_), _) => Some(t0),
+            (Structure::CartBvh(b), _) => {
+                let ray = LocalRay::Boxes {
+                    o: origin - b.frame().anchor,
+                    d: dir,
+                    pad: root_pad_box(b),
+                };
+                first_hit(b, ray, t0, t1, counters)
+            }
+            (Structure::CylBvh(b), Coordinates::Cylindrical(frame)) => {
+                let ray = sector_ray(&frame, b, origin, dir);
+                first_hit(b, ray, t0, t1, counters)
+            }
+            (Structure::CylBvh(_), Coordinates::Cartesian) => Some(t0),
+        }
+    }
+
+    /// Whether the structure may hold a cell at `p`: for a grid, whether `p`'s second-level
+    /// cell holds references (one top and one leaf visit counted); for a BVH, always `true`.
+    pub fn may_hold(&self, p: DVec3, counters: &mut Counters) -> bool {
+        match self.accel.structure() {
+            Structure::Grid(g) => {
+                let q = self.accel.coordinates().of(p);
+                if !g.domain().contains(q) {
+                    return false;
+                }
+                counters.internal_visits += 1;
+                counters.leaf_visits += 1;
+                !g.candidates(q).is_empty()
+            }
+            _ => true,
+        }
+    }
+}
+
+fn root_pad_box(b: &Bvh<Aabb>) -> f64 {
+    b.nodes.first().map_or(0.0, |n| {
+        let e = (0..3)
+            .map(|a| (n.bounds.max[a] - n.bounds.min[a]) as f64)
+            .fold(0.0, f64::max);
+        1e-9 * e
+    })
+}
+
+fn sector_ray<B: BvhBounds<Compact = SectorF32>>(
+    frame: &CylFrame,
+    b: &Bvh<B>,
+    origin: DVec3,
+    dir: DVec3,
+) -> LocalRay {
+    let o = frame.to_local(origin) - DVec3::new(0.0, 0.0, b.frame().anchor.z);
+    let d = DVec3::new(dir.dot(frame.e1), dir.dot(frame.e2), dir.dot(frame.axis));
+    let pad = b.nodes.first().map_or(0.0, |n| {
+        1e-9 * (n.bounds.r[1] as f64).max((n.bounds.h[1] - n.bounds.h[0]) as f64)
+    });
+    LocalRay::Sectors { o, d, pad }
+}
+
+/// Bounds a [`LocalRay`] can enter.
+trait Enter {
+    fn enter(&self, ray: &LocalRay, t0: f64, t1: f64) -> Option<f64>;
+}
+
+impl Enter for BoxF32 {
+    #[inline]
+    fn enter(&self, ray: &LocalRay, t0: f64, t1: f64) -> Option<f64> {
+        match *ray {
+            LocalRay::Boxes { o, d, pad } => LocalRay::entry_box(o, d, pad, self, t0, t1),
+            LocalRay::Sectors { .. } => Some(t0),
+        }
+    }
+}
+
+impl Enter for SectorF32 {
+    #[inline]
+    fn enter(&self, ray: &LocalRay, t0: f64, t1: f64) -> Option<f64> {
+        match *ray {
+            LocalRay::Sectors { o, d, pad } => LocalRay::entry_sector(o, d, pad, self, t0, t1),
+            LocalRay::Boxes { .. } => Some(t0),
+        }
+    }
+}
+
+/// Closest-hit traversal: the smallest entry `t ∈ [t0, t1]` into a leaf piece's bound.
+fn first_hit<B: BvhBounds>(
+    bvh: &Bvh<B>,
+    ray: LocalRay,
+    t0: f64,
+    t1: f64,
+    counters: &mut Counters,
+) -> Option<f64>
+where
+    B::Compact: Enter,
+{
+    const DEPTH: usize = crate::accel::bvh::MAX_DEPTH;
+    let root = bvh.nodes.first()?;
+    root.bounds.enter(&ray, t0, t1)?;
+    let mut best = f64::INFINITY;
+    let mut hi = t1;
+    let mut stack = [(0u32, 0.0f64); DEPTH];
+    stack[0] = (0, t0);
+    let mut top = 1usize;
+    while top > 0 {
+        top -= 1;
+        let (at, entry) = stack[top];
+        if entry > hi {
+            continue;
+        }
+        let Some(node) = bvh.nodes.get(at as usize) else {
+            continue;
+        };
+        if node.count == 0 {
+            counters.internal_visits += 1;
+            let (l, r) = (at + 1, node.index);
+            let el = bvh
+                .nodes
+                .get(l as usize)
+                .and_then(|n| n.bounds.enter(&ray, t0, hi));
+            let er = bvh
+                .nodes
+                .get(r as usize)
+                .and_then(|n| n.bounds.enter(&ray, t0, hi));
+            // Nearer child on top.
+            let mut push = |n: u32, e: f64| {
+                if top < DEPTH {
+                    stack[top] = (n, e);
+                    top += 1;
+                }
+            };
+            match (el, er) {
+                (Some(a), Some(b)) if a <= b => {
+                    push(r, b);
+                    push(l, a);
+                }
+                (Some(a), Some(b)) => {
+                    push(l, a);
+                    push(r, b);
+                }
+                (Some(a), None) => push(l, a),
+                (None, Some(b)) => push(r, b),
+                (None, None) => {}
+            }
+        } else {
+            counters.leaf_visits += 1;
+            let first = node.index as usize;
+            let end = first + node.count as usize;
+            for piece in bvh.refs.get(first..end).unwrap_or(&[]) {
+                if let Some(e) = piece.bounds.enter(&ray, t0, hi) {
+                    if e < best {
+                        best = e;
+                        hi = e;
+                    }
+                }
+            }
+        }
+    }
+    best.is_finite().then_some(best)
+}
