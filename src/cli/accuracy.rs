@@ -104,8 +104,11 @@ pub fn study(
         neighbours,
         camera: &camera,
     };
+    // One tick per image: the reference, each step, and the early-terminated run.
+    let bar = super::bench::progress_bar(STEP_FACTORS.len() as u64 + 2, label);
     let (study, reference) = step_study(&setup, base, &STEP_FACTORS, REFERENCE_FACTOR, |line| {
-        log(format_args!("{label}: {line}"))
+        bar.suspend(|| log(format_args!("{label}: {line}")));
+        bar.inc(1);
     })?;
     let terminated = Scene {
         options: RenderOptions {
@@ -115,7 +118,9 @@ pub fn study(
         ..setup
     };
     let (image, stats, time_s) = terminated.render_at(base * 0.5)?;
+    bar.inc(1);
     let e = compare(&image, &reference)?;
+    bar.finish_and_clear();
     log(format_args!(
         "{label}: early termination at {TERMINATION}, 1/2× step: {time_s:.3} s, {} rays stopped, rmse {:.3e}, max {:.3e}",
         stats.early_terminations, e.rmse, e.max_err

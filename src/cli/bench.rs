@@ -21,6 +21,7 @@
 
 use std::time::Instant;
 
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Map, Value};
 
 use super::{log, scene, InputArgs};
@@ -139,6 +140,7 @@ pub fn bench_mesh(
     let neighbours_s = started.elapsed().as_secs_f64();
     let mut structures = Map::new();
     let mut images = Vec::new();
+    let bar = progress_bar((built.len() * paths.len()) as u64, label);
     for accel in built {
         let kind = accel.kind();
         let build_s = accel.stats().build_s();
@@ -156,14 +158,17 @@ pub fn bench_mesh(
             let started = Instant::now();
             let (image, stats) = renderer.render(&camera, None)?;
             let frame_s = started.elapsed().as_secs_f64();
-            log(format_args!(
-                "{label}: {kind} built in {build_s:.2} s, {} path {frame_s:.3} s: {} samples, {} hexahedra tested, {} internal / {} leaf visits",
-                path.name(),
-                stats.samples,
-                stats.hex_tests,
-                stats.internal_visits,
-                stats.leaf_visits
-            ));
+            bar.suspend(|| {
+                log(format_args!(
+                    "{label}: {kind} built in {build_s:.2} s, {} path {frame_s:.3} s: {} samples, {} hexahedra tested, {} internal / {} leaf visits",
+                    path.name(),
+                    stats.samples,
+                    stats.hex_tests,
+                    stats.internal_visits,
+                    stats.leaf_visits
+                ))
+            });
+            bar.inc(1);
             entry.insert(path.name().into(), path_json(&stats, frame_s));
             if path == RenderPath::Fast {
                 images.push((kind, image));
@@ -171,6 +176,7 @@ pub fn bench_mesh(
         }
         structures.insert(kind.name().into(), Value::Object(entry));
     }
+    bar.finish_and_clear();
     let ratios = ratios(&structures);
     let report = json!({
         "dataset": label,
@@ -184,6 +190,17 @@ pub fn bench_mesh(
         "ratios": ratios,
     });
     Ok(BenchResult { report, images })
+}
+
+/// A progress bar of `len` ticks on standard error, labelled `label`; indicatif draws nothing
+/// when standard error is not a terminal (a pipe, a file, a test), so logs and JSON stay clean.
+pub fn progress_bar(len: u64, label: &str) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {elapsed}") {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_prefix(label.to_string());
+    bar
 }
 
 /// Prints one dataset's report as a table.
