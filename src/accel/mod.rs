@@ -9,6 +9,7 @@
 
 mod build;
 pub mod bvh;
+pub mod choose;
 pub mod grid;
 pub mod probe;
 pub mod space;

@@ -233,8 +233,8 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
     }
     let path: RenderPath = args.path.parse()?;
     let mesh = args.input.load()?;
-    let (axis, clear) = args.input.axis(&mesh);
-    let kind = scene::structure(&args.structure, clear)?;
+    let (axis, _) = args.input.axis(&mesh);
+    let kind = scene::structure(&args.structure, &mesh, &axis)?;
     let label = cylvol::input::Input::parse(&args.input.input)?.label();
     let accel = Accel::build(&mesh, kind, &axis, &AccelParams::default())?;
     log(format_args!(

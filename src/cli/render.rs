@@ -71,8 +71,8 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let mesh = args.input.load()?;
-    let (axis, clear) = args.input.axis(&mesh);
-    let kind = scene::structure(&args.structure, clear)?;
+    let (axis, _) = args.input.axis(&mesh);
+    let kind = scene::structure(&args.structure, &mesh, &axis)?;
     let path: RenderPath = args.path.parse()?;
     let accel = Accel::build(&mesh, kind, &axis, &AccelParams::default())?;
     let s = accel.stats();

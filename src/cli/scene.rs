@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use super::log;
 use cylvol::accel::StructureKind;
+use cylvol::axis::Axis;
 use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::render::{Camera, TransferFunction};
 use cylvol::{Error, Mesh};
@@ -44,15 +45,21 @@ pub fn parse_side(s: &str) -> Result<u32, String> {
     Ok(n)
 }
 
-/// The structure a `--structure` argument names; `auto` is the cylindrical BVH when the
-/// axis is clear (or was given: `clear` is `None`), else the Cartesian BVH.
-pub fn structure(name: &str, clear: Option<bool>) -> Result<StructureKind, Error> {
+/// The structure a `--structure` argument names. `auto` predicts the cost of each family from
+/// the surface area of a sample of cells' bounds about the axis and takes the cheaper BVH
+/// ([`cylvol::accel::choose::auto_structure`]): cylindrical for turbomachinery meshes,
+/// Cartesian for a Cartesian block.
+pub fn structure(name: &str, mesh: &Mesh, axis: &Axis) -> Result<StructureKind, Error> {
     match name {
-        "auto" => Ok(if clear.unwrap_or(true) {
-            StructureKind::CylBvh
-        } else {
-            StructureKind::CartBvh
-        }),
+        "auto" => {
+            let kind = cylvol::accel::choose::auto_structure(mesh, axis);
+            if let Some(r) = cylvol::accel::choose::cylindrical_area_ratio(mesh, axis) {
+                log(format_args!(
+                    "auto: cylindrical ÷ Cartesian bound area {r:.3} over sampled cells → {kind}"
+                ));
+            }
+            Ok(kind)
+        }
         s => s.parse(),
     }
 }
