@@ -477,14 +477,6 @@ fn render(
     r.render(camera, None).expect("render")
 }
 
-fn max_difference(a: &Image, b: &Image) -> f32 {
-    a.rgba
-        .iter()
-        .zip(&b.rgba)
-        .flat_map(|(p, q)| (0..4).map(move |k| (p[k] - q[k]).abs()))
-        .fold(0.0, f32::max)
-}
-
 /// Every structure and both paths give the same image: the samples are the same points, and a
 /// point on a shared face may be given to either cell, whose interpolated values agree to the
 /// inverse map's accuracy (1e-9 of the scalar range at worst); 1e-6 in [0, 1] RGBA units
@@ -510,7 +502,7 @@ fn all_structures_and_paths_give_the_same_image() {
         let mut paper_tests = 0;
         for path in PATHS {
             let (image, stats) = render(&case.mesh, &case.axis, kind, path, None, &camera, 40);
-            let diff = max_difference(&image, &reference);
+            let diff = image.max_abs_difference(&reference);
             assert!(diff <= 1e-6, "{kind} {}: differs by {diff}", path.name());
             assert_eq!(stats.samples, paper_stats.samples, "{kind} {}", path.name());
             eprintln!("{kind} {}: {stats:?}", path.name());
@@ -582,7 +574,7 @@ fn face_neighbours_change_the_work_not_the_image() {
         .expect("renderer")
         .with_neighbours(&lookup);
     let (b, sb) = with.render(&camera, None).expect("render");
-    assert!(max_difference(&a, &b) <= 1e-6);
+    assert!(a.max_abs_difference(&b) <= 1e-6);
     assert_eq!(sa.neighbour_hits, 0);
     assert!(sb.neighbour_hits > 0 && sb.previous_cell_hits > 0);
     assert!(
@@ -618,7 +610,7 @@ fn gradients_only_with_shading() {
         assert!(on.gradient_evaluations > 0);
         assert!(shaded.rgba.iter().flatten().all(|v| v.is_finite()));
         assert!(
-            max_difference(&plain, &shaded) > 1e-3,
+            plain.max_abs_difference(&shaded) > 1e-3,
             "shading changes the image"
         );
         // Opacity does not depend on shading.
@@ -789,7 +781,7 @@ fn a_cell_scalar_renders_constant_per_cell() {
         &camera,
         20,
     );
-    assert!(max_difference(&paper, &fast) <= 1e-6);
+    assert!(paper.max_abs_difference(&fast) <= 1e-6);
     assert_eq!(
         stats.gradient_evaluations, 0,
         "a cell scalar has no gradient to evaluate"

@@ -52,14 +52,6 @@ fn render(
     r.render(camera, None).expect("render")
 }
 
-fn max_difference(a: &Image, b: &Image) -> f32 {
-    a.rgba
-        .iter()
-        .zip(&b.rgba)
-        .flat_map(|(p, q)| (0..4).map(move |k| (p[k] - q[k]).abs()))
-        .fold(0.0, f32::max)
-}
-
 /// Renders `mesh` with every structure and both paths; asserts the fast images equal the
 /// paper image within 1e-6 and the sample positions are the same. Returns the fast stats.
 fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f64)]) {
@@ -94,8 +86,8 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
                 reference.rgba.iter().any(|p| p[3] > 0.05),
                 "{name}: the image is not empty"
             );
-            let d_paper = max_difference(&paper, reference);
-            let d_fast = max_difference(&fast, &paper);
+            let d_paper = paper.max_abs_difference(reference);
+            let d_fast = fast.max_abs_difference(&paper);
             assert!(d_paper <= 1e-6, "{name} {kind} paper: {d_paper}");
             assert!(d_fast <= 1e-6, "{name} {kind} fast vs paper: {d_fast}");
             assert_eq!(ps.samples, rs.samples, "{name} {kind}");

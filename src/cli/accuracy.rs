@@ -236,11 +236,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
     let (axis, _) = args.input.axis(&mesh);
     let kind = scene::structure(&args.structure, &mesh, &axis)?;
     let label = cylvol::input::Input::parse(&args.input.input)?.label();
-    let accel = Accel::build(&mesh, kind, &axis, &AccelParams::default())?;
-    log(format_args!(
-        "built {kind} in {:.2} s",
-        accel.stats().build_s()
-    ));
+    let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let neighbours = scene::neighbours(&mesh);
     let view = Some(args.view.unwrap_or(DEFAULT_VIEW));
     let result = study(&mesh, &accel, &neighbours, &label, args.size, view, path)?;

@@ -89,6 +89,24 @@ impl InputArgs {
     }
 }
 
+/// Builds a structure and logs its size and build time.
+pub fn build_logged(
+    mesh: &cylvol::Mesh,
+    kind: cylvol::accel::StructureKind,
+    axis: &cylvol::axis::Axis,
+    params: &cylvol::accel::AccelParams,
+) -> Result<cylvol::accel::Accel, cylvol::Error> {
+    let accel = cylvol::accel::Accel::build(mesh, kind, axis, params)?;
+    let s = accel.stats();
+    log(format_args!(
+        "built {kind}: {} references, {:.1} MB, {:.2} s",
+        s.references(),
+        s.bytes() as f64 / 1e6,
+        s.build_s()
+    ));
+    Ok(accel)
+}
+
 /// Writes a log line to standard error.
 pub fn log(args: std::fmt::Arguments<'_>) {
     eprintln!("cylvol: {args}");

@@ -16,7 +16,7 @@ use std::time::Instant;
 use serde_json::json;
 
 use super::{log, scene, InputArgs};
-use cylvol::accel::{Accel, AccelParams};
+use cylvol::accel::AccelParams;
 use cylvol::render::{RenderOptions, RenderPath, Renderer, Shading, Volume};
 use cylvol::Error;
 
@@ -74,14 +74,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let (axis, _) = args.input.axis(&mesh);
     let kind = scene::structure(&args.structure, &mesh, &axis)?;
     let path: RenderPath = args.path.parse()?;
-    let accel = Accel::build(&mesh, kind, &axis, &AccelParams::default())?;
-    let s = accel.stats();
-    log(format_args!(
-        "built {kind}: {} references, {:.1} MB, {:.2} s",
-        s.references(),
-        s.bytes() as f64 / 1e6,
-        s.build_s()
-    ));
+    let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
     let step = scene::step(&mesh, args.step)?;
     let transfer = scene::transfer(&mesh, volume.scalar_range());

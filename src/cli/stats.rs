@@ -96,17 +96,7 @@ pub fn build_all(
 ) -> Result<Vec<Accel>, Error> {
     StructureKind::ALL
         .iter()
-        .map(|&kind| {
-            let accel = Accel::build(mesh, kind, axis, params)?;
-            let s = accel.stats();
-            log(format_args!(
-                "built {kind}: {} references, {:.1} MB, {:.2} s",
-                s.references(),
-                s.bytes() as f64 / 1e6,
-                s.build_s()
-            ));
-            Ok(accel)
-        })
+        .map(|&kind| super::build_logged(mesh, kind, axis, params))
         .collect()
 }
 

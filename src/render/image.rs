@@ -61,6 +61,19 @@ impl Image {
         out
     }
 
+    /// The largest difference of any channel of any pixel from `other` (premultiplied RGBA);
+    /// infinite when the sizes differ.
+    pub fn max_abs_difference(&self, other: &Image) -> f32 {
+        if (self.width, self.height) != (other.width, other.height) {
+            return f32::INFINITY;
+        }
+        self.rgba
+            .iter()
+            .zip(&other.rgba)
+            .flat_map(|(p, q)| (0..4).map(move |k| (p[k] - q[k]).abs()))
+            .fold(0.0, f32::max)
+    }
+
     /// Writes the image as an 8-bit RGBA PNG (see [`Image::to_rgba8`] for `background`).
     pub fn write_png(&self, path: &Path, background: Option<[f64; 3]>) -> Result<(), Error> {
         let file = File::create(path).map_err(|source| Error::Io {
