@@ -19,6 +19,7 @@
 //! ```
 
 pub mod accuracy;
+pub mod boundary;
 pub mod camera;
 pub mod image;
 pub mod plot;
