@@ -274,3 +274,47 @@ fn bad_arguments_fail_with_a_message() {
     fails_with(&["accuracy", "/nonexistent/mesh.vtu"], "no such file");
     fails_with(&["bench"], "INPUT");
 }
+
+/// The price of boundary segments is visible: with them (the default) samples next to a
+/// boundary crossing are cut at the crossing, found by extra containment tests
+/// (`boundary_refinements`, counted in `hex_tests` too); with `--whole-steps` none are made and
+/// the error at the default step is larger.
+#[test]
+fn boundary_segments_cost_tests_and_buy_accuracy() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("x.png");
+    let png = png.to_str().unwrap();
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "pump-rotor:5000",
+            "-o",
+            png,
+            "--size",
+            "48x48",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        json_of(&args)["stats"].clone()
+    };
+    let cut = render(&[]);
+    let whole = render(&["--whole-steps"]);
+    assert_eq!(whole["boundary_refinements"], 0);
+    assert!(cut["boundary_refinements"].as_u64().unwrap() > 0);
+    assert_eq!(cut["samples"], whole["samples"]);
+    assert!(cut["hex_tests"].as_u64().unwrap() > whole["hex_tests"].as_u64().unwrap());
+
+    let rmse_at_half = |extra: &[&str]| {
+        let mut args = vec!["accuracy", "pump-rotor:5000", "--size", "32", "--json"];
+        args.extend_from_slice(extra);
+        let v = json_of(&args);
+        let runs = v["runs"].as_array().unwrap().clone();
+        // Runs are at 2, 1, 1/2, 1/4, 1/8 × the mean cell size; the default step is 1/2 ×.
+        runs[2]["rmse"].as_f64().unwrap()
+    };
+    let (cut_err, whole_err) = (rmse_at_half(&[]), rmse_at_half(&["--whole-steps"]));
+    assert!(
+        cut_err < whole_err,
+        "boundary segments {cut_err} vs whole steps {whole_err}"
+    );
+}

@@ -57,6 +57,10 @@ pub struct AccuracyArgs {
     /// paper or fast sampling path.
     #[arg(long, default_value = "fast")]
     path: String,
+    /// Every sample stands for a whole step, even where the ray crosses the mesh boundary
+    /// (faster, first order in the step); by default boundary samples are cut at the crossing.
+    #[arg(long)]
+    whole_steps: bool,
 }
 
 /// The default `--view` of the study: oblique (azimuth 30°, elevation 20°). Seen down the axis
@@ -78,6 +82,15 @@ pub struct AccuracyResult {
     pub study: StepStudy,
 }
 
+/// How the study samples rays.
+#[derive(Clone, Copy, Debug)]
+pub struct Sampling {
+    /// Paper or fast path.
+    pub path: RenderPath,
+    /// Boundary samples cut at the crossing (see [`RenderOptions::boundary_segments`]).
+    pub boundary_segments: bool,
+}
+
 /// Runs the step study on `mesh` through `accel` (built over it) on an `size × size` image;
 /// `neighbours` serve the fast path.
 pub fn study(
@@ -87,7 +100,7 @@ pub fn study(
     label: &str,
     size: u32,
     view: Option<[f64; 3]>,
-    path: RenderPath,
+    sampling: Sampling,
 ) -> Result<AccuracyResult, Error> {
     let kind = accel.kind();
     let volume = Volume::new(mesh, accel)?;
@@ -95,8 +108,9 @@ pub fn study(
     let camera = scene::camera(mesh, size, size, view);
     let base = mean_cell_size(mesh);
     let mut options = RenderOptions::new(size, size, base);
-    options.path = path;
+    options.path = sampling.path;
     options.early_termination = f64::INFINITY;
+    options.boundary_segments = sampling.boundary_segments;
     let setup = Scene {
         volume: &volume,
         transfer: &transfer,
@@ -129,7 +143,8 @@ pub fn study(
         "dataset": label,
         "cells": mesh.cell_count(),
         "structure": kind.name(),
-        "path": path.name(),
+        "path": sampling.path.name(),
+        "boundary_segments": sampling.boundary_segments,
         "width": size,
         "height": size,
         "mean_cell_size": study.mean_cell_size,
@@ -239,7 +254,18 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let neighbours = scene::neighbours(&mesh);
     let view = Some(args.view.unwrap_or(DEFAULT_VIEW));
-    let result = study(&mesh, &accel, &neighbours, &label, args.size, view, path)?;
+    let result = study(
+        &mesh,
+        &accel,
+        &neighbours,
+        &label,
+        args.size,
+        view,
+        Sampling {
+            path,
+            boundary_segments: !args.whole_steps,
+        },
+    )?;
     if let Some(path) = &args.plot {
         plot(
             &result.study,

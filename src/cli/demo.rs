@@ -219,7 +219,10 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         DEMO_DATASET.name(),
         DEMO_ACCURACY_IMAGE,
         Some(DEMO_VIEW),
-        RenderPath::Fast,
+        super::accuracy::Sampling {
+            path: RenderPath::Fast,
+            boundary_segments: true,
+        },
     )?;
     let plot_path = args.out.join("accuracy.svg");
     super::accuracy::plot(

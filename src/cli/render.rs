@@ -46,6 +46,10 @@ pub struct RenderArgs {
     /// Shade with a headlight (gradients from the trilinear interpolant).
     #[arg(long)]
     shade: bool,
+    /// Every sample stands for a whole step, even where the ray crosses the mesh boundary
+    /// (faster, first order in the step); by default boundary samples are cut at the crossing.
+    #[arg(long)]
+    whole_steps: bool,
     /// Print the figures as JSON on standard output.
     #[arg(long)]
     json: bool,
@@ -82,6 +86,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let mut options = RenderOptions::new(width, height, step);
     options.path = path;
     options.shading = args.shade.then(Shading::default);
+    options.boundary_segments = !args.whole_steps;
     // The fast path walks from a sample's cell to its face neighbours (across duplicated
     // seams too); the paper path locates every sample from scratch and needs none.
     let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh));
