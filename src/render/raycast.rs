@@ -621,6 +621,15 @@ impl<'a> Renderer<'a> {
         let mut prev: Option<(u32, DVec3)> = None;
         let mut first_cell: Option<u32> = None;
         let sample_t = |k: u64| t_in + (k as f64 + 0.5) * step;
+        // The ray left the mesh before `t_outside`: the last composited sample ends at the
+        // crossing (nothing to do without boundary segments, which keep no last sample).
+        let close_at_exit =
+            |acc: &mut Accum, t_outside: f64, counters: &mut Counters, stats: &mut RenderStats| {
+                if let Some(l) = acc.last.take() {
+                    let e = self.crossing(origin, dir, t_outside, l.t, l.inside, counters, stats);
+                    acc.exit(l, e, step, opts.depth_opacity);
+                }
+            };
         let mut k = 0u64;
         'samples: loop {
             let t = sample_t(k);
@@ -666,18 +675,7 @@ impl<'a> Renderer<'a> {
                         // Outside the mesh or at the ray's start: skip the empty space.
                         let Some(te) = skipper.next_entry(origin, dir, t, t_out, &mut counters)
                         else {
-                            if let Some(l) = acc.last.take() {
-                                let e = self.crossing(
-                                    origin,
-                                    dir,
-                                    t,
-                                    l.t,
-                                    l.inside,
-                                    &mut counters,
-                                    stats,
-                                );
-                                acc.exit(l, e, step, opts.depth_opacity);
-                            }
+                            close_at_exit(&mut acc, t, &mut counters, stats);
                             while sample_t(k) < t_out {
                                 stats.samples += 1;
                                 stats.space_skips += 1;
@@ -687,18 +685,7 @@ impl<'a> Renderer<'a> {
                         };
                         if te > t {
                             prev_in = false;
-                            if let Some(l) = acc.last.take() {
-                                let e = self.crossing(
-                                    origin,
-                                    dir,
-                                    t,
-                                    l.t,
-                                    l.inside,
-                                    &mut counters,
-                                    stats,
-                                );
-                                acc.exit(l, e, step, opts.depth_opacity);
-                            }
+                            close_at_exit(&mut acc, t, &mut counters, stats);
                             while sample_t(k) < te {
                                 if sample_t(k) >= t_out {
                                     break 'samples;
@@ -714,18 +701,7 @@ impl<'a> Renderer<'a> {
                         if !skipper.may_hold(p, &mut counters) {
                             stats.space_skips += 1;
                             prev_in = false;
-                            if let Some(l) = acc.last.take() {
-                                let e = self.crossing(
-                                    origin,
-                                    dir,
-                                    t,
-                                    l.t,
-                                    l.inside,
-                                    &mut counters,
-                                    stats,
-                                );
-                                acc.exit(l, e, step, opts.depth_opacity);
-                            }
+                            close_at_exit(&mut acc, t, &mut counters, stats);
                             continue 'samples;
                         }
                         self.locate_entry(p, *hint, &mut counters, stats)
@@ -737,10 +713,7 @@ impl<'a> Renderer<'a> {
             }
             let Some((cell, param)) = found else {
                 prev_in = false;
-                if let Some(l) = acc.last.take() {
-                    let e = self.crossing(origin, dir, t, l.t, l.inside, &mut counters, stats);
-                    acc.exit(l, e, step, opts.depth_opacity);
-                }
+                close_at_exit(&mut acc, t, &mut counters, stats);
                 continue;
             };
             // The previous composited sample (if any) keeps its full end: this one is inside.
