@@ -29,6 +29,12 @@ struct At<T> {
     offset: usize,
 }
 
+impl<T> At<T> {
+    fn new(value: T, offset: usize) -> At<T> {
+        At { value, offset }
+    }
+}
+
 /// Everything read from the file, before it becomes a mesh.
 struct Parsed {
     dataset: Dataset,
@@ -283,11 +289,7 @@ impl<'a> Parser<'a> {
             };
             if t.is("POINTS") {
                 duplicate(self, p.points.is_some())?;
-                let points = self.points()?;
-                p.points = Some(At {
-                    value: points,
-                    offset: at,
-                });
+                p.points = Some(At::new(self.points()?, at));
             } else if t.is("DIMENSIONS") && dataset == Dataset::Structured {
                 duplicate(self, p.dims.is_some())?;
                 let dims = [
@@ -295,24 +297,13 @@ impl<'a> Parser<'a> {
                     self.count("the j dimension")?,
                     self.count("the k dimension")?,
                 ];
-                p.dims = Some(At {
-                    value: dims,
-                    offset: at,
-                });
+                p.dims = Some(At::new(dims, at));
             } else if t.is("CELLS") && dataset == Dataset::Unstructured {
                 duplicate(self, p.cells.is_some())?;
-                let cells = self.cells()?;
-                p.cells = Some(At {
-                    value: cells,
-                    offset: at,
-                });
+                p.cells = Some(At::new(self.cells()?, at));
             } else if t.is("CELL_TYPES") && dataset == Dataset::Unstructured {
                 duplicate(self, p.types.is_some())?;
-                let types = self.cell_types()?;
-                p.types = Some(At {
-                    value: types,
-                    offset: at,
-                });
+                p.types = Some(At::new(self.cell_types()?, at));
             } else if t.is("POINT_DATA") || t.is("CELL_DATA") {
                 let association = if t.is("POINT_DATA") {
                     Association::Point
@@ -325,10 +316,7 @@ impl<'a> Parser<'a> {
                 };
                 duplicate(self, slot.is_some())?;
                 let n = self.count(&format!("the number of tuples of {}", t.show()))?;
-                let count = Some(At {
-                    value: n,
-                    offset: at,
-                });
+                let count = Some(At::new(n, at));
                 match association {
                     Association::Point => p.point_count = count,
                     Association::Cell => p.cell_count = count,
