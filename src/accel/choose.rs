@@ -42,7 +42,12 @@ pub fn cylindrical_area_ratio(mesh: &Mesh, axis: &Axis) -> Option<f64> {
 /// assert_eq!(auto_structure(&rotor, &axis), StructureKind::CylBvh);
 /// ```
 pub fn auto_structure(mesh: &Mesh, axis: &Axis) -> StructureKind {
-    match cylindrical_area_ratio(mesh, axis) {
+    structure_for_ratio(cylindrical_area_ratio(mesh, axis))
+}
+
+/// The BVH a measured [`cylindrical_area_ratio`] calls for.
+pub fn structure_for_ratio(ratio: Option<f64>) -> StructureKind {
+    match ratio {
         Some(r) if r < 1.0 => StructureKind::CylBvh,
         _ => StructureKind::CartBvh,
     }

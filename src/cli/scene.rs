@@ -52,8 +52,9 @@ pub fn parse_side(s: &str) -> Result<u32, String> {
 pub fn structure(name: &str, mesh: &Mesh, axis: &Axis) -> Result<StructureKind, Error> {
     match name {
         "auto" => {
-            let kind = cylvol::accel::choose::auto_structure(mesh, axis);
-            if let Some(r) = cylvol::accel::choose::cylindrical_area_ratio(mesh, axis) {
+            let ratio = cylvol::accel::choose::cylindrical_area_ratio(mesh, axis);
+            let kind = cylvol::accel::choose::structure_for_ratio(ratio);
+            if let Some(r) = ratio {
                 log(format_args!(
                     "auto: cylindrical ÷ Cartesian bound area {r:.3} over sampled cells → {kind}"
                 ));
