@@ -29,7 +29,9 @@ pub mod skip;
 pub mod transfer;
 pub mod walk;
 
-pub use camera::{Camera, CameraFrame, Projection, RayGenerator, DEFAULT_VIEW_ANGLE};
+pub use camera::{
+    Camera, CameraFrame, MatrixRays, Projection, RayGenerator, RaySource, DEFAULT_VIEW_ANGLE,
+};
 pub use image::Image;
 pub use raycast::{
     default_step, Neighbours, NoNeighbours, RayResult, RenderOptions, RenderPath, RenderStats,

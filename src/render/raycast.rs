@@ -56,7 +56,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::boundary::{interpolate_crossing, partial_opacity, BISECTIONS};
-use super::camera::{Camera, RayGenerator};
+use super::camera::{Camera, RayGenerator, RaySource};
 use super::image::Image;
 use super::shading::Shading;
 use super::skip::Skipper;
@@ -847,8 +847,26 @@ impl<'a> Renderer<'a> {
         camera: &Camera,
         depth_in: Option<&[f32]>,
     ) -> Result<(Image, RenderStats), Error> {
+        let rays = RayGenerator::new(camera, self.options.width, self.options.height)?;
+        self.render_rays(&rays, depth_in)
+    }
+
+    /// Renders the image of any [`RaySource`] (its size must be the options' size); `depth_in`
+    /// gives, per pixel (rows top to bottom), the distance along the pixel's ray at which
+    /// opaque geometry stops it.
+    pub fn render_rays<R: RaySource + ?Sized>(
+        &self,
+        rays: &R,
+        depth_in: Option<&[f32]>,
+    ) -> Result<(Image, RenderStats), Error> {
         let (w, h) = (self.options.width, self.options.height);
-        let rays = RayGenerator::new(camera, w, h)?;
+        if rays.size() != (w, h) {
+            return Err(Error::Invalid(format!(
+                "rays for a {}x{} image, options for {w}x{h}",
+                rays.size().0,
+                rays.size().1
+            )));
+        }
         let n = w as usize * h as usize;
         if let Some(d) = depth_in {
             if d.len() != n {
