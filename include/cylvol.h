@@ -152,7 +152,8 @@ typedef enum CylvolInterpolation {
    */
   CYLVOL_INTERPOLATION_LINEAR = 0,
   /**
-   * The value of the nearest corner.
+   * The value of the corner nearest in parametric coordinates (VTK's nearest
+   * interpolation); gradients stay those of the trilinear interpolant.
    */
   CYLVOL_INTERPOLATION_NEAREST = 1,
 } CylvolInterpolation;
@@ -335,8 +336,9 @@ typedef struct CylvolTransfer {
    */
   double unit_distance;
   /**
-   * NULL for none; else `n_gradient_opacity` factors in `[0, 1]` over `gradient_range` of
-   * the gradient magnitude (not supported yet: a non-NULL table is refused).
+   * NULL for none; else `n_gradient_opacity` factors in `[0, 1]`, evenly spaced over
+   * `gradient_range` of the gradient magnitude `|∇s|` (scalar units per world unit; clamped
+   * beyond), multiplying the opacity per unit distance (VTK's gradient opacity).
    */
   const float *gradient_opacity;
   /**
@@ -370,7 +372,7 @@ typedef struct CylvolRenderParams {
    */
   CylvolPath path;
   /**
-   * LINEAR (NEAREST is not supported yet and refused).
+   * LINEAR (trilinear) or NEAREST (the value of the nearest corner).
    */
   CylvolInterpolation interpolation;
   /**
@@ -650,7 +652,7 @@ void cylvol_camera_default(struct CylvolCamera *camera);
  * Errors: NULL_POINTER (volume, camera, transfer, params, pixels, a table),
  * INVALID_ARGUMENT (a bad enum value, a zero image size, NaN or infinite camera, table,
  * range, step or depth values, tables of fewer than 2 entries or values outside [0, 1], a
- * degenerate camera, gradient opacity or NEAREST (not supported yet)), LENGTH_MISMATCH
+ * degenerate camera), LENGTH_MISMATCH
  * (`pixels_len`), NO_SCALARS (no scalars set).
  *
  * # Safety

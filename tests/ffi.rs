@@ -838,13 +838,6 @@ fn render_reports_every_bad_input() {
         ),
         (
             CylvolRenderParams {
-                interpolation: CylvolInterpolation::Nearest.into(),
-                ..p
-            },
-            "not supported yet",
-        ),
-        (
-            CylvolRenderParams {
                 step: f64::NAN,
                 ..p
             },
@@ -937,14 +930,28 @@ fn render_reports_every_bad_input() {
     let mut no_rgb = t;
     no_rgb.rgb = null();
     check(S::NullPointer, render_f32(v, &c, &no_rgb, &p, None), "rgb");
-    let gradient = [0.0f32, 1.0];
+    let bad_gradient = [0.0f32, 1.5];
     let mut with_gradient = t;
-    with_gradient.gradient_opacity = gradient.as_ptr();
+    with_gradient.gradient_opacity = bad_gradient.as_ptr();
     with_gradient.n_gradient_opacity = 2;
     check(
         S::InvalidArgument,
         render_f32(v, &c, &with_gradient, &p, None),
-        "gradient opacity is not supported yet",
+        "transfer->gradient_opacity[1] = 1.5",
+    );
+    with_gradient.gradient_opacity = [0.5f32, 1.0].as_ptr();
+    with_gradient.n_gradient_opacity = 1;
+    check(
+        S::InvalidArgument,
+        render_f32(v, &c, &with_gradient, &p, None),
+        "at least 2",
+    );
+    with_gradient.n_gradient_opacity = 2;
+    with_gradient.gradient_range = [1.0, f64::INFINITY];
+    check(
+        S::InvalidArgument,
+        render_f32(v, &c, &with_gradient, &p, None),
+        "transfer->gradient_range[1]",
     );
     let nan_depth = vec![f32::NAN; 30];
     check(
@@ -1055,6 +1062,7 @@ fn rust_image(
     camera: &Camera,
     w: u32,
     h: u32,
+    tweak: impl Fn(&mut RenderOptions),
 ) -> Vec<f32> {
     let cells = cells_from_vtk(
         &a.conn,
@@ -1086,7 +1094,8 @@ fn rust_image(
     let neighbours =
         FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
     let volume = Volume::new(&mesh, &accel).unwrap();
-    let options = RenderOptions::new(w, h, cylvol::render::default_step(&mesh));
+    let mut options = RenderOptions::new(w, h, cylvol::render::default_step(&mesh));
+    tweak(&mut options);
     assert_eq!(options.table_size, DEFAULT_TABLE_SIZE);
     let renderer = Renderer::new(&volume, &tables.function(), &options)
         .unwrap()
@@ -1129,7 +1138,7 @@ fn renders_equal_the_rust_api_and_agree_across_formats_types_and_row_orders() {
         35.0,
     )
     .unwrap();
-    let reference = rust_image(&a, field(&a), &tables, &camera, w, h);
+    let reference = rust_image(&a, field(&a), &tables, &camera, w, h, |_| {});
     assert_eq!(out.f32, reference);
     assert!(out.f32.chunks(4).any(|p| p[3] > 0.05), "something is seen");
     assert!(
@@ -1501,4 +1510,64 @@ fn volumes_built_from_one_mesh_in_parallel_render_alike() {
     });
     assert!(images.windows(2).all(|w| w[0] == w[1]));
     unsafe { cylvol_mesh_free(m as *mut CylvolMesh) };
+}
+
+#[test]
+fn nearest_interpolation_and_gradient_opacity_match_the_rust_api() {
+    let a = sector_with_wedge_and_tet();
+    let m = mesh_with_field(&a);
+    let v = new_volume(m, &cart_bvh_params());
+    unsafe { cylvol_mesh_free(m) };
+    let tables = Tables::ramp([0.0, 4.0]);
+    let c = look_at([0.4, 1.8, 4.0], [1.2, 0.6, 0.5], None);
+    let camera = Camera::perspective(
+        DVec3::from_array(c.eye),
+        DVec3::from_array(c.focal_point),
+        DVec3::Y,
+        35.0,
+    )
+    .unwrap();
+    let (w, h) = (20, 14);
+    let linear = render_f32(v, &c, &tables.c(), &params(w, h), None);
+    let p = CylvolRenderParams {
+        interpolation: CylvolInterpolation::Nearest.into(),
+        ..params(w, h)
+    };
+    let nearest = render_f32(v, &c, &tables.c(), &p, None);
+    assert_eq!(nearest.status, S::Ok, "{}", last_error());
+    assert_ne!(nearest.f32, linear.f32);
+    let reference = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
+        o.interpolation = cylvol::render::Interpolation::Nearest
+    });
+    assert_eq!(nearest.f32, reference);
+
+    // Gradient opacity: a ramp over |∇s| in [0, 3] (the field's gradient is about 2.2).
+    let g = [0.0f32, 0.25, 1.0];
+    let mut t = tables.c();
+    t.gradient_opacity = g.as_ptr();
+    t.n_gradient_opacity = 3;
+    t.gradient_range = [0.0, 3.0];
+    let out = render_f32(v, &c, &t, &params(w, h), None);
+    assert_eq!(out.status, S::Ok, "{}", last_error());
+    let mut stats = CylvolRenderStats::default();
+    unsafe { cylvol_volume_render_stats(v, &mut stats) };
+    assert!(
+        stats.gradient_evaluations > 0,
+        "gradient opacity needs gradients"
+    );
+    let reference = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
+        o.gradient_opacity = Some(
+            cylvol::render::GradientOpacity::new(&[(0.0, 0.0), (1.5, 0.25), (3.0, 1.0)]).unwrap(),
+        )
+    });
+    assert_eq!(out.f32, reference);
+    let alpha = |img: &[f32]| img.chunks(4).map(|p| p[3] as f64).sum::<f64>();
+    assert!(alpha(&out.f32) < alpha(&linear.f32) && alpha(&out.f32) > 0.0);
+    // A zero factor everywhere makes the volume invisible.
+    let zero = [0.0f32, 0.0];
+    t.gradient_opacity = zero.as_ptr();
+    t.n_gradient_opacity = 2;
+    let none = render_f32(v, &c, &t, &params(w, h), None);
+    assert!(none.f32.iter().all(|&x| x == 0.0));
+    unsafe { cylvol_volume_free(v) };
 }

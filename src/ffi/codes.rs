@@ -76,7 +76,8 @@ pub enum CylvolPath {
 pub enum CylvolInterpolation {
     /// Trilinear (point data) — the default.
     Linear = 0,
-    /// The value of the nearest corner.
+    /// The value of the corner nearest in parametric coordinates (VTK's nearest
+    /// interpolation); gradients stay those of the trilinear interpolant.
     Nearest = 1,
 }
 

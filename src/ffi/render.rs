@@ -14,8 +14,8 @@ use super::codes::{
 use super::status::{CylvolStatus, Failure};
 use super::volume::{on_volume, CylvolVolume};
 use crate::render::{
-    Image, RenderOptions, RenderPath, RenderStats, Renderer, Shading, TransferFunction, Volume,
-    DEFAULT_TABLE_SIZE,
+    GradientOpacity, Image, Interpolation, RenderOptions, RenderPath, RenderStats, Renderer,
+    Shading, TransferFunction, Volume, DEFAULT_TABLE_SIZE,
 };
 
 /// The transfer function: colour and opacity tables evenly spaced over a scalar range.
@@ -34,8 +34,9 @@ pub struct CylvolTransfer {
     pub range: [f64; 2],
     /// The distance the opacities apply to (VTK's `ScalarOpacityUnitDistance`), > 0.
     pub unit_distance: f64,
-    /// NULL for none; else `n_gradient_opacity` factors in `[0, 1]` over `gradient_range` of
-    /// the gradient magnitude (not supported yet: a non-NULL table is refused).
+    /// NULL for none; else `n_gradient_opacity` factors in `[0, 1]`, evenly spaced over
+    /// `gradient_range` of the gradient magnitude `|∇s|` (scalar units per world unit; clamped
+    /// beyond), multiplying the opacity per unit distance (VTK's gradient opacity).
     pub gradient_opacity: *const f32,
     /// Gradient opacity entries, ≥ 2 when `gradient_opacity` is set.
     pub n_gradient_opacity: usize,
@@ -55,7 +56,7 @@ pub struct CylvolRenderParams {
     pub step: f64,
     /// FAST or PAPER.
     pub path: PathCode,
-    /// LINEAR (NEAREST is not supported yet and refused).
+    /// LINEAR (trilinear) or NEAREST (the value of the nearest corner).
     pub interpolation: InterpolationCode,
     /// Nonzero: shade with a headlight (gradients of the interpolated scalar).
     pub shading: i32,
@@ -171,15 +172,15 @@ fn range(r: [f64; 2], what: &str) -> Result<[f64; 2], Failure> {
     Ok(r)
 }
 
-/// The transfer function of the tables, and the table size that resolves them over the data
-/// range `data`.
+/// The transfer function of the tables, the table size that resolves them over the data range
+/// `data`, and the gradient opacity if a table is given.
 ///
 /// # Safety
 /// The tables as the struct documents.
 unsafe fn transfer_function(
     t: &CylvolTransfer,
     data: [f64; 2],
-) -> Result<(TransferFunction, usize), Failure> {
+) -> Result<(TransferFunction, usize, Option<GradientOpacity>), Failure> {
     // SAFETY: the caller vouches for the tables.
     let rgb = unsafe { table(t.rgb, t.n_color, 3, "transfer->rgb")? };
     let opacity = unsafe { table(t.opacity, t.n_opacity, 1, "transfer->opacity")? };
@@ -190,9 +191,11 @@ unsafe fn transfer_function(
             t.unit_distance
         )));
     }
-    if !t.gradient_opacity.is_null() {
+    let gradient = if t.gradient_opacity.is_null() {
+        None
+    } else {
         // SAFETY: as above.
-        unsafe {
+        let g = unsafe {
             table(
                 t.gradient_opacity,
                 t.n_gradient_opacity,
@@ -200,11 +203,18 @@ unsafe fn transfer_function(
                 "transfer->gradient_opacity",
             )?
         };
-        range(t.gradient_range, "transfer->gradient_range")?;
-        return Err(Failure::invalid(
-            "gradient opacity is not supported yet (pass gradient_opacity = NULL)",
-        ));
-    }
+        let [g0, g1] = range(t.gradient_range, "transfer->gradient_range")?;
+        let n = g.len();
+        let points: Vec<(f64, f64)> = g
+            .iter()
+            .enumerate()
+            .map(|(k, &f)| (g0 + (g1 - g0) * k as f64 / (n - 1) as f64, f))
+            .collect();
+        Some(
+            GradientOpacity::new(&points)
+                .map_err(|e| Failure::invalid(format!("transfer->gradient_opacity: {e}")))?,
+        )
+    };
     let at = |k: usize, n: usize| lo + (hi - lo) * k as f64 / (n - 1) as f64;
     let tf = TransferFunction {
         color: rgb
@@ -228,7 +238,7 @@ unsafe fn transfer_function(
         0.0
     };
     let size = (size.min(65536.0) as usize).max(DEFAULT_TABLE_SIZE);
-    Ok((tf, size))
+    Ok((tf, size, gradient))
 }
 
 /// Checks the render parameters; returns the options (the step resolved against
@@ -244,11 +254,10 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
         CylvolPath::Fast => RenderPath::Fast,
         CylvolPath::Paper => RenderPath::Paper,
     };
-    if p.interpolation.decode("params->interpolation")? == CylvolInterpolation::Nearest {
-        return Err(Failure::invalid(
-            "params->interpolation: NEAREST is not supported yet (use LINEAR)",
-        ));
-    }
+    let interpolation = match p.interpolation.decode("params->interpolation")? {
+        CylvolInterpolation::Linear => Interpolation::Linear,
+        CylvolInterpolation::Nearest => Interpolation::Nearest,
+    };
     let step = match p.step {
         s if s.is_nan() || s.is_infinite() => {
             return Err(Failure::invalid(format!(
@@ -286,6 +295,7 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
     o.path = path;
     o.shading = shading;
     o.early_termination = p.early_termination;
+    o.interpolation = interpolation;
     Ok(o)
 }
 
@@ -308,7 +318,7 @@ fn caller_row(j: u32, height: u32, bottom_up: bool) -> usize {
 /// Errors: NULL_POINTER (volume, camera, transfer, params, pixels, a table),
 /// INVALID_ARGUMENT (a bad enum value, a zero image size, NaN or infinite camera, table,
 /// range, step or depth values, tables of fewer than 2 entries or values outside [0, 1], a
-/// degenerate camera, gradient opacity or NEAREST (not supported yet)), LENGTH_MISMATCH
+/// degenerate camera), LENGTH_MISMATCH
 /// (`pixels_len`), NO_SCALARS (no scalars set).
 ///
 /// # Safety
@@ -359,7 +369,7 @@ pub unsafe extern "C" fn cylvol_render(
                     ))
                 }
             };
-            let (tf, table_size) = transfer_function(transfer, [lo, hi])?;
+            let (tf, table_size, gradient) = transfer_function(transfer, [lo, hi])?;
             let rays = camera.rays(w, h)?;
             let bottom_up = params.rows_bottom_up != 0;
             let depth = if depth_in.is_null() {
@@ -390,6 +400,7 @@ pub unsafe extern "C" fn cylvol_render(
             };
             let mut options = options;
             options.table_size = table_size;
+            options.gradient_opacity = gradient;
             let volume = Volume::new(mesh, &v.accel)?;
             let mut renderer = Renderer::new(&volume, &tf, &options)?;
             if options.path == RenderPath::Fast {

@@ -243,6 +243,23 @@ static void test_beer_lambert_and_formats(void) {
     long want = lround(fmin(fmax(f[k], 0.0f), 1.0f) * 255.0);
     CHECK(bytes[k] == want, "RGBA8[%zu] = %d, F32 %g", k, bytes[k], f[k]);
   }
+  /* Gradient opacity: the field x + 2y + z has |grad| = sqrt(6) everywhere; a factor ramp 0..1
+   * over [0, 2 sqrt(6)] halves the opacity per unit distance: alpha = 0.15 over length 1. */
+  {
+    static const float ramp[2] = {0.0f, 1.0f};
+    CylvolTransfer tg = t;
+    float g[W * H * 4];
+    size_t centre = (H / 2) * W + W / 2;
+    tg.gradient_opacity = ramp;
+    tg.n_gradient_opacity = 2;
+    tg.gradient_range[0] = 0.0;
+    tg.gradient_range[1] = 2.0 * sqrt(6.0);
+    s = cylvol_render(v, &camera, &tg, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, g, W * H * 4);
+    CHECK(s == CYLVOL_STATUS_OK, "render gradient opacity: %s", cylvol_last_error());
+    CHECK(fabs(g[4 * centre + 3] - 0.15) < 1e-5, "gradient opacity alpha %g, expected 0.15",
+          g[4 * centre + 3]);
+    CHECK(g[3] == 0.0f, "corner misses");
+  }
   CHECK(cylvol_volume_render_stats(v, &stats) == CYLVOL_STATUS_OK, "stats");
   CHECK(stats.rays == W * H && stats.samples > 0 && stats.samples_located > 0 &&
             stats.hex_tests > 0,
@@ -523,9 +540,23 @@ static void test_errors(void) {
                 CYLVOL_STATUS_INVALID_ARGUMENT, rend, "NaN depth");
   CHECK(strstr(cylvol_volume_last_error(v), "depth_in") != NULL, "volume detail: %s",
         cylvol_volume_last_error(v));
+  p.interpolation = (CylvolInterpolation)2;
+  expect_status(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, pixels, 64),
+                CYLVOL_STATUS_INVALID_ARGUMENT, rend, "bad interpolation");
   p.interpolation = CYLVOL_INTERPOLATION_NEAREST;
   expect_status(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, pixels, 64),
-                CYLVOL_STATUS_INVALID_ARGUMENT, rend, "nearest (not yet)");
+                CYLVOL_STATUS_OK, rend, "nearest");
+  {
+    static const float gradient[2] = {0.0f, 2.0f};
+    t.gradient_opacity = gradient;
+    t.n_gradient_opacity = 2;
+    t.gradient_range[0] = 0.0;
+    t.gradient_range[1] = 1.0;
+    expect_status(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, pixels,
+                                64),
+                  CYLVOL_STATUS_INVALID_ARGUMENT, rend, "gradient opacity above 1");
+    t.gradient_opacity = NULL;
+  }
   p.interpolation = CYLVOL_INTERPOLATION_LINEAR;
   expect_status(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, pixels, 64),
                 CYLVOL_STATUS_OK, rend, "good render again");
