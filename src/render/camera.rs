@@ -368,14 +368,30 @@ impl MatrixRays {
             width,
             height,
         };
-        // Every pixel's near and far points must be proper points (w ≠ 0): check the corners
-        // (w is linear in x, y for fixed z, so the corners bound it).
-        for (i, j) in [
+        // Every pixel's near and far points must be proper points: their homogeneous w is
+        // linear in the pixel centre's (x, y), so w of one sign at the four corner pixels
+        // means w of that sign at every pixel.
+        let corners = [
             (0, 0),
             (width - 1, 0),
             (0, height - 1),
             (width - 1, height - 1),
-        ] {
+        ];
+        for z in [-1.0, 1.0] {
+            let w: Vec<f64> = corners
+                .iter()
+                .map(|&(i, j)| {
+                    let (x, y) = rays.ndc(i, j);
+                    (rays.unproject * DVec4::new(x, y, z, 1.0)).w
+                })
+                .collect();
+            if !(w.iter().all(|&w| w > 0.0) || w.iter().all(|&w| w < 0.0)) {
+                return Err(Error::Invalid(
+                    "the matrices put a pixel's near or far point at infinity".into(),
+                ));
+            }
+        }
+        for (i, j) in corners {
             let (o, d) = rays.ray(i, j);
             if !(o.is_finite() && d.is_finite() && d != DVec3::ZERO) {
                 return Err(Error::Invalid(format!(
@@ -592,6 +608,15 @@ mod tests {
         nan[5] = f64::NAN;
         assert!(MatrixRays::new(&nan, &vtk_ortho(1.0, 1.0, 0.1, 10.0), 4, 4).is_err());
         assert!(MatrixRays::new(&id, &vtk_ortho(1.0, 1.0, 0.1, 10.0), 0, 4).is_err());
+        // Unprojection whose w is x_ndc + ½: the near point of a left pixel is behind infinity.
+        let unproject = DMat4::from_cols_array(&[
+            1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.5,
+        ])
+        .transpose();
+        let clip = unproject.inverse().transpose().to_cols_array();
+        let identity = DMat4::IDENTITY.to_cols_array();
+        let e = MatrixRays::new(&identity, &clip, 4, 4).unwrap_err();
+        assert!(e.to_string().contains("at infinity"), "{e}");
     }
 
     #[test]
