@@ -31,7 +31,7 @@ pub unsafe fn slice<'a, T>(ptr: *const T, len: usize, what: &str) -> Result<&'a 
     Ok(unsafe { std::slice::from_raw_parts(ptr, len) })
 }
 
-/// [`slice`] for writing.
+/// [`fn@slice`] for writing.
 ///
 /// # Safety
 /// A non-NULL `ptr` must point to `len` writable elements that nothing else uses during the
@@ -69,7 +69,7 @@ fn check_layout<T>(address: usize, len: usize, what: &str) -> Result<(), Failure
 /// infinity is an error naming `what` and its index).
 ///
 /// # Safety
-/// As [`slice`].
+/// As [`fn@slice`].
 pub unsafe fn values(
     ptr: *const c_void,
     value_type: CylvolValueType,
@@ -101,7 +101,7 @@ pub fn finite(values: &[f64], what: &str) -> Result<(), Failure> {
 /// `len` indices of `index_type` at `ptr` as `i64`.
 ///
 /// # Safety
-/// As [`slice`].
+/// As [`fn@slice`].
 pub unsafe fn indices(
     ptr: *const c_void,
     index_type: CylvolIndexType,

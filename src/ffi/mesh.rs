@@ -303,6 +303,7 @@ pub unsafe extern "C" fn cylvol_mesh_counts(
 /// # Safety
 /// `mesh` a live handle; `bounds` valid for writing 6 doubles.
 /// cbindgen:ptrs-as-arrays=[[bounds;6]]
+#[allow(rustdoc::broken_intra_doc_links)] // the cbindgen annotation above
 #[no_mangle]
 pub unsafe extern "C" fn cylvol_mesh_bounds(
     mesh: *const CylvolMesh,
@@ -322,6 +323,7 @@ pub unsafe extern "C" fn cylvol_mesh_bounds(
 /// # Safety
 /// `mesh` a live handle; `range` valid for writing 2 doubles.
 /// cbindgen:ptrs-as-arrays=[[range;2]]
+#[allow(rustdoc::broken_intra_doc_links)] // the cbindgen annotation above
 #[no_mangle]
 pub unsafe extern "C" fn cylvol_mesh_scalar_range(
     mesh: *const CylvolMesh,
