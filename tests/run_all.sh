@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The one command that runs every cylvol test, on a fresh Debian 12 machine or a developer's.
 # It installs what the tests need (Debian's VTK 9.1 with Python, Xvfb, CMake) when missing,
-# then checks formatting and lints, and runs the Rust unit, integration and doc tests (some of
-# which drive VTK's own Python readers to cross-check our files).
+# then checks formatting and lints, runs the Rust unit, integration and doc tests (some of
+# which drive VTK's own Python readers to cross-check our files), and the C ABI's test program
+# (built through the CMake package, then run under valgrind or AddressSanitizer).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -28,3 +29,5 @@ echo "== cargo test"
 cargo test --locked --lib --bins --tests
 echo "== doc tests"
 cargo test --locked --doc
+echo "== C ABI (tests/c_api through find_package(CylVol))"
+bash tests/c_api/run.sh
