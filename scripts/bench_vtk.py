@@ -1,0 +1,343 @@
+#!/usr/bin/python3
+"""VTK's unstructured ray caster and cylvol's vtkCylVolMapper, side by side.
+
+For each dataset, each mapper runs in its own subprocess (so that its peak memory can be
+read on its own): load the mesh, (for VTK) tetrahedralize it with vtkDataSetTriangleFilter,
+render a first frame (cylvol builds its structure inside it), then steady frames with the
+camera turning by one degree per frame. The same camera, transfer function and unit
+distance as the CTest comparison are used. The script prints, per dataset, both mappers'
+times, their peak resident memory (ru_maxrss of the worker), the image difference between
+the two final frames, and the ratios VTK ÷ cylvol.
+
+Usage (Debian's python3-vtk9 and the build tree's cylvol package):
+    cargo build --release && bash vtk_plugin/run_tests.sh      # or just build vtk_plugin
+    /usr/bin/python3 scripts/bench_vtk.py                      # mixer and rotor:200000
+    /usr/bin/python3 scripts/bench_vtk.py mixer rotor:2100000 --size 512 --frames 3
+Datasets: mixer, hexa, comb, post (from ../shared/data) or rotor[:CELLS] (generated with
+`cylvol gen pump-rotor:CELLS`). --json prints the results as JSON as well.
+"""
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+DATA = os.path.join(os.path.dirname(REPO), "shared", "data")
+BUILD = os.path.join(REPO, "build", "vtk_plugin")
+CYLVOL = os.path.join(REPO, "target", "release", "cylvol")
+
+
+def default_pythonpath():
+    dest_file = os.path.join(BUILD, "python_destination.txt")
+    if os.path.exists(dest_file):
+        with open(dest_file) as f:
+            return os.path.join(BUILD, f.read().strip())
+    return ""
+
+
+# ---------------------------------------------------------------------------------------
+# worker side
+
+
+def load(spec, workdir):
+    """Returns (vtkUnstructuredGrid, scalar name)."""
+    from vtkmodules.vtkFiltersCore import vtkAppendFilter
+    from vtkmodules.vtkIOLegacy import vtkUnstructuredGridReader
+    from vtkmodules.vtkIOParallel import vtkMultiBlockPLOT3DReader
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
+    name = spec.split(":")[0]
+    if name in ("mixer", "hexa"):
+        r = vtkUnstructuredGridReader()
+        r.SetFileName(os.path.join(DATA, name + ".vtk"))
+        r.ReadAllScalarsOn()
+        r.Update()
+        return r.GetOutput(), ("p" if name == "mixer" else "scalars")
+    if name in ("comb", "post"):
+        r = vtkMultiBlockPLOT3DReader()
+        r.SetFileName(os.path.join(DATA, name + "xyz.bin"))
+        r.SetQFileName(os.path.join(DATA, name + "q.bin"))
+        r.AutoDetectFormatOn()
+        r.Update()
+        a = vtkAppendFilter()
+        a.AddInputData(r.GetOutput().GetBlock(0))
+        a.Update()
+        return a.GetOutput(), ("Density" if name == "comb" else "StagnationEnergy")
+    if name == "rotor":
+        r = vtkXMLUnstructuredGridReader()
+        r.SetFileName(rotor_file(spec, workdir))
+        r.Update()
+        return r.GetOutput(), "pressure"
+    raise SystemExit("unknown dataset " + spec)
+
+
+def rotor_file(spec, workdir):
+    cells = spec.split(":")[1] if ":" in spec else "2100000"
+    return os.path.join(workdir, "pump-rotor-%s.vtu" % cells)
+
+
+def make_property(lo, hi, diagonal):
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
+
+    w = hi - lo
+    color = vtkColorTransferFunction()
+    color.AddRGBPoint(lo, 0.1, 0.2, 0.9)
+    color.AddRGBPoint(lo + 0.35 * w, 0.1, 0.8, 0.8)
+    color.AddRGBPoint(lo + 0.7 * w, 0.95, 0.85, 0.2)
+    color.AddRGBPoint(hi, 0.9, 0.1, 0.1)
+    opacity = vtkPiecewiseFunction()
+    opacity.AddPoint(lo, 0.0)
+    opacity.AddPoint(lo + 0.15 * w, 0.0)
+    opacity.AddPoint(lo + 0.6 * w, 0.5)
+    opacity.AddPoint(hi, 1.0)
+    prop = vtkVolumeProperty()
+    prop.SetColor(color)
+    prop.SetScalarOpacity(opacity)
+    prop.SetScalarOpacityUnitDistance(0.25 * diagonal)
+    prop.SetInterpolationTypeToLinear()
+    return prop
+
+
+def worker(args):
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+    import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkRenderingCore import (
+        vtkRenderer,
+        vtkRenderWindow,
+        vtkVolume,
+        vtkWindowToImageFilter,
+    )
+
+    out = {"mapper": args.worker, "dataset": args.dataset}
+    rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    t = time.perf_counter()
+    grid, scalar = load(args.dataset, args.workdir)
+    out["load_s"] = time.perf_counter() - t
+    out["cells"] = grid.GetNumberOfCells()
+    grid.GetPointData().SetActiveScalars(scalar)
+    lo, hi = grid.GetPointData().GetArray(scalar).GetRange()
+    prop = make_property(lo, hi, grid.GetLength())
+
+    t = time.perf_counter()
+    if args.worker == "vtk":
+        from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
+        from vtkmodules.vtkRenderingVolume import vtkUnstructuredGridVolumeRayCastMapper
+
+        tets = vtkDataSetTriangleFilter()
+        tets.SetInputData(grid)
+        tets.Update()
+        tet_grid = tets.GetOutput()
+        out["tetrahedra"] = tet_grid.GetNumberOfCells()
+        del tets
+        mapper = vtkUnstructuredGridVolumeRayCastMapper()
+        mapper.SetInputData(tet_grid)
+    else:
+        import cylvol
+
+        mapper = cylvol.vtkCylVolMapper()
+        mapper.SetInputData(grid)
+    out["prepare_s"] = time.perf_counter() - t
+    mapper.SetScalarModeToUsePointFieldData()
+    mapper.SelectScalarArray(scalar)
+
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    ren = vtkRenderer()
+    ren.AddVolume(volume)
+    win = vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetMultiSamples(0)
+    win.SetSize(args.size, args.size)
+    win.AddRenderer(ren)
+    ren.ResetCamera()
+    cam = ren.GetActiveCamera()
+    cam.Azimuth(30)
+    cam.Elevation(20)
+    cam.OrthogonalizeViewUp()
+    cam.Zoom(1.3)
+    ren.ResetCameraClippingRange()
+
+    t = time.perf_counter()
+    win.Render()
+    out["first_frame_s"] = time.perf_counter() - t
+    steady = []
+    for k in range(args.frames):
+        cam.Azimuth(1.0 if k % 2 == 0 else -1.0)
+        t = time.perf_counter()
+        win.Render()
+        steady.append(time.perf_counter() - t)
+    out["steady_frames_s"] = steady
+    out["steady_s"] = sorted(steady)[len(steady) // 2] if steady else None
+    if args.worker == "cylvol":
+        out["builds"] = mapper.GetBuildCount()
+        out["build_s"] = mapper.GetLastBuildSeconds()
+        out["structure_bytes"] = mapper.GetLastBuildBytes()
+        out["structure"] = mapper.GetBuiltStructure()
+        out["samples"] = mapper.GetLastSamples()
+        out["hex_tests"] = mapper.GetLastHexTests()
+    # Back to the first frame's view for the image comparison.
+    if args.frames % 2 == 1:
+        cam.Azimuth(-1.0)
+        win.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(win)
+    grab.SetInputBufferTypeToRGB()
+    grab.ReadFrontBufferOff()
+    grab.ShouldRerenderOff()
+    grab.Update()
+    writer = vtkPNGWriter()
+    writer.SetFileName(args.png)
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
+    out["peak_rss_bytes"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    out["rss_before_load_bytes"] = rss0 * 1024
+    print("RESULT " + json.dumps(out), flush=True)
+
+
+# ---------------------------------------------------------------------------------------
+# parent side
+
+
+def image_difference(png_a, png_b):
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    arrays = []
+    for p in (png_a, png_b):
+        r = vtkPNGReader()
+        r.SetFileName(p)
+        r.Update()
+        arrays.append(r.GetOutput().GetPointData().GetScalars())
+    sa, sb = arrays
+    n = sa.GetNumberOfTuples()
+    total = 0
+    within = 0
+    for i in range(n):
+        ta = sa.GetTuple(i)
+        tb = sb.GetTuple(i)
+        m = 0
+        for ch in range(3):
+            d = abs(ta[ch] - tb[ch])
+            total += d
+            m = max(m, d)
+        within += m <= 8
+    return total / (3.0 * n), 100.0 * within / n
+
+
+def run_worker(mapper, dataset, args, workdir, png):
+    env = dict(os.environ)
+    if args.pythonpath:
+        env["PYTHONPATH"] = args.pythonpath + (":" + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    cmd = [sys.executable, os.path.abspath(__file__), "--worker", mapper, "--dataset", dataset,
+           "--size", str(args.size), "--frames", str(args.frames), "--workdir", workdir, "--png", png]
+    t = time.perf_counter()
+    try:
+        proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                              timeout=args.timeout)
+    except subprocess.TimeoutExpired:
+        return {"mapper": mapper, "dataset": dataset, "error": "timed out after %d s" % args.timeout}
+    wall = time.perf_counter() - t
+    for line in proc.stdout.splitlines():
+        if line.startswith("RESULT "):
+            r = json.loads(line[7:])
+            r["wall_s"] = wall
+            return r
+    tail = (proc.stderr or "")[-2000:]
+    return {"mapper": mapper, "dataset": dataset,
+            "error": "exit status %d; stderr tail:\n%s" % (proc.returncode, tail)}
+
+
+def fmt_s(x):
+    return "-" if x is None else ("%.3f s" % x)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("datasets", nargs="*", default=["mixer", "rotor:200000"])
+    p.add_argument("--size", type=int, default=512, help="image size (square), default 512")
+    p.add_argument("--frames", type=int, default=3, help="steady frames after the first, default 3")
+    p.add_argument("--timeout", type=int, default=7200, help="seconds per worker, default 7200")
+    p.add_argument("--pythonpath", default=default_pythonpath(),
+                   help="folder holding the cylvol package (default: the build tree's)")
+    p.add_argument("--only", choices=["vtk", "cylvol"], help="run one mapper only")
+    p.add_argument("--json", action="store_true", help="also print all results as JSON")
+    p.add_argument("--keep", help="folder for the generated meshes and the images (default: a temp dir)")
+    p.add_argument("--worker", help=argparse.SUPPRESS)
+    p.add_argument("--dataset", help=argparse.SUPPRESS)
+    p.add_argument("--workdir", help=argparse.SUPPRESS)
+    p.add_argument("--png", help=argparse.SUPPRESS)
+    args = p.parse_args()
+    if args.worker:
+        worker(args)
+        return 0
+
+    workdir = args.keep or tempfile.mkdtemp(prefix="cylvol-bench-vtk-")
+    os.makedirs(workdir, exist_ok=True)
+    results = []
+    for dataset in args.datasets:
+        if dataset.startswith("rotor"):
+            path = rotor_file(dataset, workdir)
+            if not os.path.exists(path):
+                cells = dataset.split(":")[1] if ":" in dataset else "2100000"
+                print("generating pump-rotor:%s ..." % cells, file=sys.stderr, flush=True)
+                subprocess.run([CYLVOL, "gen", "pump-rotor:" + cells, "-o", path], check=True)
+        runs = {}
+        for mapper in ("cylvol", "vtk"):
+            if args.only and mapper != args.only:
+                continue
+            png = os.path.join(workdir, "%s-%s.png" % (dataset.replace(":", "-"), mapper))
+            print("%s: %s ..." % (dataset, mapper), file=sys.stderr, flush=True)
+            runs[mapper] = run_worker(mapper, dataset, args, workdir, png)
+            runs[mapper]["png"] = png
+        entry = {"dataset": dataset, "size": args.size, "runs": runs}
+        c, v = runs.get("cylvol", {}), runs.get("vtk", {})
+        print("\n== %s at %dx%d" % (dataset, args.size, args.size))
+        for name, r in (("cylvol", c), ("vtk", v)):
+            if not r:
+                continue
+            if "error" in r:
+                print("  %-6s ERROR: %s" % (name, r["error"]))
+                continue
+            extra = ""
+            if name == "vtk":
+                extra = ", tetrahedralize %s (%d tets)" % (fmt_s(r["prepare_s"]), r.get("tetrahedra", 0))
+            else:
+                extra = ", build %s, structure %s, %.1f MB" % (
+                    fmt_s(r.get("build_s")), r.get("structure"), r.get("structure_bytes", 0) / 1e6)
+            print("  %-6s %d cells: load %s%s, first frame %s, steady %s (frames %s), peak RSS %.0f MB"
+                  % (name, r["cells"], fmt_s(r["load_s"]), extra, fmt_s(r["first_frame_s"]),
+                     fmt_s(r["steady_s"]), ", ".join("%.3f" % x for x in r["steady_frames_s"]),
+                     r["peak_rss_bytes"] / 1e6))
+        if c and v and "error" not in c and "error" not in v:
+            mean, pct = image_difference(c["png"], v["png"])
+            vtk_first = v["prepare_s"] + v["first_frame_s"]
+            ratios = {
+                "first_frame": v["first_frame_s"] / c["first_frame_s"],
+                "first_frame_incl_tetrahedralize": vtk_first / c["first_frame_s"],
+                "steady": v["steady_s"] / c["steady_s"] if c["steady_s"] else None,
+                "peak_rss_cylvol_over_vtk": c["peak_rss_bytes"] / v["peak_rss_bytes"],
+            }
+            entry["image_difference"] = {"mean_abs_255": mean, "percent_within_8": pct}
+            entry["ratios"] = ratios
+            print("  image difference: mean abs %.3f/255 per channel, %.2f %% of pixels within 8/255"
+                  % (mean, pct))
+            print("  VTK / cylvol: first frame %.1fx (%.1fx counting tetrahedralization), steady %.1fx;"
+                  " cylvol peak RSS = %.3f of VTK's"
+                  % (ratios["first_frame"], ratios["first_frame_incl_tetrahedralize"],
+                     ratios["steady"] or 0.0, ratios["peak_rss_cylvol_over_vtk"]))
+        results.append(entry)
+    print("\nimages and meshes in", workdir)
+    if args.json:
+        print(json.dumps(results, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
