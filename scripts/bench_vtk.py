@@ -99,7 +99,7 @@ def make_property(lo, hi, diagonal):
     prop = vtkVolumeProperty()
     prop.SetColor(color)
     prop.SetScalarOpacity(opacity)
-    prop.SetScalarOpacityUnitDistance(0.25 * diagonal)
+    prop.SetScalarOpacityUnitDistance(0.1 * diagonal)
     prop.SetInterpolationTypeToLinear()
     return prop
 
@@ -162,7 +162,7 @@ def worker(args):
     cam.Azimuth(30)
     cam.Elevation(20)
     cam.OrthogonalizeViewUp()
-    cam.Zoom(1.3)
+    cam.Zoom(1.0)
     ren.ResetCameraClippingRange()
 
     t = time.perf_counter()
@@ -274,6 +274,11 @@ def main():
     p.add_argument("--workdir", help=argparse.SUPPRESS)
     p.add_argument("--png", help=argparse.SUPPRESS)
     args = p.parse_args()
+    if not os.environ.get("DISPLAY") and not os.environ.get("CYLVOL_BENCH_NO_XVFB"):
+        # VTK's render windows need an X server: run under xvfb-run (Mesa, off screen).
+        os.environ["CYLVOL_BENCH_NO_XVFB"] = "1"
+        os.execvp("xvfb-run", ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", sys.executable,
+                               os.path.abspath(__file__)] + sys.argv[1:])
     if args.worker:
         worker(args)
         return 0

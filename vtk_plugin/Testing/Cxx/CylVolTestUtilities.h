@@ -147,7 +147,7 @@ inline Dataset Load(const std::string& name)
 }
 
 /// A colour ramp (blue, cyan, yellow, red) over the range and an opacity ramp rising from
-/// 15 % of the range; the unit distance is a quarter of the mesh diagonal, so that the
+/// 15 % of the range; the unit distance is a tenth of the mesh diagonal, so that the
 /// volume is neither clear nor opaque.
 inline vtkSmartPointer<vtkVolumeProperty> MakeProperty(const Dataset& d, bool shade = false)
 {
@@ -165,7 +165,7 @@ inline vtkSmartPointer<vtkVolumeProperty> MakeProperty(const Dataset& d, bool sh
   auto property = vtkSmartPointer<vtkVolumeProperty>::New();
   property->SetColor(color);
   property->SetScalarOpacity(opacity);
-  property->SetScalarOpacityUnitDistance(0.25 * d.Diagonal);
+  property->SetScalarOpacityUnitDistance(0.1 * d.Diagonal);
   property->SetInterpolationTypeToLinear();
   property->SetShade(shade ? 1 : 0);
   property->SetAmbient(0.3);

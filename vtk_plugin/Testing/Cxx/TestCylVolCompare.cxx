@@ -61,7 +61,7 @@ int TestCylVolCompare(int argc, char* argv[])
   const std::string name = argv[1];
   const double az = argc > 2 ? std::atof(argv[2]) : 30.0;
   const double el = argc > 3 ? std::atof(argv[3]) : 20.0;
-  const double zoom = argc > 4 ? std::atof(argv[4]) : 1.3;
+  const double zoom = argc > 4 ? std::atof(argv[4]) : 1.0;
 
   cylvoltest::Dataset d = cylvoltest::Load(name);
   if (!d.Grid)
