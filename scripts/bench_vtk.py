@@ -92,9 +92,11 @@ def make_property(lo, hi, diagonal):
     color.AddRGBPoint(lo + 0.7 * w, 0.95, 0.85, 0.2)
     color.AddRGBPoint(hi, 0.9, 0.1, 0.1)
     opacity = vtkPiecewiseFunction()
+    # The same abscissae as the colours: VTK 9.1's unstructured ray integrators only see the
+    # first control point of the opacity function (see vtk_plugin/Testing/Cxx/TestCylVolSlab.cxx).
     opacity.AddPoint(lo, 0.0)
-    opacity.AddPoint(lo + 0.15 * w, 0.0)
-    opacity.AddPoint(lo + 0.6 * w, 0.5)
+    opacity.AddPoint(lo + 0.35 * w, 0.1)
+    opacity.AddPoint(lo + 0.7 * w, 0.5)
     opacity.AddPoint(hi, 1.0)
     prop = vtkVolumeProperty()
     prop.SetColor(color)
