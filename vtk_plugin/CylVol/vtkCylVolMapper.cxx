@@ -11,6 +11,7 @@
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
+#include "vtkInformation.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
@@ -305,6 +306,17 @@ void vtkCylVolMapper::SetScalarComponent(int component)
 }
 
 //------------------------------------------------------------------------------
+int vtkCylVolMapper::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (!this->Superclass::FillInputPortInformation(port, info))
+  {
+    return 0;
+  }
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 void vtkCylVolMapper::ReleaseGraphicsResources(vtkWindow* win)
 {
   if (this->ImageDisplayHelper)
@@ -323,7 +335,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastRaySeconds = 0.0;
 
   // ---- the input ---------------------------------------------------------------------
-  if (!this->GetInputAlgorithm() && !this->GetInput())
+  if (this->GetNumberOfInputConnections(0) == 0)
   {
     vtkErrorMacro(<< "No input: nothing drawn.");
     return;
@@ -724,7 +736,9 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   // Render in horizontal bands, so that progress can be reported and a pending abort can
   // stop the frame. A band is the full image seen through a projection narrowed to its
   // rows, so every pixel keeps exactly the ray it has in a one-piece render.
-  const int bands = std::max(1, std::min(16, height / 32));
+  // About 64k pixels a band (4 at 512x512): each cylvol_render call is one parallel job, and
+  // more, smaller jobs measurably cost time on two cores.
+  const int bands = std::max(1, std::min(8, static_cast<int>(pixelCount / 65536)));
   double projectionRows[16];
   ToRowMajor(projection, projectionRows);
   this->UpdateProgress(0.0);

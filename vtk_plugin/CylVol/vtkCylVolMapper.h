@@ -236,6 +236,10 @@ protected:
   vtkCylVolMapper();
   ~vtkCylVolMapper() override;
 
+  // The input is marked optional so that a mapper without one reports it itself (an error
+  // naming the problem, nothing drawn) instead of the pipeline failing the update.
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
   int Structure;
   vtkTypeBool AxisAuto;
   double AxisOrigin[3];

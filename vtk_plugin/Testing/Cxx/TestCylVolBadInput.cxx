@@ -98,7 +98,12 @@ struct Scene
       lit += p[i] ? 1 : 0;
     }
     const bool error = this->Errors->GetError();
-    const std::string message = error ? this->Errors->GetErrorMessage() : std::string();
+    std::string message = error ? this->Errors->GetErrorMessage() : std::string();
+    // Printed without VTK's "ERROR: " prefix, which CTest would take for a failure.
+    for (size_t at = message.find("ERROR: "); at != std::string::npos; at = message.find("ERROR: "))
+    {
+      message.replace(at, 7, "error: ");
+    }
     bool ok;
     if (needle.empty())
     {

@@ -11,10 +11,16 @@
 // fault; the bounds must then hold on all the other pixels, and such pixels may be at most
 // 5 % of the image. A failing run writes both images and their difference (x4) as PNGs.
 //
-// Usage: TestCylVolCompare <hexa|mixer|comb|post|pump> [azimuth elevation zoom]
+// Usage: TestCylVolCompare <hexa|mixer|comb|post|pump> [azimuth elevation zoom [geometry]]
+// With "geometry", opaque polygons (a sphere cutting through the volume, a cylinder behind
+// and through it) are drawn first in both windows, so the z-buffer path is compared too.
 #include "vtkCylVolMapper.h"
 
+#include "vtkActor.h"
+#include "vtkCylinderSource.h"
 #include "vtkDataSetTriangleFilter.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkSphereSource.h"
 #include "vtkNew.h"
 #include "vtkTimerLog.h"
 #include "vtkUnstructuredGridVolumeRayCastMapper.h"
@@ -28,7 +34,8 @@
 namespace
 {
 vtkSmartPointer<vtkImageData> RenderWith(vtkAbstractVolumeMapper* mapper, vtkVolumeProperty* property,
-  const cylvoltest::Dataset& d, double az, double el, double zoom, double* seconds = nullptr)
+  const cylvoltest::Dataset& d, double az, double el, double zoom, bool geometry,
+  double* seconds = nullptr)
 {
   mapper->SetScalarModeToUsePointFieldData();
   mapper->SelectScalarArray(d.Scalar.c_str());
@@ -37,6 +44,31 @@ vtkSmartPointer<vtkImageData> RenderWith(vtkAbstractVolumeMapper* mapper, vtkVol
   volume->SetProperty(property);
   vtkNew<vtkRenderer> ren;
   ren->AddVolume(volume);
+  if (geometry)
+  {
+    double b[6];
+    d.Grid->GetBounds(b);
+    const double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+    vtkNew<vtkSphereSource> sphere;
+    sphere->SetCenter(c[0] + 0.3 * (b[1] - b[0]), c[1], c[2]);
+    sphere->SetRadius(0.15 * d.Diagonal);
+    sphere->SetThetaResolution(48);
+    sphere->SetPhiResolution(24);
+    vtkNew<vtkCylinderSource> cylinder;
+    cylinder->SetCenter(c[0], c[1], b[4] - 0.2 * (b[5] - b[4]));
+    cylinder->SetRadius(0.05 * d.Diagonal);
+    cylinder->SetHeight(0.9 * d.Diagonal);
+    cylinder->SetResolution(32);
+    vtkAlgorithm* sources[2] = { sphere, cylinder };
+    for (vtkAlgorithm* source : sources)
+    {
+      vtkNew<vtkPolyDataMapper> pm;
+      pm->SetInputConnection(source->GetOutputPort());
+      vtkNew<vtkActor> actor;
+      actor->SetMapper(pm);
+      ren->AddActor(actor);
+    }
+  }
   auto win = cylvoltest::MakeWindow(200, 200, ren);
   cylvoltest::SetCamera(ren, az, el, zoom);
   vtkNew<vtkTimerLog> timer;
@@ -62,6 +94,8 @@ int TestCylVolCompare(int argc, char* argv[])
   const double az = argc > 2 ? std::atof(argv[2]) : 30.0;
   const double el = argc > 3 ? std::atof(argv[3]) : 20.0;
   const double zoom = argc > 4 ? std::atof(argv[4]) : 1.0;
+  const bool geometry = argc > 5 && std::string(argv[5]) == "geometry";
+  const std::string label = name + (geometry ? "-geometry" : "");
 
   cylvoltest::Dataset d = cylvoltest::Load(name);
   if (!d.Grid)
@@ -74,7 +108,7 @@ int TestCylVolCompare(int argc, char* argv[])
   vtkNew<vtkCylVolMapper> ours;
   ours->SetInputData(d.Grid);
   double oursSeconds = 0.0;
-  auto imageOurs = RenderWith(ours, property, d, az, el, zoom, &oursSeconds);
+  auto imageOurs = RenderWith(ours, property, d, az, el, zoom, geometry, &oursSeconds);
   const double step = ours->GetLastSampleDistance();
 
   // VTK's ray caster on tetrahedra.
@@ -84,13 +118,13 @@ int TestCylVolCompare(int argc, char* argv[])
   vtkNew<vtkUnstructuredGridVolumeRayCastMapper> theirs;
   theirs->SetInputConnection(tets->GetOutputPort());
   double theirsSeconds = 0.0;
-  auto imageVtk = RenderWith(theirs, property, d, az, el, zoom, &theirsSeconds);
+  auto imageVtk = RenderWith(theirs, property, d, az, el, zoom, geometry, &theirsSeconds);
 
   // The converged reference: ours at an eighth of the step.
   vtkNew<vtkCylVolMapper> fine;
   fine->SetInputData(d.Grid);
   fine->SetSampleDistance(step / 8.0);
-  auto imageFine = RenderWith(fine, property, d, az, el, zoom);
+  auto imageFine = RenderWith(fine, property, d, az, el, zoom, geometry);
 
   const int tol = 8;
   auto all = cylvoltest::Compare(imageOurs, imageVtk, tol);
@@ -117,7 +151,7 @@ int TestCylVolCompare(int argc, char* argv[])
   }
   auto rest = cylvoltest::Compare(imageOurs, imageVtk, tol, &keep);
 
-  std::printf("dataset %s: %lld cells, step %.6g, %lld non-empty pixels of %lld\n", name.c_str(),
+  std::printf("dataset %s: %lld cells, step %.6g, %lld non-empty pixels of %lld\n", label.c_str(),
     static_cast<long long>(d.Grid->GetNumberOfCells()), step, static_cast<long long>(nonEmpty),
     static_cast<long long>(n));
   std::printf("  cylvol vs VTK: mean abs diff %.3f/255, %.2f %% within %d/255\n", all.Mean,
@@ -150,12 +184,12 @@ int TestCylVolCompare(int argc, char* argv[])
   const bool write = !ok || std::getenv("CYLVOL_WRITE_IMAGES");
   if (write)
   {
-    cylvoltest::WritePNG(imageOurs, cylvoltest::OutputPath("compare-" + name + "-cylvol.png"));
-    cylvoltest::WritePNG(imageVtk, cylvoltest::OutputPath("compare-" + name + "-vtk.png"));
-    cylvoltest::WritePNG(imageFine, cylvoltest::OutputPath("compare-" + name + "-converged.png"));
+    cylvoltest::WritePNG(imageOurs, cylvoltest::OutputPath("compare-" + label + "-cylvol.png"));
+    cylvoltest::WritePNG(imageVtk, cylvoltest::OutputPath("compare-" + label + "-vtk.png"));
+    cylvoltest::WritePNG(imageFine, cylvoltest::OutputPath("compare-" + label + "-converged.png"));
     auto diff = cylvoltest::DifferenceImage(imageOurs, imageVtk);
-    cylvoltest::WritePNG(diff, cylvoltest::OutputPath("compare-" + name + "-diff.png"));
-    std::printf("  images written to %s/compare-%s-*.png\n", CYLVOL_TEST_OUTPUT_DIR, name.c_str());
+    cylvoltest::WritePNG(diff, cylvoltest::OutputPath("compare-" + label + "-diff.png"));
+    std::printf("  images written to %s/compare-%s-*.png\n", CYLVOL_TEST_OUTPUT_DIR, label.c_str());
   }
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

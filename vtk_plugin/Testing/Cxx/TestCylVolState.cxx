@@ -34,9 +34,14 @@ void OnProgress(vtkObject*, unsigned long, void*, void* callData)
   progressEvents++;
 }
 
-void OnAbortCheck(vtkObject* caller, unsigned long, void*, void*)
+// Asks the render window to abort as soon as the mapper reports its first progress.
+vtkRenderWindow* abortWindow = nullptr;
+void OnProgressAbort(vtkObject*, unsigned long, void*, void*)
 {
-  static_cast<vtkRenderWindow*>(caller)->SetAbortRender(1);
+  if (abortWindow)
+  {
+    abortWindow->SetAbortRender(1);
+  }
 }
 
 vtkIdType Lit(vtkImageData* image)
@@ -165,12 +170,15 @@ int TestCylVolState(int, char*[])
   mapper->SetImageSampleDistance(1.0f);
   win->SetDesiredUpdateRate(0.0001);
 
-  // Abort: the window asks to abort at the first check; nothing is drawn.
+  // Abort: once the mapper has started (its first progress event), the window is asked to
+  // abort; the mapper sees it at its next check, casts no more rays and draws nothing.
   vtkNew<vtkCallbackCommand> abort;
-  abort->SetCallback(OnAbortCheck);
-  win->AddObserver(vtkCommand::AbortCheckEvent, abort);
+  abort->SetCallback(OnProgressAbort);
+  mapper->AddObserver(vtkCommand::ProgressEvent, abort);
+  abortWindow = win;
   win->Render();
-  win->RemoveObserver(abort);
+  abortWindow = nullptr;
+  mapper->RemoveObserver(abort);
   win->SetAbortRender(0);
   Expect(mapper->GetLastRays() == 0, "an aborted frame casts no rays");
   win->Render();
