@@ -35,7 +35,7 @@ int TestCylVolTransformShade(int argc, char* argv[])
   ren->AddVolume(volume);
   auto win = cylvoltest::MakeWindow(300, 300, ren);
   ren->SetBackground(0.1, 0.1, 0.15);
-  cylvoltest::SetCamera(ren, 20.0, 10.0, 1.2);
+  cylvoltest::SetCamera(ren, 20.0, 10.0, 1.7);
   win->Render();
   const int result = vtkRegressionTestImageThreshold(win, 0.05);
   return result == vtkRegressionTester::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
