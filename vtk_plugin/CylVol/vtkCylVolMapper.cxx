@@ -201,6 +201,7 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->LastRaySeconds = 0.0;
   this->LastRays = this->LastSamples = this->LastSamplesLocated = this->LastHexTests = 0;
   this->LastInternalVisits = this->LastLeafVisits = 0;
+  this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
   this->LastImageSize[0] = this->LastImageSize[1] = 0;
   this->BuildCount = 0;
   this->ScalarUpdateCount = 0;
@@ -332,6 +333,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->Timer->StartTimer();
   this->LastRays = this->LastSamples = this->LastSamplesLocated = this->LastHexTests = 0;
   this->LastInternalVisits = this->LastLeafVisits = 0;
+  this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
   this->LastRaySeconds = 0.0;
 
   // ---- the input ---------------------------------------------------------------------
@@ -791,6 +793,8 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       this->LastHexTests += rs.hex_tests;
       this->LastInternalVisits += rs.internal_visits;
       this->LastLeafVisits += rs.leaf_visits;
+      this->LastGradientEvaluations += rs.gradient_evaluations;
+      this->LastEarlyTerminations += rs.early_terminations;
     }
     this->UpdateProgress(static_cast<double>(b + 1) / bands);
   }

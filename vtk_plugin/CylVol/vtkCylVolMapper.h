@@ -185,7 +185,9 @@ public:
   /**
    * Statistics of the last render: wall time of Render() (seconds, build included when it
    * built), cylvol's own render time, rays, samples, samples located through the
-   * structure, hexahedron containment tests, structure node visits, and the image size.
+   * structure, hexahedron containment tests, structure node visits, gradient evaluations
+   * (zero unless shading or a gradient opacity asks for them), rays stopped early, and the
+   * image size.
    */
   vtkGetMacro(LastRenderSeconds, double);
   vtkGetMacro(LastRaySeconds, double);
@@ -195,6 +197,8 @@ public:
   vtkGetMacro(LastHexTests, vtkTypeUInt64);
   vtkGetMacro(LastInternalVisits, vtkTypeUInt64);
   vtkGetMacro(LastLeafVisits, vtkTypeUInt64);
+  vtkGetMacro(LastGradientEvaluations, vtkTypeUInt64);
+  vtkGetMacro(LastEarlyTerminations, vtkTypeUInt64);
   vtkGetVector2Macro(LastImageSize, int);
   ///@}
 
@@ -263,6 +267,8 @@ protected:
   vtkTypeUInt64 LastHexTests;
   vtkTypeUInt64 LastInternalVisits;
   vtkTypeUInt64 LastLeafVisits;
+  vtkTypeUInt64 LastGradientEvaluations;
+  vtkTypeUInt64 LastEarlyTerminations;
   int LastImageSize[2];
   int BuildCount;
   int ScalarUpdateCount;

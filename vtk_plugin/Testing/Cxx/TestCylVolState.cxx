@@ -86,6 +86,35 @@ int TestCylVolState(int, char*[])
   Expect(mapper->GetBuiltStructure() >= 1 && mapper->GetBuiltStructure() <= 4, "a concrete structure was built");
   Expect(mapper->GetLastImageSize()[0] == 160 && mapper->GetLastImageSize()[1] == 160, "image 160x160");
   Expect(Lit(first) > 1000, "the first frame shows the volume");
+  Expect(mapper->GetLastGradientEvaluations() == 0, "no gradients without shading or gradient opacity");
+
+  // Gradient opacity: only when enabled and not the default constant 1.
+  vtkVolumeProperty* property = volume->GetProperty();
+  vtkNew<vtkPiecewiseFunction> one;
+  one->AddPoint(0.0, 1.0);
+  one->AddPoint(10.0, 1.0);
+  property->SetGradientOpacity(one);
+  win->Render();
+  Expect(mapper->GetLastGradientEvaluations() == 0, "a constant-1 gradient opacity computes no gradients");
+  vtkNew<vtkPiecewiseFunction> ramp;
+  ramp->AddPoint(0.0, 0.0);
+  ramp->AddPoint(2.0 * (d.Range[1] - d.Range[0]), 1.0);
+  property->SetGradientOpacity(ramp);
+  win->Render();
+  auto gradient = cylvoltest::Grab(win);
+  Expect(mapper->GetLastGradientEvaluations() > 0, "a gradient opacity ramp evaluates gradients");
+  Expect(cylvoltest::Compare(first, gradient, 8).Within < 0.9, "and changes the image");
+  property->DisableGradientOpacityOn();
+  win->Render();
+  Expect(mapper->GetLastGradientEvaluations() == 0, "a disabled gradient opacity computes none");
+  property->DisableGradientOpacityOff();
+  property->SetGradientOpacity(one);
+  property->ShadeOn();
+  win->Render();
+  Expect(mapper->GetLastGradientEvaluations() > 0, "shading evaluates gradients");
+  property->ShadeOff();
+  win->Render();
+  Expect(cylvoltest::Compare(first, cylvoltest::Grab(win), 0).Within == 1.0, "back to the first image");
 
   for (int k = 0; k < 3; ++k)
   {
