@@ -145,6 +145,7 @@ def worker(args):
 
         mapper = cylvol.vtkCylVolMapper()
         mapper.SetInputData(grid)
+        mapper.SetRelativeSampleDistance(args.relative_step)
     out["prepare_s"] = time.perf_counter() - t
     mapper.SetScalarModeToUsePointFieldData()
     mapper.SelectScalarArray(scalar)
@@ -183,6 +184,7 @@ def worker(args):
         out["build_s"] = mapper.GetLastBuildSeconds()
         out["structure_bytes"] = mapper.GetLastBuildBytes()
         out["structure"] = mapper.GetBuiltStructure()
+        out["step"] = mapper.GetLastSampleDistance()
         out["samples"] = mapper.GetLastSamples()
         out["hex_tests"] = mapper.GetLastHexTests()
     # Back to the first frame's view for the image comparison.
@@ -233,12 +235,13 @@ def image_difference(png_a, png_b):
     return total / (3.0 * n), 100.0 * within / n
 
 
-def run_worker(mapper, dataset, args, workdir, png):
+def run_worker(mapper, dataset, args, workdir, png, relative_step=1.0, frames=None):
     env = dict(os.environ)
     if args.pythonpath:
         env["PYTHONPATH"] = args.pythonpath + (":" + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     cmd = [sys.executable, os.path.abspath(__file__), "--worker", mapper, "--dataset", dataset,
-           "--size", str(args.size), "--frames", str(args.frames), "--workdir", workdir, "--png", png]
+           "--size", str(args.size), "--frames", str(args.frames if frames is None else frames),
+           "--workdir", workdir, "--png", png, "--relative-step", str(relative_step)]
     t = time.perf_counter()
     try:
         proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -269,12 +272,18 @@ def main():
     p.add_argument("--pythonpath", default=default_pythonpath(),
                    help="folder holding the cylvol package (default: the build tree's)")
     p.add_argument("--only", choices=["vtk", "cylvol"], help="run one mapper only")
+    p.add_argument("--relative-steps", default="1",
+                   help="cylvol runs at these multiples of its default step, comma-separated (default 1)")
+    p.add_argument("--no-reference", action="store_true",
+                   help="skip the converged cylvol reference (1/8 of the default step) used to measure "
+                        "each image's error")
     p.add_argument("--json", action="store_true", help="also print all results as JSON")
     p.add_argument("--keep", help="folder for the generated meshes and the images (default: a temp dir)")
     p.add_argument("--worker", help=argparse.SUPPRESS)
     p.add_argument("--dataset", help=argparse.SUPPRESS)
     p.add_argument("--workdir", help=argparse.SUPPRESS)
     p.add_argument("--png", help=argparse.SUPPRESS)
+    p.add_argument("--relative-step", type=float, default=1.0, help=argparse.SUPPRESS)
     args = p.parse_args()
     if not os.environ.get("DISPLAY") and not os.environ.get("CYLVOL_BENCH_NO_XVFB"):
         # VTK's render windows need an X server: run under xvfb-run (Mesa, off screen).
@@ -296,34 +305,55 @@ def main():
                 print("generating pump-rotor:%s ..." % cells, file=sys.stderr, flush=True)
                 subprocess.run([CYLVOL, "gen", "pump-rotor:" + cells, "-o", path], check=True)
         runs = {}
-        for mapper in ("cylvol", "vtk"):
-            if args.only and mapper != args.only:
-                continue
-            png = os.path.join(workdir, "%s-%s.png" % (dataset.replace(":", "-"), mapper))
-            print("%s: %s ..." % (dataset, mapper), file=sys.stderr, flush=True)
-            runs[mapper] = run_worker(mapper, dataset, args, workdir, png)
-            runs[mapper]["png"] = png
+        factors = [float(f) for f in args.relative_steps.split(",") if f]
+        jobs = []
+        if args.only != "vtk":
+            jobs += [("cylvol@%g" % f, "cylvol", f, None) for f in factors]
+        if args.only != "cylvol":
+            jobs.append(("vtk", "vtk", 1.0, None))
+        if not args.no_reference and not args.only:
+            jobs.append(("reference", "cylvol", 0.125, 0))
+        for key, mapper, factor, frames in jobs:
+            png = os.path.join(workdir, "%s-%s.png" % (dataset.replace(":", "-"), key.replace("@", "-")))
+            print("%s: %s ..." % (dataset, key), file=sys.stderr, flush=True)
+            runs[key] = run_worker(mapper, dataset, args, workdir, png, factor, frames)
+            runs[key]["png"] = png
         entry = {"dataset": dataset, "size": args.size, "runs": runs}
-        c, v = runs.get("cylvol", {}), runs.get("vtk", {})
         print("\n== %s at %dx%d" % (dataset, args.size, args.size))
-        for name, r in (("cylvol", c), ("vtk", v)):
-            if not r:
-                continue
+        for name, r in runs.items():
             if "error" in r:
-                print("  %-6s ERROR: %s" % (name, r["error"]))
+                print("  %-12s ERROR: %s" % (name, r["error"]))
                 continue
-            extra = ""
             if name == "vtk":
                 extra = ", tetrahedralize %s (%d tets)" % (fmt_s(r["prepare_s"]), r.get("tetrahedra", 0))
             else:
-                extra = ", build %s, structure %s, %.1f MB" % (
-                    fmt_s(r.get("build_s")), r.get("structure"), r.get("structure_bytes", 0) / 1e6)
-            print("  %-6s %d cells: load %s%s, first frame %s, steady %s (frames %s), peak RSS %.0f MB"
+                extra = ", step %.4g, build %s, structure %s, %.1f MB" % (
+                    r.get("step", 0.0), fmt_s(r.get("build_s")), r.get("structure"),
+                    r.get("structure_bytes", 0) / 1e6)
+            print("  %-12s %d cells: load %s%s, first frame %s, steady %s (frames %s), peak RSS %.0f MB"
                   % (name, r["cells"], fmt_s(r["load_s"]), extra, fmt_s(r["first_frame_s"]),
                      fmt_s(r["steady_s"]), ", ".join("%.3f" % x for x in r["steady_frames_s"]),
                      r["peak_rss_bytes"] / 1e6))
-        if c and v and "error" not in c and "error" not in v:
+        v = runs.get("vtk", {})
+        ref = runs.get("reference", {})
+        have_ref = ref and "error" not in ref
+        if v and "error" not in v and have_ref:
+            mean, pct = image_difference(v["png"], ref["png"])
+            entry["vtk_error_vs_reference"] = {"mean_abs_255": mean, "percent_within_8": pct}
+            print("  VTK vs converged cylvol reference: mean abs %.3f/255, %.2f %% within 8/255" % (mean, pct))
+        entry["comparisons"] = {}
+        for key, c in runs.items():
+            if not key.startswith("cylvol@") or "error" in c or not v or "error" in v:
+                continue
+            comp = {}
             mean, pct = image_difference(c["png"], v["png"])
+            comp["difference_vs_vtk"] = {"mean_abs_255": mean, "percent_within_8": pct}
+            line = "  %s vs VTK: mean abs %.3f/255, %.2f %% within 8/255" % (key, mean, pct)
+            if have_ref:
+                rmean, rpct = image_difference(c["png"], ref["png"])
+                comp["error_vs_reference"] = {"mean_abs_255": rmean, "percent_within_8": rpct}
+                line += "; vs converged reference: mean abs %.3f/255, %.2f %% within" % (rmean, rpct)
+            print(line)
             vtk_first = v["prepare_s"] + v["first_frame_s"]
             ratios = {
                 "first_frame": v["first_frame_s"] / c["first_frame_s"],
@@ -331,14 +361,12 @@ def main():
                 "steady": v["steady_s"] / c["steady_s"] if c["steady_s"] else None,
                 "peak_rss_cylvol_over_vtk": c["peak_rss_bytes"] / v["peak_rss_bytes"],
             }
-            entry["image_difference"] = {"mean_abs_255": mean, "percent_within_8": pct}
-            entry["ratios"] = ratios
-            print("  image difference: mean abs %.3f/255 per channel, %.2f %% of pixels within 8/255"
-                  % (mean, pct))
-            print("  VTK / cylvol: first frame %.1fx (%.1fx counting tetrahedralization), steady %.1fx;"
-                  " cylvol peak RSS = %.3f of VTK's"
-                  % (ratios["first_frame"], ratios["first_frame_incl_tetrahedralize"],
+            comp["ratios"] = ratios
+            print("    VTK / %s: first frame %.2fx (%.2fx counting tetrahedralization), steady %.2fx;"
+                  " peak RSS = %.3f of VTK's"
+                  % (key, ratios["first_frame"], ratios["first_frame_incl_tetrahedralize"],
                      ratios["steady"] or 0.0, ratios["peak_rss_cylvol_over_vtk"]))
+            entry["comparisons"][key] = comp
         results.append(entry)
     print("\nimages and meshes in", workdir)
     if args.json:

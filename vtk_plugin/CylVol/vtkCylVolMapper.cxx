@@ -189,6 +189,7 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->BuildPreset = 0;
   this->EarlyTermination = 0.99;
   this->SampleDistance = 0.0;
+  this->RelativeSampleDistance = 1.0;
   this->ImageSampleDistance = 1.0f;
   this->MinimumImageSampleDistance = 1.0f;
   this->MaximumImageSampleDistance = 10.0f;
@@ -729,9 +730,10 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   if (!(this->SampleDistance > 0.0))
   {
     double step = 0.0;
-    if (cylvol_volume_default_step(in.Volume, &step) == CYLVOL_STATUS_OK)
+    if (cylvol_volume_default_step(in.Volume, &step) == CYLVOL_STATUS_OK && step > 0.0)
     {
-      this->LastSampleDistance = step;
+      this->LastSampleDistance = step * this->RelativeSampleDistance;
+      params.step = this->LastSampleDistance;
     }
   }
 
@@ -860,6 +862,7 @@ void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BuildPreset: " << this->BuildPreset << "\n";
   os << indent << "EarlyTermination: " << this->EarlyTermination << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
+  os << indent << "RelativeSampleDistance: " << this->RelativeSampleDistance << "\n";
   os << indent << "ImageSampleDistance: " << this->ImageSampleDistance << "\n";
   os << indent << "MinimumImageSampleDistance: " << this->MinimumImageSampleDistance << "\n";
   os << indent << "MaximumImageSampleDistance: " << this->MaximumImageSampleDistance << "\n";

@@ -131,6 +131,15 @@ public:
 
   ///@{
   /**
+   * When SampleDistance is 0 or less, the step is cylvol's default step times this factor
+   * (default 1; 2 halves the samples, 0.125 is a converged reference).
+   */
+  vtkSetClampMacro(RelativeSampleDistance, double, 1e-3, 1e3);
+  vtkGetMacro(RelativeSampleDistance, double);
+  ///@}
+
+  ///@{
+  /**
    * Sample distance in screen pixels: the image is rendered this many times smaller than
    * the viewport in each direction and stretched over it (default 1).
    */
@@ -251,6 +260,7 @@ protected:
   int BuildPreset;
   double EarlyTermination;
   double SampleDistance;
+  double RelativeSampleDistance;
   float ImageSampleDistance;
   float MinimumImageSampleDistance;
   float MaximumImageSampleDistance;
