@@ -7,6 +7,7 @@
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
+#include "vtkCellData.h"
 #include "vtkDataSetReader.h"
 #include "vtkImageData.h"
 #include "vtkMultiBlockDataSet.h"
@@ -49,6 +50,7 @@ struct Dataset
 {
   vtkSmartPointer<vtkUnstructuredGrid> Grid;
   std::string Scalar;
+  bool Cells = false; // the scalar is cell data
   double Range[2] = { 0.0, 1.0 };
   double Diagonal = 1.0;
 };
@@ -94,20 +96,22 @@ inline vtkSmartPointer<vtkUnstructuredGrid> ReadPlot3D(const std::string& xyz, c
 }
 
 /// Loads "hexa", "mixer", "comb", "post" from the shared data folder, or "pump" from the
-/// file the CTest fixture generated (cylvol gen pump-rotor:20000). Empty Grid on failure.
+/// file the CTest fixture generated (cylvol gen pump-rotor:20000); "mixer-cells" is the mixer
+/// with its cell array p. Empty Grid on failure.
 inline Dataset Load(const std::string& name)
 {
   Dataset d;
-  if (name == "hexa" || name == "mixer")
+  if (name == "hexa" || name == "mixer" || name == "mixer-cells")
   {
     vtkNew<vtkUnstructuredGridReader> reader;
-    reader->SetFileName(DataPath(name + ".vtk").c_str());
+    reader->SetFileName(DataPath(name == "hexa" ? "hexa.vtk" : "mixer.vtk").c_str());
     reader->ReadAllScalarsOn();
     reader->ReadAllVectorsOn();
     reader->ReadAllFieldsOn();
     reader->Update();
     d.Grid = reader->GetOutput();
     d.Scalar = name == "hexa" ? "scalars" : "p";
+    d.Cells = name == "mixer-cells";
   }
   else if (name == "comb")
   {
@@ -133,14 +137,16 @@ inline Dataset Load(const std::string& name)
     d.Grid = nullptr;
     return d;
   }
-  vtkDataArray* a = d.Grid->GetPointData()->GetArray(d.Scalar.c_str());
+  vtkDataSetAttributes* attributes =
+    d.Cells ? static_cast<vtkDataSetAttributes*>(d.Grid->GetCellData()) : d.Grid->GetPointData();
+  vtkDataArray* a = attributes->GetArray(d.Scalar.c_str());
   if (!a)
   {
-    std::cerr << "dataset " << name << " has no point array " << d.Scalar << "\n";
+    std::cerr << "dataset " << name << " has no array " << d.Scalar << "\n";
     d.Grid = nullptr;
     return d;
   }
-  d.Grid->GetPointData()->SetActiveScalars(d.Scalar.c_str());
+  attributes->SetActiveScalars(d.Scalar.c_str());
   a->GetRange(d.Range, 0);
   d.Diagonal = d.Grid->GetLength();
   return d;

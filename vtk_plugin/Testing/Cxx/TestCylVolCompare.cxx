@@ -11,7 +11,11 @@
 // fault; the bounds must then hold on all the other pixels, and such pixels may be at most
 // 5 % of the image. A failing run writes both images and their difference (x4) as PNGs.
 //
-// Usage: TestCylVolCompare <hexa|mixer|comb|post|pump> [azimuth elevation zoom [geometry]]
+// With cell data (mixer-cells) VTK integrates each tetrahedron's constant value exactly and
+// cylvol holds each hexahedron's value; the tetrahedra keep their hexahedron's value, so the
+// two describe the same field.
+//
+// Usage: TestCylVolCompare <hexa|mixer|mixer-cells|comb|post|pump> [azimuth elevation zoom [geometry]]
 // With "geometry", opaque polygons (a sphere cutting through the volume, a cylinder behind
 // and through it) are drawn first in both windows, so the z-buffer path is compared too.
 #include "vtkCylVolMapper.h"
@@ -37,7 +41,14 @@ vtkSmartPointer<vtkImageData> RenderWith(vtkAbstractVolumeMapper* mapper, vtkVol
   const cylvoltest::Dataset& d, double az, double el, double zoom, bool geometry,
   double* seconds = nullptr)
 {
-  mapper->SetScalarModeToUsePointFieldData();
+  if (d.Cells)
+  {
+    mapper->SetScalarModeToUseCellFieldData();
+  }
+  else
+  {
+    mapper->SetScalarModeToUsePointFieldData();
+  }
   mapper->SelectScalarArray(d.Scalar.c_str());
   vtkNew<vtkVolume> volume;
   volume->SetMapper(mapper);
