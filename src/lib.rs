@@ -12,13 +12,16 @@
 //!   shading, images;
 //! - [`io`]: readers and writers for legacy VTK, VTU and PLOT3D files;
 //! - [`datasets`]: the deterministic synthetic pump datasets;
-//! - [`input`]: resolution of a command-line `INPUT` (a file or a synthetic dataset name).
+//! - [`input`]: resolution of a command-line `INPUT` (a file or a synthetic dataset name);
+//! - [`ffi`]: the C ABI (`include/cylvol.h`): meshes from caller arrays, volumes, rendering
+//!   into caller memory.
 #![deny(missing_docs)]
 
 pub mod accel;
 pub mod axis;
 pub mod datasets;
 pub mod error;
+pub mod ffi;
 pub mod geometry;
 pub mod input;
 pub mod io;

@@ -21,8 +21,18 @@
 //! the eye with a unit direction; a parallel ray leaves the eye's plane (the plane through the
 //! eye normal to the direction of projection) along the direction of projection. The ray
 //! parameter `t` is therefore a distance in world units from the eye (its plane).
+//!
+//! # Rays from matrices
+//! [`MatrixRays`] makes the rays of a view matrix and a projection matrix (OpenGL's clip
+//! space, as `vtkCamera` gives them, any model matrix folded into the view): the ray of a pixel
+//! runs from its centre on the near plane (NDC `z = −1`) towards its centre on the far plane
+//! (NDC `z = +1`), both unprojected through `(projection · view)⁻¹`, so perspective and parallel
+//! projections are read from the matrix. Its `t` is the distance from the near plane's point;
+//! [`MatrixRays::window_depth`] and [`MatrixRays::distance_at_depth`] convert between `t` and
+//! the window depth `(z_ndc + 1)/2` of the z-buffer. Both generators implement [`RaySource`],
+//! which [`crate::render::Renderer::render_rays`] renders.
 
-use glam::{DQuat, DVec3};
+use glam::{DMat4, DQuat, DVec3, DVec4};
 
 use crate::Error;
 
@@ -284,9 +294,330 @@ impl RayGenerator {
     }
 }
 
+/// Anything that gives the ray of each pixel of an image: its size and, for pixel `(i, j)`
+/// (row 0 at the top), an origin and a unit direction.
+pub trait RaySource: Sync {
+    /// The image size `(width, height)` the rays are for.
+    fn size(&self) -> (u32, u32);
+    /// The ray through the centre of pixel `(i, j)`: origin and unit direction.
+    fn ray(&self, i: u32, j: u32) -> (DVec3, DVec3);
+}
+
+impl RaySource for RayGenerator {
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    #[inline]
+    fn ray(&self, i: u32, j: u32) -> (DVec3, DVec3) {
+        RayGenerator::ray(self, i, j)
+    }
+}
+
+/// The rays of a view and a projection matrix (see the module documentation).
+#[derive(Clone, Copy, Debug)]
+pub struct MatrixRays {
+    /// `projection · view`: world to clip space.
+    clip: DMat4,
+    /// Its inverse: clip space to world.
+    unproject: DMat4,
+    width: u32,
+    height: u32,
+}
+
+impl MatrixRays {
+    /// Rays for a `width × height` image from `view` (world to eye; any model matrix folded
+    /// in) and `projection` (eye to clip space, OpenGL conventions). Both are row-major
+    /// (`m[4 r + c]`, as `vtkMatrix4x4::DeepCopy(double[16])` gives them). Fails on non-finite
+    /// entries, a singular `projection · view`, or an empty image.
+    ///
+    /// ```
+    /// use cylvol::render::camera::{MatrixRays, RaySource};
+    /// let identity = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+    /// // Identity matrices: clip space is world space, the near plane z = −1, the far z = +1.
+    /// let rays = MatrixRays::new(&identity, &identity, 1, 1).unwrap();
+    /// let (o, d) = rays.ray(0, 0);
+    /// assert_eq!((o.to_array(), d.to_array()), ([0.0, 0.0, -1.0], [0.0, 0.0, 1.0]));
+    /// ```
+    pub fn new(
+        view: &[f64; 16],
+        projection: &[f64; 16],
+        width: u32,
+        height: u32,
+    ) -> Result<MatrixRays, Error> {
+        if width == 0 || height == 0 {
+            return Err(Error::Invalid(format!("empty image {width}x{height}")));
+        }
+        if !view.iter().chain(projection).all(|v| v.is_finite()) {
+            return Err(Error::Invalid(
+                "the view or projection matrix has a non-finite entry".into(),
+            ));
+        }
+        let row_major = |m: &[f64; 16]| DMat4::from_cols_array(m).transpose();
+        let clip = row_major(projection) * row_major(view);
+        let unproject = clip.inverse();
+        let det = clip.determinant();
+        if det == 0.0 || !det.is_finite() || !unproject.is_finite() {
+            return Err(Error::Invalid(
+                "projection · view is singular: no rays can be made from it".into(),
+            ));
+        }
+        let rays = MatrixRays {
+            clip,
+            unproject,
+            width,
+            height,
+        };
+        // Every pixel's near and far points must be proper points: their homogeneous w is
+        // linear in the pixel centre's (x, y), so w of one sign at the four corner pixels
+        // means w of that sign at every pixel.
+        let corners = [
+            (0, 0),
+            (width - 1, 0),
+            (0, height - 1),
+            (width - 1, height - 1),
+        ];
+        for z in [-1.0, 1.0] {
+            let w: Vec<f64> = corners
+                .iter()
+                .map(|&(i, j)| {
+                    let (x, y) = rays.ndc(i, j);
+                    (rays.unproject * DVec4::new(x, y, z, 1.0)).w
+                })
+                .collect();
+            if !(w.iter().all(|&w| w > 0.0) || w.iter().all(|&w| w < 0.0)) {
+                return Err(Error::Invalid(
+                    "the matrices put a pixel's near or far point at infinity".into(),
+                ));
+            }
+        }
+        for (i, j) in corners {
+            let (o, d) = rays.ray(i, j);
+            if !(o.is_finite() && d.is_finite() && d != DVec3::ZERO) {
+                return Err(Error::Invalid(format!(
+                    "the matrices give no ray at pixel ({i}, {j}) (a near or far point at infinity)"
+                )));
+            }
+        }
+        Ok(rays)
+    }
+
+    /// The NDC `(x, y)` of the centre of pixel `(i, j)` (row 0 at the top).
+    #[inline]
+    fn ndc(&self, i: u32, j: u32) -> (f64, f64) {
+        (
+            (i as f64 + 0.5) / self.width as f64 * 2.0 - 1.0,
+            1.0 - (j as f64 + 0.5) / self.height as f64 * 2.0,
+        )
+    }
+
+    /// The world point with NDC `(x, y, z)`.
+    #[inline]
+    fn point(&self, x: f64, y: f64, z: f64) -> DVec3 {
+        let h = self.unproject * DVec4::new(x, y, z, 1.0);
+        h.truncate() / h.w
+    }
+
+    /// The window depth `(z_ndc + 1)/2` of the point at distance `t` along the ray of pixel
+    /// `(i, j)` (`1` for `t = +∞`).
+    pub fn window_depth(&self, i: u32, j: u32, t: f64) -> f64 {
+        if t == f64::INFINITY {
+            return 1.0;
+        }
+        let (o, d) = self.ray(i, j);
+        let c = self.clip * (o + d * t).extend(1.0);
+        (c.z / c.w + 1.0) * 0.5
+    }
+
+    /// The distance along the ray of pixel `(i, j)` of the point at window depth `depth`
+    /// (the inverse of [`MatrixRays::window_depth`]).
+    pub fn distance_at_depth(&self, i: u32, j: u32, depth: f64) -> f64 {
+        let (x, y) = self.ndc(i, j);
+        let (o, d) = self.ray(i, j);
+        (self.point(x, y, 2.0 * depth - 1.0) - o).dot(d)
+    }
+}
+
+impl RaySource for MatrixRays {
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    #[inline]
+    fn ray(&self, i: u32, j: u32) -> (DVec3, DVec3) {
+        let (x, y) = self.ndc(i, j);
+        let near = self.point(x, y, -1.0);
+        let far = self.point(x, y, 1.0);
+        (near, (far - near).normalize_or_zero())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `vtkCamera`'s view transform (row-major): rows right, up, −forward; the eye to the
+    /// origin.
+    fn vtk_view(eye: DVec3, focal: DVec3, up: DVec3) -> [f64; 16] {
+        let f = (focal - eye).normalize();
+        let r = f.cross(up).normalize();
+        let u = r.cross(f);
+        [
+            r.x,
+            r.y,
+            r.z,
+            -r.dot(eye), //
+            u.x,
+            u.y,
+            u.z,
+            -u.dot(eye), //
+            -f.x,
+            -f.y,
+            -f.z,
+            f.dot(eye), //
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+        ]
+    }
+
+    /// `vtkPerspectiveTransform::SetupCamera`'s perspective (row-major, OpenGL's clip space):
+    /// vertical full angle `angle` (degrees), `aspect` = width ÷ height, near and far distances.
+    fn vtk_perspective(angle: f64, aspect: f64, near: f64, far: f64) -> [f64; 16] {
+        let h = 1.0 / (angle.to_radians() * 0.5).tan();
+        [
+            h / aspect,
+            0.0,
+            0.0,
+            0.0, //
+            0.0,
+            h,
+            0.0,
+            0.0, //
+            0.0,
+            0.0,
+            -(far + near) / (far - near),
+            -2.0 * far * near / (far - near), //
+            0.0,
+            0.0,
+            -1.0,
+            0.0,
+        ]
+    }
+
+    /// VTK's parallel projection (`vtkPerspectiveTransform::Ortho`) of half height `scale`.
+    fn vtk_ortho(scale: f64, aspect: f64, near: f64, far: f64) -> [f64; 16] {
+        [
+            1.0 / (scale * aspect),
+            0.0,
+            0.0,
+            0.0, //
+            0.0,
+            1.0 / scale,
+            0.0,
+            0.0, //
+            0.0,
+            0.0,
+            -2.0 / (far - near),
+            -(far + near) / (far - near), //
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+        ]
+    }
+
+    #[test]
+    fn matrix_rays_equal_look_at_rays_with_vtk_matrices() {
+        let eye = DVec3::new(3.0, -2.0, 7.5);
+        let focal = DVec3::new(0.5, 0.25, -1.0);
+        let up = DVec3::new(0.1, 1.0, 0.3);
+        let (w, h) = (13, 7);
+        for parallel in [false, true] {
+            let camera = if parallel {
+                Camera::parallel(eye, focal, up, 2.5).unwrap()
+            } else {
+                Camera::perspective(eye, focal, up, 40.0).unwrap()
+            };
+            let look = RayGenerator::new(&camera, w, h).unwrap();
+            let aspect = w as f64 / h as f64;
+            let (near, far) = (0.5, 40.0);
+            let projection = if parallel {
+                vtk_ortho(2.5, aspect, near, far)
+            } else {
+                vtk_perspective(40.0, aspect, near, far)
+            };
+            let m = MatrixRays::new(&vtk_view(eye, focal, up), &projection, w, h).unwrap();
+            let forward = (focal - eye).normalize();
+            for j in 0..h {
+                for i in 0..w {
+                    let (o1, d1) = look.ray(i, j);
+                    let (o2, d2) = m.ray(i, j);
+                    assert!((d1 - d2).length() < 1e-9, "{i},{j}: {d1} vs {d2}");
+                    // The matrix ray starts on the near plane, on the look-at ray.
+                    let t = (o2 - o1).dot(d1);
+                    assert!((o1 + d1 * t - o2).length() < 1e-9);
+                    assert!(((o2 - eye).dot(forward) - near).abs() < 1e-9);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn window_depth_and_distance_are_inverse_and_match_the_z_buffer() {
+        let eye = DVec3::new(0.0, 0.0, 10.0);
+        let (near, far) = (2.0, 20.0);
+        for projection in [
+            vtk_perspective(30.0, 1.5, near, far),
+            vtk_ortho(3.0, 1.5, near, far),
+        ] {
+            let m =
+                MatrixRays::new(&vtk_view(eye, DVec3::ZERO, DVec3::Y), &projection, 6, 4).unwrap();
+            let (i, j) = (4, 1);
+            let (o, d) = m.ray(i, j);
+            // The near plane is depth 0, the far plane depth 1.
+            assert!(m.window_depth(i, j, 0.0).abs() < 1e-12);
+            let t_far = (far - near) / d.dot(-DVec3::Z);
+            assert!((m.window_depth(i, j, t_far) - 1.0).abs() < 1e-12);
+            assert_eq!(m.window_depth(i, j, f64::INFINITY), 1.0);
+            for t in [0.3, 1.0, 5.0, 11.0] {
+                let z = m.window_depth(i, j, t);
+                assert!((0.0..=1.0).contains(&z));
+                assert!((m.distance_at_depth(i, j, z) - t).abs() < 1e-9 * t.max(1.0));
+                // Against the z-buffer formula of an eye-space depth e (distance along −z):
+                // perspective: z_ndc = (f + n)/(f − n) − 2 f n / ((f − n) e).
+                let e = (eye - (o + d * t)).dot(DVec3::Z);
+                let expected = if projection[14] == -1.0 {
+                    ((far + near) / (far - near) - 2.0 * far * near / ((far - near) * e) + 1.0)
+                        * 0.5
+                } else {
+                    (e - near) / (far - near)
+                };
+                assert!((z - expected).abs() < 1e-12, "{z} vs {expected}");
+            }
+        }
+    }
+
+    #[test]
+    fn singular_or_non_finite_matrices_are_refused() {
+        let zero = [0.0; 16];
+        let id = vtk_view(DVec3::Z, DVec3::ZERO, DVec3::Y);
+        assert!(MatrixRays::new(&id, &zero, 4, 4).is_err());
+        let mut nan = id;
+        nan[5] = f64::NAN;
+        assert!(MatrixRays::new(&nan, &vtk_ortho(1.0, 1.0, 0.1, 10.0), 4, 4).is_err());
+        assert!(MatrixRays::new(&id, &vtk_ortho(1.0, 1.0, 0.1, 10.0), 0, 4).is_err());
+        // Unprojection whose w is x_ndc + ½: the near point of a left pixel is behind infinity.
+        let unproject = DMat4::from_cols_array(&[
+            1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.5,
+        ])
+        .transpose();
+        let clip = unproject.inverse().transpose().to_cols_array();
+        let identity = DMat4::IDENTITY.to_cols_array();
+        let e = MatrixRays::new(&identity, &clip, 4, 4).unwrap_err();
+        assert!(e.to_string().contains("at infinity"), "{e}");
+    }
 
     #[test]
     fn reset_fits_the_bounding_sphere() {

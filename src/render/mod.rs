@@ -29,11 +29,15 @@ pub mod skip;
 pub mod transfer;
 pub mod walk;
 
-pub use camera::{Camera, CameraFrame, Projection, RayGenerator, DEFAULT_VIEW_ANGLE};
+pub use camera::{
+    Camera, CameraFrame, MatrixRays, Projection, RayGenerator, RaySource, DEFAULT_VIEW_ANGLE,
+};
 pub use image::Image;
 pub use raycast::{
-    default_step, Neighbours, NoNeighbours, RayResult, RenderOptions, RenderPath, RenderStats,
-    Renderer, Volume, MAX_SAMPLES_PER_RAY,
+    default_step, Interpolation, Neighbours, NoNeighbours, RayResult, RenderOptions, RenderPath,
+    RenderStats, Renderer, Volume, MAX_SAMPLES_PER_RAY,
 };
 pub use shading::Shading;
-pub use transfer::{TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
+pub use transfer::{
+    GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE, GRADIENT_TABLE_SIZE,
+};

@@ -23,6 +23,16 @@
 //! [`RenderStats::boundary_refinements`], not in the sample counts. Where the opaque-geometry
 //! depth stops a ray inside the mesh, the last sample keeps its full step.
 //!
+//! # Interpolation and gradient opacity
+//! A located sample's scalar is the trilinear interpolant of its cell's corner values, or with
+//! [`Interpolation::Nearest`] the value of the nearest corner (cell data: the cell's value).
+//! Its colour and step-corrected opacity come from the transfer table; with
+//! [`RenderOptions::gradient_opacity`] set, the opacity per unit distance is multiplied by the
+//! factor of the gradient magnitude before the step correction (see
+//! [`super::transfer`]). The gradient (of the trilinear interpolant) is evaluated only when
+//! shading or gradient opacity is on, and only for samples the transfer function does not
+//! make transparent ([`RenderStats::gradient_evaluations`]).
+//!
 //! # Compositing and depth
 //! Front to back: `C += T α c`, `T *= 1 − α` with `α` the step-corrected opacity and `c` the
 //! (shaded) colour; the ray stops once `1 − T ≥ early_termination` (default 0.99). The depth
@@ -56,17 +66,17 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::boundary::{interpolate_crossing, partial_opacity, BISECTIONS};
-use super::camera::{Camera, RayGenerator};
+use super::camera::{Camera, RayGenerator, RaySource};
 use super::image::Image;
 use super::shading::Shading;
 use super::skip::Skipper;
-use super::transfer::{TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
+use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
 use super::walk::{violated_face, walk, WalkEnd, WalkWork};
 use crate::accel::{Accel, Counters};
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::locate_in_cell;
 use crate::geometry::inverse::invert;
-use crate::geometry::trilinear::{interpolate, physical_gradient};
+use crate::geometry::trilinear::{index, interpolate, physical_gradient};
 use crate::mesh::Association;
 use crate::{Error, Mesh};
 
@@ -131,6 +141,67 @@ impl Neighbours for NoNeighbours {
     }
 }
 
+/// How a sample's scalar is taken from its cell's corner values (point data; a cell value is
+/// the same either way).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Interpolation {
+    /// Trilinear in the cell's parametric coordinates (VTK's `VTK_LINEAR_INTERPOLATION`).
+    #[default]
+    Linear,
+    /// The value of the corner nearest in parametric coordinates (VTK's
+    /// `VTK_NEAREST_INTERPOLATION`); a coordinate of exactly ½ goes to the lower corner.
+    /// Gradients (shading, gradient opacity) are still those of the trilinear interpolant.
+    Nearest,
+}
+
+impl Interpolation {
+    /// `linear` or `nearest`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Interpolation::Linear => "linear",
+            Interpolation::Nearest => "nearest",
+        }
+    }
+
+    /// The scalar at parametric coordinates `p` (in `[0, 1]³`) from the corner values.
+    ///
+    /// ```
+    /// use cylvol::render::Interpolation;
+    /// use glam::DVec3;
+    /// let f = [0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0]; // f = u at the corners
+    /// let p = DVec3::new(0.7, 0.2, 0.9);
+    /// assert!((Interpolation::Linear.sample(&f, p) - 0.7).abs() < 1e-15);
+    /// assert_eq!(Interpolation::Nearest.sample(&f, p), 1.0);
+    /// ```
+    #[inline]
+    pub fn sample(self, values: &[f64; 8], p: DVec3) -> f64 {
+        match self {
+            Interpolation::Linear => interpolate(values, p),
+            Interpolation::Nearest => {
+                let corner = index(
+                    (p.x > 0.5) as usize,
+                    (p.y > 0.5) as usize,
+                    (p.z > 0.5) as usize,
+                );
+                values[corner]
+            }
+        }
+    }
+}
+
+impl std::str::FromStr for Interpolation {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s {
+            "linear" => Ok(Interpolation::Linear),
+            "nearest" => Ok(Interpolation::Nearest),
+            _ => Err(Error::Invalid(format!(
+                "unknown interpolation '{s}' (expected linear or nearest)"
+            ))),
+        }
+    }
+}
+
 /// The work of a render.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct RenderStats {
@@ -152,7 +223,7 @@ pub struct RenderStats {
     pub internal_visits: u64,
     /// Leaf nodes (grids: second-level cells) visited.
     pub leaf_visits: u64,
-    /// Gradients evaluated (shading only).
+    /// Gradients evaluated (only with shading or gradient opacity on).
     pub gradient_evaluations: u64,
     /// Rays stopped by early termination.
     pub early_terminations: u64,
@@ -225,12 +296,18 @@ pub struct RenderOptions {
     /// only, the crossing found by bisection (default: on). Off, every sample stands for a whole
     /// step: cheaper, but the error is then first order in the step (see `cylvol accuracy`).
     pub boundary_segments: bool,
+    /// How the scalar is interpolated in a cell (default linear).
+    pub interpolation: Interpolation,
+    /// Gradient opacity (VTK's): a factor of the gradient magnitude on the scalar opacity per
+    /// unit distance; `None` (the default) for none, and then no gradient is evaluated unless
+    /// shading is on.
+    pub gradient_opacity: Option<GradientOpacity>,
 }
 
 impl RenderOptions {
     /// Defaults for a `width × height` image with the given step: fast path, no shading,
     /// early termination at 0.99, depth at 0.5, 16-pixel tiles, 1024 table entries, boundary
-    /// segments on.
+    /// segments on, linear interpolation, no gradient opacity.
     pub fn new(width: u32, height: u32, step: f64) -> RenderOptions {
         RenderOptions {
             width,
@@ -243,6 +320,8 @@ impl RenderOptions {
             tile: 16,
             table_size: DEFAULT_TABLE_SIZE,
             boundary_segments: true,
+            interpolation: Interpolation::Linear,
+            gradient_opacity: None,
         }
     }
 }
@@ -735,22 +814,35 @@ impl<'a> Renderer<'a> {
             let (s, values) = match vol.association {
                 Association::Point => {
                     let values = mesh.cells()[cell as usize].map(|i| vol.scalars[i as usize]);
-                    (interpolate(&values, param), Some(values))
+                    (opts.interpolation.sample(&values, param), Some(values))
                 }
                 Association::Cell => (vol.scalars[cell as usize], None),
             };
-            let [r, g, b, a] = self.table.lookup(s);
+            let [r, g, b, mut a] = self.table.lookup(s);
             if a <= 0.0 || a.is_nan() {
                 continue;
             }
-            let c = match (&opts.shading, values) {
-                (Some(shading), Some(values)) => {
+            // The gradient, only where shading or gradient opacity needs it (a cell scalar is
+            // constant in its cell: no gradient to evaluate).
+            let grad = match values {
+                Some(values) if opts.shading.is_some() || opts.gradient_opacity.is_some() => {
                     stats.gradient_evaluations += 1;
-                    let grad = physical_gradient(&mesh.cell_corners(cell as usize), &values, param);
-                    shading.shade([r, g, b], grad, dir)
+                    physical_gradient(&mesh.cell_corners(cell as usize), &values, param)
                 }
-                (Some(shading), None) => shading.shade([r, g, b], None, dir),
-                (None, _) => [r, g, b],
+                _ => None,
+            };
+            if let Some(go) = &opts.gradient_opacity {
+                let f = go.at(grad.map_or(0.0, |g| g.length()));
+                if f != 1.0 {
+                    a = self.table.step_opacity(self.table.unit_opacity(s) * f);
+                    if a <= 0.0 || a.is_nan() {
+                        continue;
+                    }
+                }
+            }
+            let c = match &opts.shading {
+                Some(shading) => shading.shade([r, g, b], grad, dir),
+                None => [r, g, b],
             };
             // Where the previous position was outside the mesh, the segment starts at the
             // crossing (the ray's start counts as outside unless it is in the mesh).
@@ -847,8 +939,26 @@ impl<'a> Renderer<'a> {
         camera: &Camera,
         depth_in: Option<&[f32]>,
     ) -> Result<(Image, RenderStats), Error> {
+        let rays = RayGenerator::new(camera, self.options.width, self.options.height)?;
+        self.render_rays(&rays, depth_in)
+    }
+
+    /// Renders the image of any [`RaySource`] (its size must be the options' size); `depth_in`
+    /// gives, per pixel (rows top to bottom), the distance along the pixel's ray at which
+    /// opaque geometry stops it.
+    pub fn render_rays<R: RaySource + ?Sized>(
+        &self,
+        rays: &R,
+        depth_in: Option<&[f32]>,
+    ) -> Result<(Image, RenderStats), Error> {
         let (w, h) = (self.options.width, self.options.height);
-        let rays = RayGenerator::new(camera, w, h)?;
+        if rays.size() != (w, h) {
+            return Err(Error::Invalid(format!(
+                "rays for a {}x{} image, options for {w}x{h}",
+                rays.size().0,
+                rays.size().1
+            )));
+        }
         let n = w as usize * h as usize;
         if let Some(d) = depth_in {
             if d.len() != n {

@@ -10,7 +10,8 @@
 //! edge of a wedge), the sample is lit as if it faced the light without highlight:
 //! `c (k_a + k_d)`, so flat regions are not darkened.
 //!
-//! This module is only reached when shading is on: with it off no gradient is evaluated.
+//! This module is only reached when shading is on: with it off (and no gradient opacity, see
+//! [`super::GradientOpacity`]) no gradient is evaluated.
 
 use glam::DVec3;
 

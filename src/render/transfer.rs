@@ -17,11 +17,97 @@
 //! `[a, b]` gives zero opacity: it checks that the entries a lookup in that range can touch
 //! (the one below `a` to the one above `b`) are all zero, with a prefix count of non-zero
 //! entries. The fast path skips the samples of such cells, which changes nothing in the image.
+//!
+//! # Gradient opacity
+//! [`GradientOpacity`] is `vtkVolumeProperty`'s gradient opacity: a piecewise-linear function
+//! of the gradient magnitude `|∇s|` (scalar units per world unit) whose value multiplies the
+//! scalar opacity **per unit distance**, before the correction to the step:
+//! `α_step = 1 − (1 − α(s) · g(|∇s|))^(step / unit_distance)` (see
+//! [`TransferTable::unit_opacity`] and [`TransferTable::step_opacity`]), so the image does not
+//! depend on the step for a homogeneous medium. (VTK's GPU mapper multiplies the
+//! step-corrected opacity instead; the two agree to first order in the step, and exactly where
+//! `g` is 0 or 1.) It is held as a fixed table of [`GRADIENT_TABLE_SIZE`] entries so that
+//! [`super::RenderOptions`] stays `Copy`.
 
 use crate::Error;
 
 /// Table entries by default.
 pub const DEFAULT_TABLE_SIZE: usize = 1024;
+
+/// Entries of a [`GradientOpacity`] table.
+pub const GRADIENT_TABLE_SIZE: usize = 128;
+
+/// The gradient opacity function (see the module documentation): `g(|∇s|)` sampled at
+/// [`GRADIENT_TABLE_SIZE`] evenly spaced magnitudes over the span of its points, linear
+/// between entries, constant beyond the ends (VTK's clamping).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GradientOpacity {
+    lo: f64,
+    scale: f64,
+    table: [f32; GRADIENT_TABLE_SIZE],
+}
+
+impl GradientOpacity {
+    /// From `(gradient magnitude, opacity factor)` points in increasing magnitude order,
+    /// factors in `[0, 1]` (a `vtkPiecewiseFunction`'s nodes). A jump (two points at one
+    /// magnitude) becomes a ramp one table entry wide.
+    ///
+    /// ```
+    /// use cylvol::render::GradientOpacity;
+    /// let g = GradientOpacity::new(&[(0.0, 0.0), (2.0, 1.0)]).unwrap();
+    /// assert_eq!(g.at(-1.0), 0.0);
+    /// assert!((g.at(1.0) - 0.5).abs() < 1e-6);
+    /// assert_eq!(g.at(5.0), 1.0);
+    /// assert!(GradientOpacity::new(&[]).is_err());
+    /// ```
+    pub fn new(points: &[(f64, f64)]) -> Result<GradientOpacity, Error> {
+        let bad = |m: &str| Err(Error::Invalid(format!("bad gradient opacity: {m}")));
+        let (Some(first), Some(last)) = (points.first(), points.last()) else {
+            return bad("needs at least one point");
+        };
+        if !points.iter().all(|p| p.0.is_finite()) || !points.windows(2).all(|w| w[0].0 <= w[1].0) {
+            return bad("magnitudes must be finite and in increasing order");
+        }
+        if !points.iter().all(|p| (0.0..=1.0).contains(&p.1)) {
+            return bad("opacity factors must lie in [0, 1]");
+        }
+        let pts: Vec<(f64, [f64; 1])> = points.iter().map(|&(x, a)| (x, [a])).collect();
+        let (lo, hi) = (first.0, last.0);
+        let n = GRADIENT_TABLE_SIZE;
+        let mut table = [0f32; GRADIENT_TABLE_SIZE];
+        for (k, e) in table.iter_mut().enumerate() {
+            let x = lo + (hi - lo) * k as f64 / (n - 1) as f64;
+            *e = piecewise(&pts, x)[0] as f32;
+        }
+        let scale = if hi > lo && ((n - 1) as f64 / (hi - lo)).is_finite() {
+            (n - 1) as f64 / (hi - lo)
+        } else {
+            0.0
+        };
+        Ok(GradientOpacity { lo, scale, table })
+    }
+
+    /// The same factor `g` at every magnitude (in `[0, 1]`).
+    pub fn constant(g: f64) -> Result<GradientOpacity, Error> {
+        GradientOpacity::new(&[(0.0, g)])
+    }
+
+    /// The factor at gradient magnitude `m` (NaN counts as the lowest magnitude).
+    #[inline]
+    pub fn at(&self, m: f64) -> f64 {
+        let x = ((m - self.lo) * self.scale)
+            .max(0.0)
+            .min((GRADIENT_TABLE_SIZE - 1) as f64);
+        let i = (x as usize).min(GRADIENT_TABLE_SIZE - 2);
+        let f = x - i as f64;
+        let (a, b) = (self.table[i] as f64, self.table[i + 1] as f64);
+        if a == b {
+            a
+        } else {
+            a + (b - a) * f
+        }
+    }
+}
 
 /// A piecewise-linear colour and opacity transfer function.
 #[derive(Clone, Debug, PartialEq)]
@@ -151,6 +237,7 @@ impl TransferFunction {
         let exponent = step / self.unit_distance;
         let opacity: Vec<(f64, [f64; 1])> = self.opacity.iter().map(|&(x, a)| (x, [a])).collect();
         let mut rgba = Vec::with_capacity(n);
+        let mut unit = Vec::with_capacity(n);
         let mut nonzero_prefix = Vec::with_capacity(n + 1);
         nonzero_prefix.push(0u32);
         for k in 0..n {
@@ -163,6 +250,7 @@ impl TransferFunction {
                 1.0 - (1.0 - a).powf(exponent)
             };
             rgba.push([c[0], c[1], c[2], a_step]);
+            unit.push(a);
             let last = nonzero_prefix[k];
             nonzero_prefix.push(last + u32::from(a_step > 0.0));
         }
@@ -175,6 +263,8 @@ impl TransferFunction {
             lo,
             scale,
             rgba,
+            unit,
+            exponent,
             nonzero_prefix,
         })
     }
@@ -186,6 +276,10 @@ pub struct TransferTable {
     lo: f64,
     scale: f64,
     rgba: Vec<[f64; 4]>,
+    /// The opacity per unit distance at each entry (uncorrected).
+    unit: Vec<f64>,
+    /// `step / unit_distance`.
+    exponent: f64,
     nonzero_prefix: Vec<u32>,
 }
 
@@ -223,6 +317,28 @@ impl TransferTable {
         ]
     }
 
+    /// The opacity per unit distance at scalar `s` (uncorrected; linear between entries).
+    #[inline]
+    pub fn unit_opacity(&self, s: f64) -> f64 {
+        let x = self.position(s);
+        let i = (x as usize).min(self.unit.len() - 2);
+        let f = x - i as f64;
+        let (a, b) = (self.unit[i], self.unit[i + 1]);
+        a + (b - a) * f
+    }
+
+    /// An opacity per unit distance corrected to the step: `1 − (1 − α)^(step / unit)`.
+    #[inline]
+    pub fn step_opacity(&self, alpha_unit: f64) -> f64 {
+        if alpha_unit >= 1.0 {
+            1.0
+        } else if alpha_unit > 0.0 {
+            -(self.exponent * (-alpha_unit).ln_1p()).exp_m1()
+        } else {
+            0.0
+        }
+    }
+
     /// Whether every lookup of a scalar in `[a, b]` has zero opacity.
     #[inline]
     pub fn transparent_over(&self, a: f64, b: f64) -> bool {
@@ -249,6 +365,32 @@ mod tests {
         assert!(!t.transparent_over(0.0, 1.01));
         assert!(!t.transparent_over(3.0, 3.0));
         assert!(t.lookup(f64::NAN)[3] == 0.0);
+    }
+
+    #[test]
+    fn unit_opacity_and_its_correction() {
+        let tf = TransferFunction::default_for_range(0.0, 4.0, 0.5, 2.0);
+        let t = tf.table(0.0, 4.0, 0.5, 64).unwrap();
+        for s in [0.0, 1.5, 2.2, 3.9, 4.0] {
+            assert!((t.unit_opacity(s) - tf.opacity_at(s)).abs() < 1e-12);
+        }
+        let entry = 4.0 * 50.0 / 63.0;
+        assert!((t.step_opacity(t.unit_opacity(entry)) - t.lookup(entry)[3]).abs() < 1e-14);
+        assert_eq!(t.step_opacity(0.0), 0.0);
+        assert_eq!(t.step_opacity(1.0), 1.0);
+    }
+
+    #[test]
+    fn gradient_opacity_table() {
+        let g = GradientOpacity::new(&[(1.0, 0.0), (1.0, 1.0), (3.0, 0.5)]).unwrap();
+        assert_eq!(g.at(0.0), 0.0);
+        assert_eq!(g.at(f64::NAN), 0.0);
+        assert_eq!(g.at(3.0), 0.5);
+        assert!((g.at(2.0) - 0.75).abs() < 0.01);
+        assert_eq!(GradientOpacity::constant(1.0).unwrap().at(7.0), 1.0);
+        assert!(GradientOpacity::new(&[(1.0, 0.0), (0.0, 1.0)]).is_err());
+        assert!(GradientOpacity::new(&[(0.0, 1.5)]).is_err());
+        assert!(GradientOpacity::new(&[(f64::NAN, 1.0)]).is_err());
     }
 
     #[test]

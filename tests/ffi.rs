@@ -1,0 +1,1573 @@
+//! The C ABI called as C would call it: every error path, ownership, and renders checked
+//! against the Rust API, the Beer–Lambert law and each other (formats, row order, input
+//! types, depth in both camera modes).
+
+use std::ffi::CStr;
+use std::ptr::{null, null_mut};
+
+use cylvol::accel::{Accel, AccelParams, StructureKind};
+use cylvol::axis::Axis;
+use cylvol::ffi::*;
+use cylvol::mesh::topology::FaceNeighbors;
+use cylvol::mesh::{cells_from_vtk, OffsetStyle};
+use cylvol::render::{
+    Camera, RenderOptions, Renderer, TransferFunction, Volume, DEFAULT_TABLE_SIZE,
+};
+use cylvol::{DataArray, Mesh, MeshParts};
+use glam::DVec3;
+
+use CylvolStatus as S;
+
+/// Caller arrays of a mesh, as `vtkCellArray` holds them.
+#[derive(Clone)]
+struct Arrays {
+    points: Vec<f64>,
+    offsets: Vec<i64>,
+    conn: Vec<i64>,
+    types: Vec<u8>,
+}
+
+impl Arrays {
+    fn n_points(&self) -> usize {
+        self.points.len() / 3
+    }
+    fn n_cells(&self) -> usize {
+        self.types.len()
+    }
+    fn push_cell(&mut self, code: u8, ids: &[i64]) {
+        self.conn.extend_from_slice(ids);
+        self.offsets.push(self.conn.len() as i64);
+        self.types.push(code);
+    }
+}
+
+/// The unit cube `[0, 1]³` cut into `n³` hexahedra.
+fn cube(n: usize) -> Arrays {
+    let mut a = Arrays {
+        points: Vec::new(),
+        offsets: vec![0],
+        conn: Vec::new(),
+        types: Vec::new(),
+    };
+    let m = n + 1;
+    for k in 0..m {
+        for j in 0..m {
+            for i in 0..m {
+                a.points.extend([
+                    i as f64 / n as f64,
+                    j as f64 / n as f64,
+                    k as f64 / n as f64,
+                ]);
+            }
+        }
+    }
+    let id = |i: usize, j: usize, k: usize| (i + m * (j + m * k)) as i64;
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                a.push_cell(
+                    12,
+                    &[
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ],
+                );
+            }
+        }
+    }
+    a
+}
+
+/// A few hexahedra of an annulus sector about z, then a wedge and a tetrahedron on top.
+fn sector_with_wedge_and_tet() -> Arrays {
+    let mut a = Arrays {
+        points: Vec::new(),
+        offsets: vec![0],
+        conn: Vec::new(),
+        types: Vec::new(),
+    };
+    let (nr, nt) = (2usize, 3usize);
+    for k in 0..2 {
+        for j in 0..=nt {
+            for i in 0..=nr {
+                let r = 1.0 + 0.5 * i as f64;
+                let t = 0.3 * j as f64;
+                a.points.extend([r * t.cos(), r * t.sin(), 0.5 * k as f64]);
+            }
+        }
+    }
+    let id = |i: usize, j: usize, k: usize| (i + (nr + 1) * (j + (nt + 1) * k)) as i64;
+    for j in 0..nt {
+        for i in 0..nr {
+            a.push_cell(
+                12,
+                &[
+                    id(i, j, 0),
+                    id(i + 1, j, 0),
+                    id(i + 1, j + 1, 0),
+                    id(i, j + 1, 0),
+                    id(i, j, 1),
+                    id(i + 1, j, 1),
+                    id(i + 1, j + 1, 1),
+                    id(i, j + 1, 1),
+                ],
+            );
+        }
+    }
+    // A wedge on the top face of cell (0, 0): triangle (p0, p1, p2) extruded upwards.
+    let top = a.n_points() as i64;
+    let base = [id(0, 0, 1), id(1, 0, 1), id(0, 1, 1)];
+    for &b in &base {
+        let p = &a.points[b as usize * 3..b as usize * 3 + 3].to_vec();
+        a.points.extend([p[0], p[1], p[2] + 0.5]);
+    }
+    a.push_cell(13, &[base[0], base[1], base[2], top, top + 1, top + 2]);
+    // A tetrahedron on the top face of cell (1, 2).
+    let apex = a.n_points() as i64;
+    a.points
+        .extend([1.75 * 0.75f64.cos(), 1.75 * 0.75f64.sin(), 0.9]);
+    a.push_cell(10, &[id(1, 2, 1), id(2, 2, 1), id(1, 3, 1), apex]);
+    a
+}
+
+fn last_error() -> String {
+    unsafe { CStr::from_ptr(cylvol_last_error()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// `cylvol_mesh_new` on the arrays as f64 points and i64 indices.
+fn new_mesh(a: &Arrays) -> (CylvolStatus, *mut CylvolMesh) {
+    let mut out = 0x10 as *mut CylvolMesh;
+    let s = unsafe {
+        cylvol_mesh_new(
+            a.points.as_ptr().cast(),
+            CylvolValueType::F64.into(),
+            a.n_points(),
+            a.offsets.as_ptr().cast(),
+            a.conn.as_ptr().cast(),
+            CylvolIndexType::I64.into(),
+            a.conn.len(),
+            a.types.as_ptr(),
+            a.n_cells(),
+            &mut out,
+        )
+    };
+    if s != S::Ok {
+        assert!(out.is_null(), "*out must be NULL after a failure");
+    }
+    (s, out)
+}
+
+fn set_scalars(m: *mut CylvolMesh, values: &[f64], assoc: CylvolAssociation) -> CylvolStatus {
+    unsafe {
+        cylvol_mesh_set_scalars(
+            m,
+            c"s".as_ptr(),
+            assoc.into(),
+            values.as_ptr().cast(),
+            CylvolValueType::F64.into(),
+            values.len(),
+            1,
+            0,
+        )
+    }
+}
+
+/// A point scalar varying over the mesh.
+fn field(a: &Arrays) -> Vec<f64> {
+    a.points
+        .chunks(3)
+        .map(|p| p[0] + 2.0 * p[1] + 0.5 * p[2] * p[2])
+        .collect()
+}
+
+/// A mesh handle with the point scalar `field`.
+fn mesh_with_field(a: &Arrays) -> *mut CylvolMesh {
+    let (s, m) = new_mesh(a);
+    assert_eq!(s, S::Ok, "{}", last_error());
+    assert_eq!(
+        set_scalars(m, &field(a), CylvolAssociation::POINT_DATA),
+        S::Ok
+    );
+    m
+}
+
+fn cart_bvh_params() -> CylvolBuildParams {
+    CylvolBuildParams {
+        structure: CylvolStructure::CartesianBvh.into(),
+        axis_auto: 0,
+        axis_origin: [0.0; 3],
+        axis_direction: [0.0, 0.0, 1.0],
+        preset: 0,
+    }
+}
+
+fn new_volume(m: *const CylvolMesh, p: *const CylvolBuildParams) -> *mut CylvolVolume {
+    let mut v = null_mut();
+    let s = unsafe { cylvol_volume_new(m, p, &mut v) };
+    assert_eq!(s, S::Ok, "{}", last_error());
+    v
+}
+
+/// Tables for the transfer function: colours and opacities over `range`.
+struct Tables {
+    rgb: Vec<f32>,
+    opacity: Vec<f32>,
+    range: [f64; 2],
+    unit: f64,
+}
+
+impl Tables {
+    fn ramp(range: [f64; 2]) -> Tables {
+        Tables {
+            rgb: vec![
+                0.1, 0.2, 0.9, 0.9, 0.9, 0.9, 0.8, 0.1, 0.1, 1.0, 0.5, 0.0, 0.3, 0.3, 0.3,
+            ],
+            opacity: vec![0.0, 0.2, 0.6, 0.3, 0.9],
+            range,
+            unit: 0.4,
+        }
+    }
+    fn constant(opacity: f32) -> Tables {
+        Tables {
+            rgb: vec![1.0, 0.5, 0.25, 1.0, 0.5, 0.25],
+            opacity: vec![opacity, opacity],
+            range: [0.0, 1.0],
+            unit: 1.0,
+        }
+    }
+    fn c(&self) -> CylvolTransfer {
+        CylvolTransfer {
+            rgb: self.rgb.as_ptr(),
+            n_color: self.rgb.len() / 3,
+            opacity: self.opacity.as_ptr(),
+            n_opacity: self.opacity.len(),
+            range: self.range,
+            unit_distance: self.unit,
+            gradient_opacity: null(),
+            n_gradient_opacity: 0,
+            gradient_range: [0.0, 1.0],
+        }
+    }
+    /// The same function for the Rust API.
+    fn function(&self) -> TransferFunction {
+        let [lo, hi] = self.range;
+        let at = |k: usize, n: usize| lo + (hi - lo) * k as f64 / (n - 1) as f64;
+        let nc = self.rgb.len() / 3;
+        TransferFunction {
+            color: (0..nc)
+                .map(|k| {
+                    let c = &self.rgb[3 * k..3 * k + 3];
+                    (at(k, nc), [c[0] as f64, c[1] as f64, c[2] as f64])
+                })
+                .collect(),
+            opacity: (0..self.opacity.len())
+                .map(|k| (at(k, self.opacity.len()), self.opacity[k] as f64))
+                .collect(),
+            unit_distance: self.unit,
+        }
+    }
+}
+
+fn look_at(eye: [f64; 3], focal: [f64; 3], parallel: Option<f64>) -> CylvolCamera {
+    CylvolCamera {
+        eye,
+        focal_point: focal,
+        view_up: [0.0, 1.0, 0.0],
+        parallel: i32::from(parallel.is_some()),
+        parallel_scale: parallel.unwrap_or(1.0),
+        view_angle: 35.0,
+        ..CylvolCamera::default()
+    }
+}
+
+fn params(width: u32, height: u32) -> CylvolRenderParams {
+    CylvolRenderParams {
+        width,
+        height,
+        ..CylvolRenderParams::default()
+    }
+}
+
+struct Out {
+    status: CylvolStatus,
+    f32: Vec<f32>,
+    depth: Vec<f32>,
+}
+
+fn render_f32(
+    v: *mut CylvolVolume,
+    c: &CylvolCamera,
+    t: &CylvolTransfer,
+    p: &CylvolRenderParams,
+    depth_in: Option<&[f32]>,
+) -> Out {
+    let n = p.width as usize * p.height as usize;
+    let mut px = vec![-1f32; n * 4];
+    let mut depth = vec![-1f32; n];
+    let status = unsafe {
+        cylvol_render(
+            v,
+            c,
+            t,
+            p,
+            depth_in.map_or(null(), |d| d.as_ptr()),
+            depth.as_mut_ptr(),
+            CylvolPixelFormat::RGBA_F32.into(),
+            px.as_mut_ptr().cast(),
+            px.len(),
+        )
+    };
+    Out {
+        status,
+        f32: px,
+        depth,
+    }
+}
+
+fn render_u8(
+    v: *mut CylvolVolume,
+    c: &CylvolCamera,
+    t: &CylvolTransfer,
+    p: &CylvolRenderParams,
+) -> Vec<u8> {
+    let mut px = vec![7u8; p.width as usize * p.height as usize * 4];
+    let s = unsafe {
+        cylvol_render(
+            v,
+            c,
+            t,
+            p,
+            null(),
+            null_mut(),
+            CylvolPixelFormat::RGBA8.into(),
+            px.as_mut_ptr().cast(),
+            px.len(),
+        )
+    };
+    assert_eq!(s, S::Ok, "{}", last_error());
+    px
+}
+
+#[test]
+fn version_and_status_messages() {
+    let v = unsafe { CStr::from_ptr(cylvol_version()) };
+    assert_eq!(v.to_str().unwrap(), env!("CARGO_PKG_VERSION"));
+    let ok = unsafe { CStr::from_ptr(cylvol_status_message(S::Ok.into())) };
+    assert_eq!(ok.to_str().unwrap(), "ok");
+    let unknown = unsafe { CStr::from_ptr(cylvol_status_message(StatusCode(77))) };
+    assert_eq!(unknown.to_str().unwrap(), "unknown status");
+}
+
+#[test]
+fn free_accepts_null() {
+    unsafe {
+        cylvol_mesh_free(null_mut());
+        cylvol_volume_free(null_mut());
+        cylvol_camera_default(null_mut());
+        cylvol_build_params_default(null_mut());
+        cylvol_render_params_default(null_mut());
+    }
+}
+
+#[test]
+fn defaults_are_filled_in() {
+    let mut b = cart_bvh_params();
+    let mut p = params(1, 1);
+    let mut c = look_at([9.0; 3], [1.0; 3], Some(3.0));
+    unsafe {
+        cylvol_build_params_default(&mut b);
+        cylvol_render_params_default(&mut p);
+        cylvol_camera_default(&mut c);
+    }
+    assert_eq!(b, CylvolBuildParams::default());
+    assert_eq!(b.structure, CylvolStructure::Auto.into());
+    assert_eq!(b.axis_auto, 1);
+    assert_eq!((p.width, p.height, p.step), (512, 512, 0.0));
+    assert_eq!(p.early_termination, 0.99);
+    assert_eq!(c.mode, CylvolCameraMode::LOOK_AT.into());
+    assert_eq!(c.view_angle, 30.0);
+}
+
+#[test]
+fn mesh_new_reports_every_bad_input() {
+    let good = cube(2);
+    let call = |a: &Arrays, f: &dyn Fn(&mut [*const u8; 4], &mut i32, &mut i32)| {
+        let mut ptrs = [
+            a.points.as_ptr().cast::<u8>(),
+            a.offsets.as_ptr().cast(),
+            a.conn.as_ptr().cast(),
+            a.types.as_ptr(),
+        ];
+        let (mut pt, mut it) = (1, 1);
+        f(&mut ptrs, &mut pt, &mut it);
+        let mut out = null_mut();
+        let s = unsafe {
+            cylvol_mesh_new(
+                ptrs[0].cast(),
+                ValueTypeCode(pt),
+                a.n_points(),
+                ptrs[1].cast(),
+                ptrs[2].cast(),
+                IndexTypeCode(it),
+                a.conn.len(),
+                ptrs[3],
+                a.n_cells(),
+                &mut out,
+            )
+        };
+        assert!(out.is_null() || s == S::Ok);
+        unsafe { cylvol_mesh_free(out) };
+        s
+    };
+    assert_eq!(call(&good, &|_, _, _| {}), S::Ok);
+    for k in 0..4 {
+        assert_eq!(call(&good, &|p, _, _| p[k] = null()), S::NullPointer);
+        assert!(
+            last_error().starts_with("cylvol_mesh_new: "),
+            "{}",
+            last_error()
+        );
+        assert!(last_error().contains("is NULL"));
+    }
+    assert_eq!(call(&good, &|_, t, _| *t = 2), S::InvalidArgument);
+    assert!(last_error().contains("points_type = 2"), "{}", last_error());
+    assert_eq!(call(&good, &|_, _, t| *t = -1), S::InvalidArgument);
+    let s = unsafe {
+        cylvol_mesh_new(
+            good.points.as_ptr().cast(),
+            CylvolValueType::F64.into(),
+            good.n_points(),
+            good.offsets.as_ptr().cast(),
+            good.conn.as_ptr().cast(),
+            CylvolIndexType::I64.into(),
+            good.conn.len(),
+            good.types.as_ptr(),
+            good.n_cells(),
+            null_mut(),
+        )
+    };
+    assert_eq!(s, S::NullPointer);
+
+    let mut nan = good.clone();
+    nan.points[7] = f64::NAN;
+    assert_eq!(new_mesh(&nan).0, S::InvalidArgument);
+    assert!(last_error().contains("points[7] = NaN"), "{}", last_error());
+    let mut inf = good.clone();
+    inf.points[0] = f64::INFINITY;
+    assert_eq!(new_mesh(&inf).0, S::InvalidArgument);
+
+    let mut far = good.clone();
+    far.conn[3] = 1000;
+    assert_eq!(new_mesh(&far).0, S::OutOfRange);
+    assert!(last_error().contains("1000"), "{}", last_error());
+    let mut negative = good.clone();
+    negative.conn[0] = -1;
+    assert_eq!(new_mesh(&negative).0, S::OutOfRange);
+    let mut decreasing = good.clone();
+    decreasing.offsets[2] = 4;
+    assert_eq!(new_mesh(&decreasing).0, S::OutOfRange);
+    let mut first = good.clone();
+    first.offsets[0] = 1;
+    assert_eq!(new_mesh(&first).0, S::InvalidArgument);
+    let mut last = good.clone();
+    last.conn.push(0);
+    assert_eq!(new_mesh(&last).0, S::LengthMismatch);
+    let mut tet8 = good.clone();
+    tet8.types[0] = 10;
+    assert_eq!(new_mesh(&tet8).0, S::LengthMismatch);
+    let mut triangle = good.clone();
+    triangle.types[1] = 5;
+    assert_eq!(new_mesh(&triangle).0, S::UnsupportedCell);
+    assert!(last_error().contains("triangle"), "{}", last_error());
+    let empty = Arrays {
+        points: vec![],
+        offsets: vec![0],
+        conn: vec![],
+        types: vec![],
+    };
+    assert_eq!(new_mesh(&empty).0, S::InvalidMesh);
+    let mut inverted = cube(1);
+    inverted.conn.swap(0, 4);
+    inverted.conn.swap(1, 5);
+    inverted.conn.swap(2, 6);
+    inverted.conn.swap(3, 7);
+    assert_eq!(new_mesh(&inverted).0, S::InvalidMesh);
+    assert!(last_error().contains("inverted"), "{}", last_error());
+}
+
+#[test]
+fn thirty_two_bit_indices_and_float_points_give_the_same_mesh() {
+    let a = sector_with_wedge_and_tet();
+    let (s, m64) = new_mesh(&a);
+    assert_eq!(s, S::Ok, "{}", last_error());
+    let p32: Vec<f32> = a.points.iter().map(|&v| v as f32).collect();
+    let o32: Vec<i32> = a.offsets.iter().map(|&v| v as i32).collect();
+    let c32: Vec<i32> = a.conn.iter().map(|&v| v as i32).collect();
+    let mut m32 = null_mut();
+    let s = unsafe {
+        cylvol_mesh_new(
+            p32.as_ptr().cast(),
+            CylvolValueType::F32.into(),
+            a.n_points(),
+            o32.as_ptr().cast(),
+            c32.as_ptr().cast(),
+            CylvolIndexType::I32.into(),
+            c32.len(),
+            a.types.as_ptr(),
+            a.n_cells(),
+            &mut m32,
+        )
+    };
+    assert_eq!(s, S::Ok, "{}", last_error());
+    let (mut np, mut nc) = (0, 0);
+    assert_eq!(unsafe { cylvol_mesh_counts(m32, &mut np, &mut nc) }, S::Ok);
+    assert_eq!((np, nc), (a.n_points(), 8));
+    let (mut b64, mut b32) = ([0.0; 6], [0.0; 6]);
+    unsafe {
+        assert_eq!(cylvol_mesh_bounds(m64, b64.as_mut_ptr()), S::Ok);
+        assert_eq!(cylvol_mesh_bounds(m32, b32.as_mut_ptr()), S::Ok);
+    }
+    for k in 0..6 {
+        assert!((b64[k] - b32[k]).abs() < 1e-6, "{b64:?} {b32:?}");
+    }
+    assert_eq!(b64[5], 1.0, "the wedge's top");
+    assert_eq!(
+        unsafe { cylvol_mesh_counts(m32, null_mut(), &mut nc) },
+        S::NullPointer
+    );
+    assert_eq!(
+        unsafe { cylvol_mesh_bounds(null(), b32.as_mut_ptr()) },
+        S::NullPointer
+    );
+    assert_eq!(
+        unsafe { cylvol_mesh_bounds(m32, null_mut()) },
+        S::NullPointer
+    );
+    unsafe {
+        cylvol_mesh_free(m32);
+        cylvol_mesh_free(m64);
+    }
+}
+
+#[test]
+fn set_scalars_reports_every_bad_input_and_picks_components() {
+    let a = cube(2);
+    let (_, m) = new_mesh(&a);
+    let mut range = [0.0; 2];
+    assert_eq!(
+        unsafe { cylvol_mesh_scalar_range(m, range.as_mut_ptr()) },
+        S::NoScalars
+    );
+    let n = a.n_points();
+    let vectors: Vec<f64> = (0..n).flat_map(|i| [i as f64, 3.0, -4.0]).collect();
+    let call = |values: &[f64], assoc: i32, vt: i32, tuples: usize, comps: usize, comp: i32| unsafe {
+        cylvol_mesh_set_scalars(
+            m,
+            null(),
+            AssociationCode(assoc),
+            if values.is_empty() {
+                null()
+            } else {
+                values.as_ptr().cast()
+            },
+            ValueTypeCode(vt),
+            tuples,
+            comps,
+            comp,
+        )
+    };
+    assert_eq!(call(&[], 0, 1, n, 3, 0), S::NullPointer);
+    assert_eq!(call(&vectors, 2, 1, n, 3, 0), S::InvalidArgument);
+    assert_eq!(call(&vectors, 0, 5, n, 3, 0), S::InvalidArgument);
+    assert_eq!(call(&vectors, 0, 1, n, 0, 0), S::InvalidArgument);
+    assert_eq!(call(&vectors, 0, 1, n - 1, 3, 0), S::LengthMismatch);
+    assert_eq!(
+        call(&vectors, 1, 1, n, 3, 0),
+        S::LengthMismatch,
+        "cell data"
+    );
+    assert_eq!(call(&vectors, 0, 1, n, 3, 3), S::OutOfRange);
+    assert_eq!(call(&vectors, 0, 1, n, 3, -2), S::OutOfRange);
+    assert!(last_error().contains("component -2"), "{}", last_error());
+    let mut nan = vectors.clone();
+    nan[5] = f64::NAN;
+    assert_eq!(call(&nan, 0, 1, n, 3, 0), S::InvalidArgument);
+    assert!(last_error().contains("values[5]"), "{}", last_error());
+    assert_eq!(
+        unsafe {
+            cylvol_mesh_set_scalars(
+                null_mut(),
+                null(),
+                AssociationCode(0),
+                vectors.as_ptr().cast(),
+                ValueTypeCode(1),
+                n,
+                3,
+                0,
+            )
+        },
+        S::NullPointer
+    );
+    // Still no scalars after the failures.
+    assert_eq!(
+        unsafe { cylvol_mesh_scalar_range(m, range.as_mut_ptr()) },
+        S::NoScalars
+    );
+    // Component 0: the index; 1: constant 3; −1: the magnitude √(i² + 25).
+    assert_eq!(call(&vectors, 0, 1, n, 3, 0), S::Ok);
+    unsafe { cylvol_mesh_scalar_range(m, range.as_mut_ptr()) };
+    assert_eq!(range, [0.0, (n - 1) as f64]);
+    assert_eq!(call(&vectors, 0, 1, n, 3, 1), S::Ok);
+    unsafe { cylvol_mesh_scalar_range(m, range.as_mut_ptr()) };
+    assert_eq!(range, [3.0, 3.0]);
+    assert_eq!(call(&vectors, 0, 1, n, 3, -1), S::Ok);
+    unsafe { cylvol_mesh_scalar_range(m, range.as_mut_ptr()) };
+    assert_eq!(range, [5.0, (((n - 1) * (n - 1)) as f64 + 25.0).sqrt()]);
+    // A one-component array: 0 and −1 both mean the value (not its absolute value).
+    let cell: Vec<f64> = (0..a.n_cells()).map(|c| -(c as f64)).collect();
+    assert_eq!(call(&cell, 1, 1, a.n_cells(), 1, -1), S::Ok);
+    unsafe { cylvol_mesh_scalar_range(m, range.as_mut_ptr()) };
+    assert_eq!(range, [-7.0, 0.0]);
+    assert_eq!(call(&cell, 1, 1, a.n_cells(), 1, 1), S::OutOfRange);
+    let floats: Vec<f32> = cell.iter().map(|&v| v as f32 * 0.5).collect();
+    assert_eq!(
+        unsafe {
+            cylvol_mesh_set_scalars(
+                m,
+                c"half".as_ptr(),
+                CylvolAssociation::CELL_DATA.into(),
+                floats.as_ptr().cast(),
+                CylvolValueType::F32.into(),
+                floats.len(),
+                1,
+                0,
+            )
+        },
+        S::Ok
+    );
+    unsafe { cylvol_mesh_scalar_range(m, range.as_mut_ptr()) };
+    assert_eq!(range, [-3.5, 0.0]);
+    assert_eq!(
+        unsafe { cylvol_mesh_scalar_range(m, null_mut()) },
+        S::NullPointer
+    );
+    unsafe { cylvol_mesh_free(m) };
+}
+
+#[test]
+fn volume_new_reports_bad_parameters_and_builds_every_structure() {
+    let a = sector_with_wedge_and_tet();
+    let m = mesh_with_field(&a);
+    let mut out = null_mut();
+    let p = CylvolBuildParams::default();
+    assert_eq!(
+        unsafe { cylvol_volume_new(null(), &p, &mut out) },
+        S::NullPointer
+    );
+    assert_eq!(
+        unsafe { cylvol_volume_new(m, &p, null_mut()) },
+        S::NullPointer
+    );
+    for bad in [
+        CylvolBuildParams {
+            structure: StructureCode(5),
+            ..p
+        },
+        CylvolBuildParams { preset: 9, ..p },
+        CylvolBuildParams {
+            axis_auto: 0,
+            axis_direction: [0.0; 3],
+            ..p
+        },
+        CylvolBuildParams {
+            axis_auto: 0,
+            axis_origin: [f64::NAN, 0.0, 0.0],
+            ..p
+        },
+    ] {
+        assert_eq!(
+            unsafe { cylvol_volume_new(m, &bad, &mut out) },
+            S::InvalidArgument
+        );
+        assert!(out.is_null());
+        assert!(last_error().starts_with("cylvol_volume_new: "));
+    }
+    let mut stats = CylvolBuildStats {
+        structure: CylvolStructure::Auto,
+        build_seconds: -1.0,
+        bytes: 0,
+        cells: 0,
+        axis_origin: [0.0; 3],
+        axis_direction: [0.0; 3],
+        axis_clear: -1,
+        area_ratio: -1.0,
+    };
+    // AUTO (NULL params = defaults) on a sector about z: the cylindrical BVH, about z.
+    let v = new_volume(m, null());
+    assert_eq!(unsafe { cylvol_volume_build_stats(v, &mut stats) }, S::Ok);
+    assert_ne!(stats.structure, CylvolStructure::Auto);
+    assert_eq!(stats.cells, 8);
+    assert!(stats.bytes > 0 && stats.build_seconds >= 0.0);
+    assert!(stats.area_ratio > 0.0, "AUTO measures the ratio");
+    let mut step = 0.0;
+    assert_eq!(unsafe { cylvol_volume_default_step(v, &mut step) }, S::Ok);
+    assert!(step > 0.0 && step < 1.0);
+    assert_eq!(
+        unsafe { cylvol_volume_default_step(v, null_mut()) },
+        S::NullPointer
+    );
+    assert_eq!(
+        unsafe { cylvol_volume_build_stats(null(), &mut stats) },
+        S::NullPointer
+    );
+    unsafe { cylvol_volume_free(v) };
+    for (code, kind) in [
+        (1, CylvolStructure::CartesianGrid),
+        (2, CylvolStructure::CylindricalGrid),
+        (3, CylvolStructure::CartesianBvh),
+        (4, CylvolStructure::CylindricalBvh),
+    ] {
+        for preset in 0..=4 {
+            let p = CylvolBuildParams {
+                structure: StructureCode(code),
+                axis_auto: 0,
+                axis_origin: [0.0; 3],
+                axis_direction: [0.0, 0.0, -2.0],
+                preset,
+            };
+            let v = new_volume(m, &p);
+            unsafe { cylvol_volume_build_stats(v, &mut stats) };
+            assert_eq!(stats.structure, kind);
+            assert_eq!(stats.axis_direction, [0.0, 0.0, 1.0]);
+            assert_eq!(stats.area_ratio, 0.0);
+            unsafe { cylvol_volume_free(v) };
+        }
+    }
+    unsafe { cylvol_mesh_free(m) };
+}
+
+#[test]
+fn render_reports_every_bad_input() {
+    let a = cube(2);
+    let m = mesh_with_field(&a);
+    let v = new_volume(m, &cart_bvh_params());
+    let (_, none) = new_mesh(&a);
+    let bare = new_volume(none, &cart_bvh_params());
+    unsafe {
+        cylvol_mesh_free(m);
+        cylvol_mesh_free(none);
+    }
+    let tables = Tables::ramp([0.0, 3.5]);
+    let t = tables.c();
+    let c = look_at([0.5, 0.5, 4.0], [0.5, 0.5, 0.5], None);
+    let p = params(6, 5);
+    assert_eq!(render_f32(v, &c, &t, &p, None).status, S::Ok);
+    let check = |status: CylvolStatus, out: Out, needle: &str| {
+        assert_eq!(out.status, status, "{}", last_error());
+        assert!(
+            last_error().starts_with("cylvol_render: "),
+            "{}",
+            last_error()
+        );
+        assert!(last_error().contains(needle), "{needle}: {}", last_error());
+    };
+    check(
+        S::NoScalars,
+        render_f32(bare, &c, &t, &p, None),
+        "no scalar",
+    );
+    let detail = unsafe { CStr::from_ptr(cylvol_volume_last_error(bare)) };
+    assert!(detail.to_str().unwrap().contains("no scalar"));
+    check(
+        S::NullPointer,
+        render_f32(null_mut(), &c, &t, &p, None),
+        "volume",
+    );
+    let mut px = vec![0f32; 120];
+    let raw = |cam: *const CylvolCamera,
+               tr: *const CylvolTransfer,
+               pa: *const CylvolRenderParams,
+               format: i32,
+               pixels: *mut f32,
+               len: usize| unsafe {
+        cylvol_render(
+            v,
+            cam,
+            tr,
+            pa,
+            null(),
+            null_mut(),
+            PixelFormatCode(format),
+            pixels.cast(),
+            len,
+        )
+    };
+    assert_eq!(raw(null(), &t, &p, 1, px.as_mut_ptr(), 120), S::NullPointer);
+    assert_eq!(raw(&c, null(), &p, 1, px.as_mut_ptr(), 120), S::NullPointer);
+    assert_eq!(raw(&c, &t, null(), 1, px.as_mut_ptr(), 120), S::NullPointer);
+    assert_eq!(raw(&c, &t, &p, 1, null_mut(), 120), S::NullPointer);
+    assert_eq!(raw(&c, &t, &p, 2, px.as_mut_ptr(), 120), S::InvalidArgument);
+    assert_eq!(raw(&c, &t, &p, 1, px.as_mut_ptr(), 119), S::LengthMismatch);
+    assert!(last_error().contains("pixels_len = 119"));
+    assert_eq!(raw(&c, &t, &p, 1, px.as_mut_ptr(), 120), S::Ok);
+
+    let bad_params: Vec<(CylvolRenderParams, &str)> = vec![
+        (params(0, 5), "image size"),
+        (params(6, 0), "image size"),
+        (
+            CylvolRenderParams {
+                path: PathCode(7),
+                ..p
+            },
+            "params->path",
+        ),
+        (
+            CylvolRenderParams {
+                interpolation: InterpolationCode(3),
+                ..p
+            },
+            "params->interpolation",
+        ),
+        (
+            CylvolRenderParams {
+                step: f64::NAN,
+                ..p
+            },
+            "step",
+        ),
+        (
+            CylvolRenderParams {
+                early_termination: f64::NAN,
+                ..p
+            },
+            "early_termination",
+        ),
+        (
+            CylvolRenderParams {
+                shading: 1,
+                specular_power: f64::INFINITY,
+                ..p
+            },
+            "specular_power",
+        ),
+        (
+            CylvolRenderParams {
+                shading: 1,
+                diffuse: -1.0,
+                ..p
+            },
+            "diffuse",
+        ),
+    ];
+    for (bad, needle) in bad_params {
+        let n = (bad.width as usize * bad.height as usize * 4).max(4);
+        let mut px = vec![0f32; n];
+        let s = raw(&c, &t, &bad, 1, px.as_mut_ptr(), n);
+        assert_eq!(s, S::InvalidArgument, "{needle}");
+        assert!(last_error().contains(needle), "{needle}: {}", last_error());
+    }
+
+    let mut cams: Vec<(CylvolCamera, &str)> = Vec::new();
+    let mut nan_eye = c;
+    nan_eye.eye[1] = f64::NAN;
+    cams.push((nan_eye, "camera->eye[1]"));
+    cams.push((look_at([0.5; 3], [0.5; 3], None), "degenerate"));
+    let mut angle = c;
+    angle.view_angle = 180.0;
+    cams.push((angle, "view_angle"));
+    cams.push((
+        look_at([0.5, 0.5, 4.0], [0.5; 3], Some(0.0)),
+        "parallel_scale",
+    ));
+    let mut mode = c;
+    mode.mode = CameraModeCode(2);
+    cams.push((mode, "camera->mode"));
+    let mut singular = c;
+    singular.mode = CylvolCameraMode::MATRICES.into();
+    singular.projection = [0.0; 16];
+    cams.push((singular, "singular"));
+    let mut nan_matrix = singular;
+    nan_matrix.view[3] = f64::NAN;
+    cams.push((nan_matrix, "camera->view[3]"));
+    for (cam, needle) in cams {
+        check(
+            S::InvalidArgument,
+            render_f32(v, &cam, &t, &p, None),
+            needle,
+        );
+    }
+
+    let mut trs: Vec<(Tables, &str)> = Vec::new();
+    let mut nan = Tables::ramp([0.0, 3.5]);
+    nan.rgb[4] = f32::NAN;
+    trs.push((nan, "transfer->rgb[4]"));
+    let mut above = Tables::ramp([0.0, 3.5]);
+    above.opacity[2] = 1.5;
+    trs.push((above, "transfer->opacity[2] = 1.5"));
+    let mut short = Tables::ramp([0.0, 3.5]);
+    short.opacity.truncate(1);
+    trs.push((short, "at least 2"));
+    trs.push((Tables::ramp([f64::NAN, 1.0]), "transfer->range"));
+    trs.push((Tables::ramp([2.0, 1.0]), "reversed"));
+    let mut unit = Tables::ramp([0.0, 1.0]);
+    unit.unit = 0.0;
+    trs.push((unit, "unit_distance"));
+    for (tables, needle) in &trs {
+        check(
+            S::InvalidArgument,
+            render_f32(v, &c, &tables.c(), &p, None),
+            needle,
+        );
+    }
+    let mut no_rgb = t;
+    no_rgb.rgb = null();
+    check(S::NullPointer, render_f32(v, &c, &no_rgb, &p, None), "rgb");
+    let bad_gradient = [0.0f32, 1.5];
+    let mut with_gradient = t;
+    with_gradient.gradient_opacity = bad_gradient.as_ptr();
+    with_gradient.n_gradient_opacity = 2;
+    check(
+        S::InvalidArgument,
+        render_f32(v, &c, &with_gradient, &p, None),
+        "transfer->gradient_opacity[1] = 1.5",
+    );
+    with_gradient.gradient_opacity = [0.5f32, 1.0].as_ptr();
+    with_gradient.n_gradient_opacity = 1;
+    check(
+        S::InvalidArgument,
+        render_f32(v, &c, &with_gradient, &p, None),
+        "at least 2",
+    );
+    with_gradient.n_gradient_opacity = 2;
+    with_gradient.gradient_range = [1.0, f64::INFINITY];
+    check(
+        S::InvalidArgument,
+        render_f32(v, &c, &with_gradient, &p, None),
+        "transfer->gradient_range[1]",
+    );
+    let nan_depth = vec![f32::NAN; 30];
+    check(
+        S::InvalidArgument,
+        render_f32(v, &c, &t, &p, Some(&nan_depth)),
+        "depth_in[0]",
+    );
+    let mut matrices = singular_free_matrices(&c, 6, 5);
+    let outside = vec![1.5f32; 30];
+    matrices.mode = CylvolCameraMode::MATRICES.into();
+    check(
+        S::InvalidArgument,
+        render_f32(v, &matrices, &t, &p, Some(&outside)),
+        "window depth",
+    );
+    // The volume keeps its own last error; a NULL volume gets a static sentence.
+    let detail = unsafe { CStr::from_ptr(cylvol_volume_last_error(v)) };
+    assert!(detail.to_str().unwrap().contains("window depth"));
+    let detail = unsafe { CStr::from_ptr(cylvol_volume_last_error(null())) };
+    assert!(!detail.to_bytes().is_empty());
+    unsafe {
+        cylvol_volume_free(v);
+        cylvol_volume_free(bare);
+    }
+}
+
+/// `vtkCamera`-style matrices (row-major) equal to a look-at camera for a `w × h` image, with
+/// near and far planes at 0.1 and 100.
+fn singular_free_matrices(c: &CylvolCamera, w: u32, h: u32) -> CylvolCamera {
+    let eye = DVec3::from_array(c.eye);
+    let f = (DVec3::from_array(c.focal_point) - eye).normalize();
+    let r = f.cross(DVec3::from_array(c.view_up)).normalize();
+    let u = r.cross(f);
+    let view = [
+        r.x,
+        r.y,
+        r.z,
+        -r.dot(eye),
+        u.x,
+        u.y,
+        u.z,
+        -u.dot(eye),
+        -f.x,
+        -f.y,
+        -f.z,
+        f.dot(eye),
+        0.0,
+        0.0,
+        0.0,
+        1.0,
+    ];
+    let aspect = w as f64 / h as f64;
+    let (n, fa) = (0.1, 100.0);
+    let projection = if c.parallel != 0 {
+        let s = c.parallel_scale;
+        [
+            1.0 / (s * aspect),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            1.0 / s,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            -2.0 / (fa - n),
+            -(fa + n) / (fa - n),
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+        ]
+    } else {
+        let k = 1.0 / (c.view_angle.to_radians() * 0.5).tan();
+        [
+            k / aspect,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            k,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            -(fa + n) / (fa - n),
+            -2.0 * fa * n / (fa - n),
+            0.0,
+            0.0,
+            -1.0,
+            0.0,
+        ]
+    };
+    CylvolCamera {
+        mode: CylvolCameraMode::MATRICES.into(),
+        view,
+        projection,
+        ..*c
+    }
+}
+
+/// The same scene through the Rust API: mesh, Cartesian BVH, face neighbours, fast path.
+fn rust_image(
+    a: &Arrays,
+    values: Vec<f64>,
+    tables: &Tables,
+    camera: &Camera,
+    w: u32,
+    h: u32,
+    tweak: impl Fn(&mut RenderOptions),
+) -> Vec<f32> {
+    let cells = cells_from_vtk(
+        &a.conn,
+        &a.offsets,
+        OffsetStyle::Starts,
+        &a.types,
+        a.n_points(),
+    )
+    .unwrap();
+    let mesh = Mesh::from_parts(MeshParts {
+        points: a
+            .points
+            .chunks(3)
+            .map(|p| DVec3::new(p[0], p[1], p[2]))
+            .collect(),
+        cells: cells.cells,
+        kinds: cells.kinds,
+        point_data: vec![DataArray::scalar("s", values)],
+        cell_data: vec![],
+    })
+    .unwrap();
+    let accel = Accel::build(
+        &mesh,
+        StructureKind::CartBvh,
+        &Axis::Z,
+        &AccelParams::default(),
+    )
+    .unwrap();
+    let neighbours =
+        FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+    let volume = Volume::new(&mesh, &accel).unwrap();
+    let mut options = RenderOptions::new(w, h, cylvol::render::default_step(&mesh));
+    tweak(&mut options);
+    assert_eq!(options.table_size, DEFAULT_TABLE_SIZE);
+    let renderer = Renderer::new(&volume, &tables.function(), &options)
+        .unwrap()
+        .with_neighbours(&neighbours);
+    let (image, _) = renderer.render(camera, None).unwrap();
+    image.rgba.iter().flatten().copied().collect()
+}
+
+#[test]
+fn renders_equal_the_rust_api_and_agree_across_formats_types_and_row_orders() {
+    let a = sector_with_wedge_and_tet();
+    let m = mesh_with_field(&a);
+    let v = new_volume(m, &cart_bvh_params());
+    let mut range = [0.0; 2];
+    unsafe { cylvol_mesh_scalar_range(m, range.as_mut_ptr()) };
+    let tables = Tables::ramp(range);
+    let t = tables.c();
+    let c = look_at([0.4, 1.8, 4.0], [1.2, 0.6, 0.5], None);
+    let (w, h) = (24, 17);
+    let p = params(w, h);
+    let mut stats = CylvolRenderStats::default();
+    unsafe { cylvol_volume_render_stats(v, &mut stats) };
+    assert_eq!(stats, CylvolRenderStats::default(), "no render yet");
+    let out = render_f32(v, &c, &t, &p, None);
+    assert_eq!(out.status, S::Ok, "{}", last_error());
+    unsafe { cylvol_volume_render_stats(v, &mut stats) };
+    assert_eq!(stats.rays, (w * h) as u64);
+    assert!(stats.samples > 0 && stats.samples_located > 0 && stats.hex_tests > 0);
+    assert!(stats.internal_visits + stats.leaf_visits > 0 && stats.seconds > 0.0);
+    assert_eq!(stats.gradient_evaluations, 0, "no shading, no gradients");
+    assert_eq!(
+        unsafe { cylvol_volume_render_stats(v, null_mut()) },
+        S::NullPointer
+    );
+    // The Rust API's image, bit for bit.
+    let camera = Camera::perspective(
+        DVec3::from_array(c.eye),
+        DVec3::from_array(c.focal_point),
+        DVec3::Y,
+        35.0,
+    )
+    .unwrap();
+    let reference = rust_image(&a, field(&a), &tables, &camera, w, h, |_| {});
+    assert_eq!(out.f32, reference);
+    assert!(out.f32.chunks(4).any(|p| p[3] > 0.05), "something is seen");
+    assert!(
+        out.f32.chunks(4).any(|p| p[3] == 0.0),
+        "something is missed"
+    );
+    // RGBA8 is the rounded F32 image.
+    let bytes = render_u8(v, &c, &t, &p);
+    for (b, f) in bytes.iter().zip(&out.f32) {
+        assert_eq!(*b, (f.clamp(0.0, 1.0) * 255.0).round() as u8);
+    }
+    // Bottom-up rows are the same rows in reverse order.
+    let flipped = render_f32(
+        v,
+        &c,
+        &t,
+        &CylvolRenderParams {
+            rows_bottom_up: 1,
+            ..p
+        },
+        None,
+    );
+    let row = w as usize * 4;
+    for j in 0..h as usize {
+        let k = h as usize - 1 - j;
+        assert_eq!(
+            flipped.f32[j * row..(j + 1) * row],
+            out.f32[k * row..(k + 1) * row]
+        );
+        let dr = w as usize;
+        assert_eq!(
+            flipped.depth[j * dr..(j + 1) * dr],
+            out.depth[k * dr..(k + 1) * dr]
+        );
+    }
+    // Shading evaluates gradients.
+    let shaded = render_f32(v, &c, &t, &CylvolRenderParams { shading: 1, ..p }, None);
+    assert_eq!(shaded.status, S::Ok);
+    unsafe { cylvol_volume_render_stats(v, &mut stats) };
+    assert!(stats.gradient_evaluations > 0);
+    assert_ne!(shaded.f32, out.f32);
+    // The paper path renders the same picture up to the choice of cell on shared faces.
+    let paper = render_f32(
+        v,
+        &c,
+        &t,
+        &CylvolRenderParams {
+            path: CylvolPath::Paper.into(),
+            ..p
+        },
+        None,
+    );
+    let diff = paper
+        .f32
+        .iter()
+        .zip(&out.f32)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f32::max);
+    assert!(diff < 1e-5, "{diff}");
+    // f32 points and values give the same picture as f64 ones when they are the same numbers.
+    let mut a32 = a.clone();
+    for x in &mut a32.points {
+        *x = *x as f32 as f64;
+    }
+    let p32: Vec<f32> = a32.points.iter().map(|&x| x as f32).collect();
+    let values: Vec<f32> = field(&a32).iter().map(|&x| x as f32).collect();
+    let mut m32 = null_mut();
+    let m64 = unsafe {
+        cylvol_mesh_new(
+            p32.as_ptr().cast(),
+            CylvolValueType::F32.into(),
+            a.n_points(),
+            a.offsets.as_ptr().cast(),
+            a.conn.as_ptr().cast(),
+            CylvolIndexType::I64.into(),
+            a.conn.len(),
+            a.types.as_ptr(),
+            a.n_cells(),
+            &mut m32,
+        );
+        cylvol_mesh_set_scalars(
+            m32,
+            null(),
+            CylvolAssociation::POINT_DATA.into(),
+            values.as_ptr().cast(),
+            CylvolValueType::F32.into(),
+            values.len(),
+            1,
+            0,
+        );
+        let (_, m64) = new_mesh(&a32);
+        let v64s: Vec<f64> = values.iter().map(|&x| x as f64).collect();
+        set_scalars(m64, &v64s, CylvolAssociation::POINT_DATA);
+        m64
+    };
+    let v32 = new_volume(m32, &cart_bvh_params());
+    let v64 = new_volume(m64, &cart_bvh_params());
+    let i32_ = render_f32(v32, &c, &t, &p, None);
+    let i64_ = render_f32(v64, &c, &t, &p, None);
+    assert_eq!(i32_.status, S::Ok);
+    assert_eq!(i32_.f32, i64_.f32);
+    unsafe {
+        cylvol_volume_free(v32);
+        cylvol_volume_free(v64);
+        cylvol_mesh_free(m32);
+        cylvol_mesh_free(m64);
+        cylvol_mesh_free(m);
+        cylvol_volume_free(v);
+    }
+}
+
+#[test]
+fn volume_set_scalars_changes_the_picture_without_a_rebuild() {
+    let a = cube(3);
+    let m = mesh_with_field(&a);
+    let v = new_volume(m, &cart_bvh_params());
+    let mut before = CylvolBuildStats {
+        structure: CylvolStructure::Auto,
+        build_seconds: 0.0,
+        bytes: 0,
+        cells: 0,
+        axis_origin: [0.0; 3],
+        axis_direction: [0.0; 3],
+        axis_clear: 0,
+        area_ratio: 0.0,
+    };
+    let mut after = before;
+    unsafe { cylvol_volume_build_stats(v, &mut before) };
+    let tables = Tables::ramp([0.0, 3.5]);
+    let c = look_at([2.0, 1.5, 3.0], [0.5; 3], None);
+    let p = params(16, 16);
+    let first = render_f32(v, &c, &tables.c(), &p, None);
+    let other: Vec<f64> = a.points.chunks(3).map(|q| 3.5 * q[2]).collect();
+    let s = unsafe {
+        cylvol_volume_set_scalars(
+            v,
+            c"z".as_ptr(),
+            CylvolAssociation::POINT_DATA.into(),
+            other.as_ptr().cast(),
+            CylvolValueType::F64.into(),
+            other.len(),
+            1,
+            0,
+        )
+    };
+    assert_eq!(s, S::Ok);
+    unsafe { cylvol_volume_build_stats(v, &mut after) };
+    assert_eq!(before, after, "no rebuild");
+    let second = render_f32(v, &c, &tables.c(), &p, None);
+    assert_ne!(first.f32, second.f32);
+    // The same as a volume built over a mesh with those scalars.
+    assert_eq!(set_scalars(m, &other, CylvolAssociation::POINT_DATA), S::Ok);
+    let fresh = new_volume(m, &cart_bvh_params());
+    assert_eq!(render_f32(fresh, &c, &tables.c(), &p, None).f32, second.f32);
+    // Errors on the volume are kept in it.
+    let s = unsafe {
+        cylvol_volume_set_scalars(
+            v,
+            null(),
+            CylvolAssociation::CELL_DATA.into(),
+            other.as_ptr().cast(),
+            CylvolValueType::F64.into(),
+            other.len(),
+            1,
+            0,
+        )
+    };
+    assert_eq!(s, S::LengthMismatch);
+    let detail = unsafe { CStr::from_ptr(cylvol_volume_last_error(v)) };
+    assert!(detail
+        .to_str()
+        .unwrap()
+        .starts_with("cylvol_volume_set_scalars: n_tuples"));
+    // …and the volume still renders its last good scalars.
+    assert_eq!(render_f32(v, &c, &tables.c(), &p, None).f32, second.f32);
+    // Freeing the mesh does not affect the volumes.
+    unsafe { cylvol_mesh_free(m) };
+    assert_eq!(render_f32(fresh, &c, &tables.c(), &p, None).f32, second.f32);
+    unsafe {
+        cylvol_volume_free(v);
+        cylvol_volume_free(fresh);
+    }
+}
+
+#[test]
+fn a_constant_medium_gives_the_beer_lambert_alpha_and_misses_give_zero() {
+    let a = cube(4);
+    let m = mesh_with_field(&a);
+    let v = new_volume(m, &cart_bvh_params());
+    unsafe { cylvol_mesh_free(m) };
+    // Parallel rays along −z through the unit cube: path length 1.
+    let c = look_at([0.5, 0.5, 3.0], [0.5, 0.5, 0.5], Some(0.75));
+    let (w, h) = (8u32, 8u32);
+    let tables = Tables::constant(0.3);
+    let out = render_f32(v, &c, &tables.c(), &params(w, h), None);
+    assert_eq!(out.status, S::Ok);
+    let expected = 1.0 - (1.0f64 - 0.3).powf(1.0 / 1.0);
+    for j in 0..h {
+        for i in 0..w {
+            let x = ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * 0.75;
+            let y = (1.0 - (j as f64 + 0.5) / h as f64 * 2.0) * 0.75;
+            let at = (j * w + i) as usize;
+            let alpha = out.f32[at * 4 + 3] as f64;
+            if x.abs() < 0.5 && y.abs() < 0.5 {
+                assert!((alpha - expected).abs() < 1e-5, "{i},{j}: {alpha}");
+                // Colour is the constant colour times alpha (premultiplied).
+                assert!((out.f32[at * 4] as f64 - alpha).abs() < 1e-6);
+                assert!((out.f32[at * 4 + 1] as f64 - 0.5 * alpha).abs() < 1e-6);
+                assert_eq!(out.depth[at], f32::INFINITY, "alpha never reaches 0.5");
+            } else {
+                assert_eq!(&out.f32[at * 4..at * 4 + 4], &[0.0; 4], "{i},{j}");
+            }
+        }
+    }
+    unsafe { cylvol_volume_free(v) };
+}
+
+#[test]
+fn depth_in_and_out_in_both_camera_modes() {
+    let a = cube(4);
+    let m = mesh_with_field(&a);
+    let v = new_volume(m, &cart_bvh_params());
+    unsafe { cylvol_mesh_free(m) };
+    let tables = Tables::constant(0.9);
+    let t = tables.c();
+    let (w, h) = (9u32, 7u32);
+    let p = params(w, h);
+    let n = (w * h) as usize;
+    for parallel in [None, Some(0.8)] {
+        let c = look_at([0.6, 0.4, 3.0], [0.5, 0.5, 0.5], parallel);
+        let mc = singular_free_matrices(&c, w, h);
+        let look = render_f32(v, &c, &t, &p, None);
+        let mat = render_f32(v, &mc, &t, &p, None);
+        assert_eq!(
+            (look.status, mat.status),
+            (S::Ok, S::Ok),
+            "{}",
+            last_error()
+        );
+        let diff = look
+            .f32
+            .iter()
+            .zip(&mat.f32)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f32::max);
+        assert!(
+            diff < 1e-5,
+            "the two camera modes see the same picture: {diff}"
+        );
+        // Look-at depths are distances along the ray; matrix depths the window depth of the
+        // same point: z_ndc of its eye-space depth e through the projection.
+        let eye = DVec3::from_array(c.eye);
+        let focal = DVec3::from_array(c.focal_point);
+        let forward = (focal - eye).normalize();
+        let (near, far) = (0.1, 100.0);
+        let gen = cylvol::render::RayGenerator::new(
+            &Camera::perspective(eye, focal, DVec3::Y, 35.0).unwrap(),
+            w,
+            h,
+        )
+        .unwrap();
+        let window = |i: u32, j: u32, d: f64| {
+            let z_ndc = match parallel {
+                // Parallel: the ray leaves the eye's plane along `forward`, e = d.
+                Some(_) => (2.0 * d - (far + near)) / (far - near),
+                None => {
+                    let e = gen.ray(i, j).1.dot(forward) * d;
+                    (far + near) / (far - near) - 2.0 * far * near / ((far - near) * e)
+                }
+            };
+            (z_ndc + 1.0) * 0.5
+        };
+        let mut hits = 0;
+        for j in 0..h {
+            for i in 0..w {
+                let at = (j * w + i) as usize;
+                let (d, z) = (look.depth[at] as f64, mat.depth[at] as f64);
+                if d.is_infinite() {
+                    assert_eq!(z, 1.0);
+                    continue;
+                }
+                hits += 1;
+                let expected = window(i, j, d);
+                assert!((z - expected).abs() < 1e-6, "{i},{j}: {z} vs {expected}");
+            }
+        }
+        assert!(hits > 10);
+        // depth_in at the near plane (0 / distance 0) stops everything; at the far plane
+        // (1 / +∞) nothing.
+        let zeros = vec![0.0; n];
+        assert!(render_f32(v, &c, &t, &p, Some(&zeros))
+            .f32
+            .iter()
+            .all(|&x| x == 0.0));
+        assert!(render_f32(v, &mc, &t, &p, Some(&zeros))
+            .f32
+            .iter()
+            .all(|&x| x == 0.0));
+        let inf = vec![f32::INFINITY; n];
+        assert_eq!(render_f32(v, &c, &t, &p, Some(&inf)).f32, look.f32);
+        assert_eq!(render_f32(v, &mc, &t, &p, Some(&vec![1.0; n])).f32, mat.f32);
+        // Stopping half a step before the depth output (between two samples): the same stop
+        // in both modes, less opacity than without.
+        let mut step = 0.0;
+        unsafe { cylvol_volume_default_step(v, &mut step) };
+        let stop_d: Vec<f32> = look.depth.iter().map(|&d| d - 0.5 * step as f32).collect();
+        let stop_z: Vec<f32> = (0..n)
+            .map(|k| match stop_d[k] {
+                d if d.is_finite() => window(k as u32 % w, k as u32 / w, d as f64) as f32,
+                _ => 1.0,
+            })
+            .collect();
+        let a = render_f32(v, &c, &t, &p, Some(&stop_d));
+        let b = render_f32(v, &mc, &t, &p, Some(&stop_z));
+        assert_eq!((a.status, b.status), (S::Ok, S::Ok), "{}", last_error());
+        for k in 0..n {
+            if look.depth[k].is_finite() {
+                let (x, y) = (a.f32[k * 4 + 3], b.f32[k * 4 + 3]);
+                assert!(x < look.f32[k * 4 + 3] && x < 0.5 && x > 0.05, "{k}: {x}");
+                assert!((x - y).abs() < 1e-5, "{k}: {x} vs {y}");
+            }
+        }
+        // Bottom-up rows apply to depth_in too.
+        let mut flipped_in = vec![0f32; n];
+        for j in 0..h as usize {
+            for i in 0..w as usize {
+                flipped_in[(h as usize - 1 - j) * w as usize + i] = stop_d[j * w as usize + i];
+            }
+        }
+        let f = render_f32(
+            v,
+            &c,
+            &t,
+            &CylvolRenderParams {
+                rows_bottom_up: 1,
+                ..p
+            },
+            Some(&flipped_in),
+        );
+        for j in 0..h as usize {
+            for i in 0..w as usize {
+                let k = j * w as usize + i;
+                let kf = (h as usize - 1 - j) * w as usize + i;
+                assert_eq!(f.f32[kf * 4..kf * 4 + 4], a.f32[k * 4..k * 4 + 4]);
+            }
+        }
+    }
+    unsafe { cylvol_volume_free(v) };
+}
+
+#[test]
+fn volumes_built_from_one_mesh_in_parallel_render_alike() {
+    let a = sector_with_wedge_and_tet();
+    let m = mesh_with_field(&a) as usize;
+    let images: Vec<Vec<f32>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..3)
+            .map(|_| {
+                s.spawn(move || {
+                    let v = new_volume(m as *const CylvolMesh, &cart_bvh_params());
+                    let tables = Tables::ramp([0.0, 4.0]);
+                    let c = look_at([1.0, 0.5, 4.0], [1.0, 0.5, 0.5], None);
+                    let out = render_f32(v, &c, &tables.c(), &params(12, 12), None);
+                    unsafe { cylvol_volume_free(v) };
+                    out.f32
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    assert!(images.windows(2).all(|w| w[0] == w[1]));
+    unsafe { cylvol_mesh_free(m as *mut CylvolMesh) };
+}
+
+#[test]
+fn nearest_interpolation_and_gradient_opacity_match_the_rust_api() {
+    let a = sector_with_wedge_and_tet();
+    let m = mesh_with_field(&a);
+    let v = new_volume(m, &cart_bvh_params());
+    unsafe { cylvol_mesh_free(m) };
+    let tables = Tables::ramp([0.0, 4.0]);
+    let c = look_at([0.4, 1.8, 4.0], [1.2, 0.6, 0.5], None);
+    let camera = Camera::perspective(
+        DVec3::from_array(c.eye),
+        DVec3::from_array(c.focal_point),
+        DVec3::Y,
+        35.0,
+    )
+    .unwrap();
+    let (w, h) = (20, 14);
+    let linear = render_f32(v, &c, &tables.c(), &params(w, h), None);
+    let p = CylvolRenderParams {
+        interpolation: CylvolInterpolation::Nearest.into(),
+        ..params(w, h)
+    };
+    let nearest = render_f32(v, &c, &tables.c(), &p, None);
+    assert_eq!(nearest.status, S::Ok, "{}", last_error());
+    assert_ne!(nearest.f32, linear.f32);
+    let reference = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
+        o.interpolation = cylvol::render::Interpolation::Nearest
+    });
+    assert_eq!(nearest.f32, reference);
+
+    // Gradient opacity: a ramp over |∇s| in [0, 3] (the field's gradient is about 2.2).
+    let g = [0.0f32, 0.25, 1.0];
+    let mut t = tables.c();
+    t.gradient_opacity = g.as_ptr();
+    t.n_gradient_opacity = 3;
+    t.gradient_range = [0.0, 3.0];
+    let out = render_f32(v, &c, &t, &params(w, h), None);
+    assert_eq!(out.status, S::Ok, "{}", last_error());
+    let mut stats = CylvolRenderStats::default();
+    unsafe { cylvol_volume_render_stats(v, &mut stats) };
+    assert!(
+        stats.gradient_evaluations > 0,
+        "gradient opacity needs gradients"
+    );
+    let reference = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
+        o.gradient_opacity = Some(
+            cylvol::render::GradientOpacity::new(&[(0.0, 0.0), (1.5, 0.25), (3.0, 1.0)]).unwrap(),
+        )
+    });
+    assert_eq!(out.f32, reference);
+    let alpha = |img: &[f32]| img.chunks(4).map(|p| p[3] as f64).sum::<f64>();
+    assert!(alpha(&out.f32) < alpha(&linear.f32) && alpha(&out.f32) > 0.0);
+    // A zero factor everywhere makes the volume invisible.
+    let zero = [0.0f32, 0.0];
+    t.gradient_opacity = zero.as_ptr();
+    t.n_gradient_opacity = 2;
+    let none = render_f32(v, &c, &t, &params(w, h), None);
+    assert!(none.f32.iter().all(|&x| x == 0.0));
+    unsafe { cylvol_volume_free(v) };
+}

@@ -1,0 +1,243 @@
+//! The renderer's VTK-style options: nearest interpolation (a corner's value at every sample,
+//! so a two-valued field shows two colours only) and gradient opacity (a factor of the
+//! gradient magnitude on the opacity per unit distance; gradients evaluated only when it or
+//! shading is on; zero below a threshold hides a constant volume; one everywhere changes
+//! nothing; a constant factor equals scaling the opacity per unit distance).
+
+use cylvol::accel::{Accel, AccelParams, StructureKind};
+use cylvol::axis::Axis;
+use cylvol::io::structured::hexahedra;
+use cylvol::mesh::topology::FaceNeighbors;
+use cylvol::render::{
+    Camera, GradientOpacity, Image, Interpolation, RenderOptions, RenderPath, RenderStats,
+    Renderer, TransferFunction, Volume,
+};
+use cylvol::{CellKind, DataArray, Mesh, MeshParts};
+use glam::DVec3;
+
+const PATHS: [RenderPath; 2] = [RenderPath::Paper, RenderPath::Fast];
+
+/// The unit cube as `n³` slightly sheared cells with the point scalar `field(point, (i, j, k))`
+/// (or the cell scalar `field(centre, (i, j, k))` with `cell_data`).
+fn cube(n: usize, cell_data: bool, field: impl Fn(DVec3, [usize; 3]) -> f64) -> Mesh {
+    let m = n + 1;
+    let mut points = Vec::with_capacity(m * m * m);
+    let mut ids = Vec::with_capacity(m * m * m);
+    for k in 0..m {
+        for j in 0..m {
+            for i in 0..m {
+                let p = DVec3::new(i as f64, j as f64, k as f64) / n as f64;
+                points.push(p + DVec3::new(0.1 * p.z, 0.05 * p.x, 0.0));
+                ids.push([i, j, k]);
+            }
+        }
+    }
+    let cells = hexahedra([m, m, m], &points);
+    let (point_data, cell_data) = if cell_data {
+        let values = (0..n * n * n)
+            .map(|c| {
+                let ijk = [c % n, (c / n) % n, c / (n * n)];
+                let centre = DVec3::new(ijk[0] as f64, ijk[1] as f64, ijk[2] as f64) + 0.5;
+                field(centre / n as f64, ijk)
+            })
+            .collect();
+        (vec![], vec![DataArray::scalar("f", values)])
+    } else {
+        let values = points
+            .iter()
+            .zip(&ids)
+            .map(|(&p, &i)| field(p, i))
+            .collect();
+        (vec![DataArray::scalar("f", values)], vec![])
+    };
+    Mesh::from_parts(MeshParts {
+        kinds: vec![CellKind::Hexahedron; cells.len()],
+        cells,
+        points,
+        point_data,
+        cell_data,
+    })
+    .expect("valid cube")
+}
+
+fn render(
+    mesh: &Mesh,
+    kind: StructureKind,
+    tf: &TransferFunction,
+    set: impl Fn(&mut RenderOptions),
+) -> (Image, RenderStats) {
+    let accel = Accel::build(mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
+    let volume = Volume::new(mesh, &accel).expect("volume");
+    let neighbours = FaceNeighbors::build(mesh);
+    let mut options = RenderOptions::new(24, 24, 0.03);
+    set(&mut options);
+    let renderer = Renderer::new(&volume, tf, &options)
+        .expect("renderer")
+        .with_neighbours(&neighbours);
+    let camera = Camera::view(mesh.bounds(), 24, 24, 30.0, 25.0, 1.0);
+    renderer.render(&camera, None).expect("render")
+}
+
+/// A checkerboard of 0 and 1 on the points.
+fn two_valued(n: usize) -> Mesh {
+    cube(n, false, |_, [i, j, k]| ((i + j + k) % 2) as f64)
+}
+
+#[test]
+fn nearest_takes_a_corner_value_at_every_sample() {
+    let mesh = two_valued(6);
+    // Red at 0, blue at 1, green only in between: premultiplied mixtures of red and blue
+    // have no green at all.
+    let colours = TransferFunction {
+        color: vec![
+            (0.0, [1.0, 0.0, 0.0]),
+            (0.5, [0.0, 1.0, 0.0]),
+            (1.0, [0.0, 0.0, 1.0]),
+        ],
+        opacity: vec![(0.0, 0.5)],
+        unit_distance: 0.1,
+    };
+    // Opaque only strictly between the two values: nothing to see at the corners.
+    let between = TransferFunction {
+        color: vec![(0.0, [1.0; 3])],
+        opacity: vec![(0.0, 0.0), (0.5, 0.8), (1.0, 0.0)],
+        unit_distance: 0.1,
+    };
+    for kind in [StructureKind::CartBvh, StructureKind::CylGrid] {
+        for path in PATHS {
+            let nearest = |o: &mut RenderOptions| {
+                o.path = path;
+                o.interpolation = Interpolation::Nearest;
+            };
+            let linear = |o: &mut RenderOptions| o.path = path;
+            let (img, stats) = render(&mesh, kind, &colours, nearest);
+            assert!(stats.samples_located > 1000, "{stats:?}");
+            assert!(img.rgba.iter().any(|p| p[0] > 0.05) && img.rgba.iter().any(|p| p[2] > 0.05));
+            assert!(
+                img.rgba.iter().all(|p| p[1] == 0.0),
+                "{kind} {}: nearest shows a value between the corners'",
+                path.name()
+            );
+            let (img, _) = render(&mesh, kind, &colours, linear);
+            assert!(img.rgba.iter().any(|p| p[1] > 0.05), "linear blends");
+            let (img, stats) = render(&mesh, kind, &between, nearest);
+            assert!(stats.samples_located > 1000);
+            assert!(
+                img.rgba.iter().all(|p| p[3] == 0.0),
+                "{kind} {}",
+                path.name()
+            );
+            let (img, _) = render(&mesh, kind, &between, linear);
+            assert!(img.rgba.iter().any(|p| p[3] > 0.2));
+        }
+    }
+}
+
+#[test]
+fn nearest_changes_nothing_for_cell_data() {
+    let mesh = cube(5, true, |c, _| c.x + 2.0 * c.y * c.z);
+    let tf = TransferFunction::default_for_range(0.0, 3.0, 0.6, 0.2);
+    for path in PATHS {
+        let (a, _) = render(&mesh, StructureKind::CylBvh, &tf, |o| o.path = path);
+        let (b, _) = render(&mesh, StructureKind::CylBvh, &tf, |o| {
+            o.path = path;
+            o.interpolation = Interpolation::Nearest;
+        });
+        assert!(a.rgba.iter().any(|p| p[3] > 0.2));
+        assert_eq!(a.rgba, b.rgba);
+        assert_eq!(a.depth, b.depth);
+    }
+}
+
+fn smooth(n: usize) -> Mesh {
+    cube(n, false, |p, _| p.x * p.x + p.y + 0.5 * p.z)
+}
+
+#[test]
+fn gradients_only_with_shading_or_gradient_opacity() {
+    let mesh = smooth(6);
+    let tf = TransferFunction::default_for_range(0.0, 2.6, 0.6, 0.2);
+    let half = GradientOpacity::new(&[(0.0, 0.2), (3.0, 0.9)]).expect("function");
+    for path in PATHS {
+        let (plain, off) = render(&mesh, StructureKind::CartGrid, &tf, |o| o.path = path);
+        assert_eq!(off.gradient_evaluations, 0);
+        let (faded, on) = render(&mesh, StructureKind::CartGrid, &tf, |o| {
+            o.path = path;
+            o.gradient_opacity = Some(half);
+        });
+        assert!(on.gradient_evaluations > 0);
+        assert!(on.gradient_evaluations <= on.samples_located);
+        // The factor is below one everywhere: every pixel is at most as opaque, some less.
+        for (p, q) in plain.rgba.iter().zip(&faded.rgba) {
+            assert!(q[3] <= p[3] + 1e-12);
+        }
+        assert!(plain.max_abs_difference(&faded) > 1e-2);
+    }
+}
+
+#[test]
+fn gradient_opacity_zero_below_a_threshold_hides_a_constant_volume() {
+    let mesh = cube(5, false, |_, _| 3.0);
+    let tf = TransferFunction::constant([1.0, 0.6, 0.2], 0.4, 0.1);
+    let edges = GradientOpacity::new(&[(0.0, 0.0), (0.1, 0.0), (0.2, 1.0)]).expect("function");
+    for path in PATHS {
+        let (img, stats) = render(&mesh, StructureKind::CylBvh, &tf, |o| o.path = path);
+        assert!(img.rgba.iter().any(|p| p[3] > 0.5), "visible without it");
+        assert_eq!(stats.gradient_evaluations, 0);
+        let (img, stats) = render(&mesh, StructureKind::CylBvh, &tf, |o| {
+            o.path = path;
+            o.gradient_opacity = Some(edges);
+        });
+        assert!(stats.gradient_evaluations > 1000, "{stats:?}");
+        assert!(img.rgba.iter().all(|p| *p == [0.0; 4]), "{}", path.name());
+        assert!(img.depth.iter().all(|d| d.is_infinite()));
+    }
+}
+
+#[test]
+fn gradient_opacity_one_everywhere_changes_nothing() {
+    let mesh = smooth(6);
+    let tf = TransferFunction::default_for_range(0.0, 2.6, 0.6, 0.2);
+    let one = GradientOpacity::constant(1.0).expect("function");
+    for path in PATHS {
+        let (a, sa) = render(&mesh, StructureKind::CylBvh, &tf, |o| o.path = path);
+        let (b, sb) = render(&mesh, StructureKind::CylBvh, &tf, |o| {
+            o.path = path;
+            o.gradient_opacity = Some(one);
+        });
+        assert_eq!(a.rgba, b.rgba);
+        assert_eq!(a.depth, b.depth);
+        assert!(sb.gradient_evaluations > 0);
+        assert_eq!(
+            RenderStats {
+                gradient_evaluations: 0,
+                ..sb
+            },
+            sa
+        );
+    }
+}
+
+/// The factor applies to the opacity per unit distance, before the step correction: a
+/// constant factor `g` gives the image of the opacity `g α` per unit distance, at any step.
+#[test]
+fn a_constant_factor_scales_the_opacity_per_unit_distance() {
+    let mesh = smooth(5);
+    let colour = vec![(0.0, [0.2, 0.5, 0.9]), (2.6, [0.9, 0.4, 0.1])];
+    let tf = |alpha: f64| TransferFunction {
+        color: colour.clone(),
+        opacity: vec![(0.0, alpha)],
+        unit_distance: 0.1,
+    };
+    let g = GradientOpacity::constant(0.25).expect("function");
+    for step in [0.03, 0.011] {
+        let (a, _) = render(&mesh, StructureKind::CartBvh, &tf(0.8), |o| {
+            o.step = step;
+            o.gradient_opacity = Some(g);
+        });
+        let (b, _) = render(&mesh, StructureKind::CartBvh, &tf(0.2), |o| o.step = step);
+        assert!(b.rgba.iter().any(|p| p[3] > 0.3));
+        let diff = a.max_abs_difference(&b);
+        assert!(diff < 1e-6, "step {step}: {diff}");
+    }
+}
