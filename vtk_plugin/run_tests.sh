@@ -34,4 +34,7 @@ m = cylvol.vtkCylVolMapper()
 assert m.GetBuildCount() == 0
 print("import cylvol OK:", cylvol.__file__, "cylvol", cylvol.vtkCylVolMapper.GetCylVolVersion())
 PY
+# The Python pipeline once more, through the installed package.
+PYTHONPATH="$site" xvfb-run -a /usr/bin/python3 "$here/Testing/Python/TestCylVolPipeline.py" \
+  --data "$repo/../shared/data" --output "$prefix/python-mixer.png"
 echo "vtk_plugin: all tests passed"
