@@ -1,0 +1,878 @@
+// vtkCylVolMapper: the VTK side of cylvol. It turns the VTK scene (grid, scalars, volume
+// property, camera, z-buffer) into cylvol C ABI calls and shows the image cylvol returns
+// through vtkRayCastImageDisplayHelper, the way vtkUnstructuredGridVolumeRayCastMapper does.
+#include "vtkCylVolMapper.h"
+
+#include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkCellTypes.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPoints.h"
+#include "vtkRayCastImageDisplayHelper.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkTimerLog.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include <cylvol.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkCylVolMapper);
+
+namespace
+{
+constexpr int kTableSize = 1024;
+
+// Converts any VTK data array into a contiguous array cylvol accepts (f32 or f64). Float
+// and double arrays are passed without copying; anything else is copied to double.
+struct ValueView
+{
+  const void* Data = nullptr;
+  CylvolValueType Type = CYLVOL_VALUE_F64;
+  std::vector<double> Copy;
+
+  void From(vtkDataArray* array)
+  {
+    const vtkIdType n = array->GetNumberOfTuples() * array->GetNumberOfComponents();
+    if (array->GetDataType() == VTK_FLOAT && array->HasStandardMemoryLayout())
+    {
+      this->Data = array->GetVoidPointer(0);
+      this->Type = CYLVOL_VALUE_F32;
+      return;
+    }
+    if (array->GetDataType() == VTK_DOUBLE && array->HasStandardMemoryLayout())
+    {
+      this->Data = array->GetVoidPointer(0);
+      this->Type = CYLVOL_VALUE_F64;
+      return;
+    }
+    this->Copy.resize(static_cast<size_t>(n));
+    const int nc = array->GetNumberOfComponents();
+    for (vtkIdType t = 0; t < array->GetNumberOfTuples(); ++t)
+    {
+      for (int c = 0; c < nc; ++c)
+      {
+        this->Copy[static_cast<size_t>(t * nc + c)] = array->GetComponent(t, c);
+      }
+    }
+    this->Data = this->Copy.data();
+    this->Type = CYLVOL_VALUE_F64;
+  }
+};
+
+// The cell connectivity as cylvol takes it (offsets + connectivity of one index width).
+struct IndexView
+{
+  const void* Offsets = nullptr;
+  const void* Connectivity = nullptr;
+  CylvolIndexType Type = CYLVOL_INDEX_I64;
+  size_t ConnectivityLength = 0;
+};
+
+bool SupportedCellType(unsigned char type)
+{
+  return type == VTK_HEXAHEDRON || type == VTK_VOXEL || type == VTK_WEDGE ||
+    type == VTK_PYRAMID || type == VTK_TETRA;
+}
+
+void ToRowMajor(vtkMatrix4x4* m, double out[16])
+{
+  vtkMatrix4x4::DeepCopy(out, m);
+}
+
+std::string StatusText(CylvolStatus status)
+{
+  std::string text = cylvol_status_message(status);
+  const char* detail = cylvol_last_error();
+  if (detail && *detail)
+  {
+    text += ": ";
+    text += detail;
+  }
+  return text;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+class vtkCylVolMapper::vtkInternals
+{
+public:
+  CylvolVolume* Volume = nullptr;
+
+  // What the structure was built from.
+  vtkUnstructuredGrid* BuiltInput = nullptr; // compared only, never dereferenced
+  vtkMTimeType BuiltGeometryMTime = 0;
+  vtkMTimeType BuiltSettingsMTime = 0;
+
+  // What the current scalars came from.
+  vtkDataArray* ScalarArray = nullptr; // compared only
+  vtkMTimeType ScalarMTime = 0;
+  int ScalarComponent = -2;
+  int ScalarCells = -1;
+
+  vtkTimeStamp SettingsTime; // structure settings' last change
+
+  // The image (power-of-two memory like the VTK ray caster, rows bottom up).
+  std::vector<unsigned char> Image;
+  int ImageMemorySize[2] = { 0, 0 };
+  std::vector<unsigned char> Tight; // width*height RGBA8 from cylvol
+  std::vector<float> Depth;         // width*height window depth in [0,1]
+
+  // Render time per (renderer, volume), for AutoAdjustSampleDistances.
+  struct TimeEntry
+  {
+    vtkRenderer* Ren;
+    vtkVolume* Vol;
+    double Seconds;
+  };
+  std::vector<TimeEntry> Times;
+
+  double RetrieveTime(vtkRenderer* ren, vtkVolume* vol) const
+  {
+    for (const auto& e : this->Times)
+    {
+      if (e.Ren == ren && e.Vol == vol)
+      {
+        return e.Seconds;
+      }
+    }
+    return 0.0;
+  }
+  void StoreTime(vtkRenderer* ren, vtkVolume* vol, double seconds)
+  {
+    for (auto& e : this->Times)
+    {
+      if (e.Ren == ren && e.Vol == vol)
+      {
+        e.Seconds = seconds;
+        return;
+      }
+    }
+    this->Times.push_back({ ren, vol, seconds });
+  }
+
+  void FreeVolume()
+  {
+    cylvol_volume_free(this->Volume);
+    this->Volume = nullptr;
+    this->BuiltInput = nullptr;
+    this->ScalarArray = nullptr;
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkCylVolMapper::vtkCylVolMapper()
+{
+  this->Structure = STRUCTURE_AUTO;
+  this->AxisAuto = 1;
+  this->AxisOrigin[0] = this->AxisOrigin[1] = this->AxisOrigin[2] = 0.0;
+  this->AxisDirection[0] = this->AxisDirection[1] = 0.0;
+  this->AxisDirection[2] = 1.0;
+  this->BuildPreset = 0;
+  this->EarlyTermination = 0.99;
+  this->SampleDistance = 0.0;
+  this->RelativeSampleDistance = 1.0;
+  this->ImageSampleDistance = 1.0f;
+  this->MinimumImageSampleDistance = 1.0f;
+  this->MaximumImageSampleDistance = 10.0f;
+  this->AutoAdjustSampleDistances = 0;
+  this->ScalarComponent = -1;
+  this->OpacityConvention = OPACITY_ATTENUATION;
+  this->IntermixIntersectingGeometry = 1;
+
+  this->LastRenderSeconds = 0.0;
+  this->LastRaySeconds = 0.0;
+  this->LastRays = this->LastSamples = this->LastSamplesLocated = this->LastHexTests = 0;
+  this->LastInternalVisits = this->LastLeafVisits = 0;
+  this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
+  this->LastImageSize[0] = this->LastImageSize[1] = 0;
+  this->BuildCount = 0;
+  this->ScalarUpdateCount = 0;
+  this->LastBuildSeconds = 0.0;
+  this->LastBuildBytes = 0;
+  this->BuiltStructure = -1;
+  this->BuiltAxisOrigin[0] = this->BuiltAxisOrigin[1] = this->BuiltAxisOrigin[2] = 0.0;
+  this->BuiltAxisDirection[0] = this->BuiltAxisDirection[1] = this->BuiltAxisDirection[2] = 0.0;
+  this->LastSampleDistance = 0.0;
+
+  this->ImageDisplayHelper = vtkRayCastImageDisplayHelper::New();
+  if (this->ImageDisplayHelper)
+  {
+    this->ImageDisplayHelper->PreMultipliedColorsOn();
+  }
+  this->Timer = vtkTimerLog::New();
+  this->Internals = new vtkInternals;
+  this->Internals->SettingsTime.Modified();
+}
+
+//------------------------------------------------------------------------------
+vtkCylVolMapper::~vtkCylVolMapper()
+{
+  this->Internals->FreeVolume();
+  delete this->Internals;
+  if (this->ImageDisplayHelper)
+  {
+    this->ImageDisplayHelper->Delete();
+  }
+  this->Timer->Delete();
+}
+
+//------------------------------------------------------------------------------
+const char* vtkCylVolMapper::GetCylVolVersion()
+{
+  return cylvol_version();
+}
+
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::SetStructure(int structure)
+{
+  structure = std::max<int>(STRUCTURE_AUTO, std::min<int>(STRUCTURE_CYLINDRICAL_BVH, structure));
+  if (structure != this->Structure)
+  {
+    this->Structure = structure;
+    this->Internals->SettingsTime.Modified();
+    this->Modified();
+  }
+}
+
+void vtkCylVolMapper::SetAxisAuto(vtkTypeBool value)
+{
+  value = value ? 1 : 0;
+  if (value != this->AxisAuto)
+  {
+    this->AxisAuto = value;
+    this->Internals->SettingsTime.Modified();
+    this->Modified();
+  }
+}
+
+void vtkCylVolMapper::SetAxisOrigin(double x, double y, double z)
+{
+  if (x != this->AxisOrigin[0] || y != this->AxisOrigin[1] || z != this->AxisOrigin[2])
+  {
+    this->AxisOrigin[0] = x;
+    this->AxisOrigin[1] = y;
+    this->AxisOrigin[2] = z;
+    this->Internals->SettingsTime.Modified();
+    this->Modified();
+  }
+}
+
+void vtkCylVolMapper::SetAxisDirection(double x, double y, double z)
+{
+  if (x != this->AxisDirection[0] || y != this->AxisDirection[1] || z != this->AxisDirection[2])
+  {
+    this->AxisDirection[0] = x;
+    this->AxisDirection[1] = y;
+    this->AxisDirection[2] = z;
+    this->Internals->SettingsTime.Modified();
+    this->Modified();
+  }
+}
+
+void vtkCylVolMapper::SetBuildPreset(int preset)
+{
+  if (preset != this->BuildPreset)
+  {
+    this->BuildPreset = preset;
+    this->Internals->SettingsTime.Modified();
+    this->Modified();
+  }
+}
+
+void vtkCylVolMapper::SetScalarComponent(int component)
+{
+  if (component != this->ScalarComponent)
+  {
+    this->ScalarComponent = component;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkCylVolMapper::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (!this->Superclass::FillInputPortInformation(port, info))
+  {
+    return 0;
+  }
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::ReleaseGraphicsResources(vtkWindow* win)
+{
+  if (this->ImageDisplayHelper)
+  {
+    this->ImageDisplayHelper->ReleaseGraphicsResources(win);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkInternals& in = *this->Internals;
+  this->Timer->StartTimer();
+  this->LastRays = this->LastSamples = this->LastSamplesLocated = this->LastHexTests = 0;
+  this->LastInternalVisits = this->LastLeafVisits = 0;
+  this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
+  this->LastRaySeconds = 0.0;
+
+  // ---- the input ---------------------------------------------------------------------
+  if (this->GetNumberOfInputConnections(0) == 0)
+  {
+    vtkErrorMacro(<< "No input: nothing drawn.");
+    return;
+  }
+  if (this->GetInputAlgorithm())
+  {
+    this->GetInputAlgorithm()->UpdateInformation();
+    this->GetInputAlgorithm()->Update();
+  }
+  vtkUnstructuredGridBase* base = this->GetInput();
+  vtkUnstructuredGrid* grid = vtkUnstructuredGrid::SafeDownCast(base);
+  if (!grid)
+  {
+    vtkErrorMacro(<< "The input is not a vtkUnstructuredGrid ("
+                  << (base ? base->GetClassName() : "null") << "): nothing drawn.");
+    return;
+  }
+  if (grid->GetNumberOfCells() == 0 || grid->GetNumberOfPoints() == 0 || !grid->GetPoints() ||
+    !grid->GetCells() || !grid->GetCellTypesArray())
+  {
+    vtkErrorMacro(<< "The input grid is empty (" << grid->GetNumberOfPoints() << " points, "
+                  << grid->GetNumberOfCells() << " cells): nothing drawn.");
+    return;
+  }
+
+  // ---- scalars -------------------------------------------------------------------------
+  int cellFlag = 0;
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(grid, this->ScalarMode,
+    this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+  if (!scalars)
+  {
+    vtkErrorMacro(<< "No scalars to render (scalar mode " << this->GetScalarModeAsString()
+                  << (this->ArrayName ? ", array " : "") << (this->ArrayName ? this->ArrayName : "")
+                  << "): nothing drawn.");
+    return;
+  }
+  int component = 0;
+  if (scalars->GetNumberOfComponents() > 1)
+  {
+    if (this->ScalarComponent < 0 || this->ScalarComponent >= scalars->GetNumberOfComponents())
+    {
+      vtkErrorMacro(<< "The scalar array '" << (scalars->GetName() ? scalars->GetName() : "")
+                    << "' has " << scalars->GetNumberOfComponents()
+                    << " components and no valid component is chosen (ScalarComponent = "
+                    << this->ScalarComponent << "): nothing drawn.");
+      return;
+    }
+    component = this->ScalarComponent;
+  }
+  const vtkIdType expectedTuples = cellFlag ? grid->GetNumberOfCells() : grid->GetNumberOfPoints();
+  if (scalars->GetNumberOfTuples() != expectedTuples)
+  {
+    vtkErrorMacro(<< "The scalar array has " << scalars->GetNumberOfTuples() << " tuples but the grid has "
+                  << expectedTuples << (cellFlag ? " cells" : " points") << ": nothing drawn.");
+    return;
+  }
+
+  // ---- cell types ------------------------------------------------------------------------
+  vtkUnsignedCharArray* types = grid->GetCellTypesArray();
+  {
+    const unsigned char* t = types->GetPointer(0);
+    const vtkIdType n = types->GetNumberOfTuples();
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      if (!SupportedCellType(t[i]))
+      {
+        const char* name = vtkCellTypes::GetClassNameFromTypeId(t[i]);
+        vtkErrorMacro(<< "Unsupported cell type " << static_cast<int>(t[i]) << " ("
+                      << (name ? name : "unknown") << ") at cell " << i
+                      << "; vtkCylVolMapper takes hexahedra, voxels, wedges, pyramids and "
+                         "tetrahedra: nothing drawn.");
+        return;
+      }
+    }
+  }
+
+  // ---- build (or reuse) the structure ----------------------------------------------------
+  vtkMTimeType geometryMTime = grid->GetPoints()->GetMTime();
+  geometryMTime = std::max(geometryMTime, grid->GetPoints()->GetData()->GetMTime());
+  geometryMTime = std::max(geometryMTime, grid->GetCells()->GetMTime());
+  geometryMTime = std::max(geometryMTime, types->GetMTime());
+  const vtkMTimeType settingsMTime = in.SettingsTime.GetMTime();
+
+  ValueView values;
+  values.From(scalars);
+  const CylvolAssociation association = cellFlag ? CYLVOL_CELL_DATA : CYLVOL_POINT_DATA;
+  const char* scalarName = scalars->GetName();
+
+  const bool rebuild = !in.Volume || in.BuiltInput != grid || in.BuiltGeometryMTime != geometryMTime ||
+    in.BuiltSettingsMTime != settingsMTime;
+  if (rebuild)
+  {
+    in.FreeVolume();
+    ValueView points;
+    points.From(grid->GetPoints()->GetData());
+    if (grid->GetPoints()->GetData()->GetNumberOfComponents() != 3)
+    {
+      vtkErrorMacro(<< "The points do not have 3 components: nothing drawn.");
+      return;
+    }
+    vtkCellArray* cells = grid->GetCells();
+    IndexView index;
+    if (cells->IsStorage64Bit())
+    {
+      index.Offsets = cells->GetOffsetsArray64()->GetPointer(0);
+      index.Connectivity = cells->GetConnectivityArray64()->GetPointer(0);
+      index.Type = CYLVOL_INDEX_I64;
+      index.ConnectivityLength = static_cast<size_t>(cells->GetConnectivityArray64()->GetNumberOfValues());
+    }
+    else
+    {
+      index.Offsets = cells->GetOffsetsArray32()->GetPointer(0);
+      index.Connectivity = cells->GetConnectivityArray32()->GetPointer(0);
+      index.Type = CYLVOL_INDEX_I32;
+      index.ConnectivityLength = static_cast<size_t>(cells->GetConnectivityArray32()->GetNumberOfValues());
+    }
+
+    CylvolMesh* mesh = nullptr;
+    CylvolStatus status = cylvol_mesh_new(points.Data, points.Type,
+      static_cast<size_t>(grid->GetNumberOfPoints()), index.Offsets, index.Connectivity, index.Type,
+      index.ConnectivityLength, types->GetPointer(0), static_cast<size_t>(grid->GetNumberOfCells()),
+      &mesh);
+    if (status != CYLVOL_STATUS_OK)
+    {
+      vtkErrorMacro(<< "cylvol rejected the grid: " << StatusText(status) << ": nothing drawn.");
+      return;
+    }
+    status = cylvol_mesh_set_scalars(mesh, scalarName, association, values.Data, values.Type,
+      static_cast<size_t>(scalars->GetNumberOfTuples()),
+      static_cast<size_t>(scalars->GetNumberOfComponents()), component);
+    if (status != CYLVOL_STATUS_OK)
+    {
+      vtkErrorMacro(<< "cylvol rejected the scalars: " << StatusText(status) << ": nothing drawn.");
+      cylvol_mesh_free(mesh);
+      return;
+    }
+    CylvolBuildParams params;
+    cylvol_build_params_default(&params);
+    params.structure = static_cast<CylvolStructure>(this->Structure);
+    params.axis_auto = this->AxisAuto ? 1 : 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      params.axis_origin[k] = this->AxisOrigin[k];
+      params.axis_direction[k] = this->AxisDirection[k];
+    }
+    params.preset = this->BuildPreset;
+    CylvolVolume* volume = nullptr;
+    status = cylvol_volume_new(mesh, &params, &volume);
+    cylvol_mesh_free(mesh);
+    if (status != CYLVOL_STATUS_OK)
+    {
+      vtkErrorMacro(<< "cylvol could not build the structure: " << StatusText(status)
+                    << ": nothing drawn.");
+      return;
+    }
+    in.Volume = volume;
+    in.BuiltInput = grid;
+    in.BuiltGeometryMTime = geometryMTime;
+    in.BuiltSettingsMTime = settingsMTime;
+    in.ScalarArray = scalars;
+    in.ScalarMTime = scalars->GetMTime();
+    in.ScalarComponent = component;
+    in.ScalarCells = cellFlag;
+    this->BuildCount++;
+
+    CylvolBuildStats bs;
+    if (cylvol_volume_build_stats(volume, &bs) == CYLVOL_STATUS_OK)
+    {
+      this->LastBuildSeconds = bs.build_seconds;
+      this->LastBuildBytes = bs.bytes;
+      this->BuiltStructure = static_cast<int>(bs.structure);
+      for (int k = 0; k < 3; ++k)
+      {
+        this->BuiltAxisOrigin[k] = bs.axis_origin[k];
+        this->BuiltAxisDirection[k] = bs.axis_direction[k];
+      }
+    }
+  }
+  else if (in.ScalarArray != scalars || in.ScalarMTime != scalars->GetMTime() ||
+    in.ScalarComponent != component || in.ScalarCells != cellFlag)
+  {
+    const CylvolStatus status = cylvol_volume_set_scalars(in.Volume, scalarName, association,
+      values.Data, values.Type, static_cast<size_t>(scalars->GetNumberOfTuples()),
+      static_cast<size_t>(scalars->GetNumberOfComponents()), component);
+    if (status != CYLVOL_STATUS_OK)
+    {
+      vtkErrorMacro(<< "cylvol rejected the new scalars: " << StatusText(status)
+                    << ": nothing drawn.");
+      in.ScalarArray = nullptr;
+      return;
+    }
+    in.ScalarArray = scalars;
+    in.ScalarMTime = scalars->GetMTime();
+    in.ScalarComponent = component;
+    in.ScalarCells = cellFlag;
+    this->ScalarUpdateCount++;
+  }
+
+  // ---- transfer functions ----------------------------------------------------------------
+  vtkVolumeProperty* property = vol->GetProperty();
+  double range[2];
+  scalars->GetRange(range, component);
+  if (!(range[1] > range[0]))
+  {
+    const double pad = std::max(1e-6, std::abs(range[0]) * 1e-6);
+    range[0] -= pad;
+    range[1] += pad;
+  }
+  std::vector<float> rgb(3 * kTableSize);
+  std::vector<float> opacity(kTableSize);
+  {
+    std::vector<double> tmp(3 * kTableSize);
+    if (property->GetColorChannels(0) == 1)
+    {
+      property->GetGrayTransferFunction(0)->GetTable(range[0], range[1], kTableSize, tmp.data());
+      for (int i = 0; i < kTableSize; ++i)
+      {
+        rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] =
+          static_cast<float>(vtkMath::ClampValue(tmp[i], 0.0, 1.0));
+      }
+    }
+    else
+    {
+      property->GetRGBTransferFunction(0)->GetTable(range[0], range[1], kTableSize, tmp.data());
+      for (int i = 0; i < 3 * kTableSize; ++i)
+      {
+        rgb[i] = static_cast<float>(vtkMath::ClampValue(tmp[i], 0.0, 1.0));
+      }
+    }
+    property->GetScalarOpacity(0)->GetTable(range[0], range[1], kTableSize, tmp.data());
+    for (int i = 0; i < kTableSize; ++i)
+    {
+      double a = std::max(0.0, tmp[i]);
+      if (this->OpacityConvention == OPACITY_ATTENUATION)
+      {
+        // VTK's unstructured ray caster reads opacity / unit distance as an attenuation
+        // coefficient; cylvol composites (1 - a')^(step / unit): a' = 1 - exp(-a).
+        a = -std::expm1(-a);
+      }
+      opacity[i] = static_cast<float>(vtkMath::ClampValue(a, 0.0, 1.0));
+    }
+  }
+  CylvolTransfer transfer;
+  transfer.rgb = rgb.data();
+  transfer.n_color = kTableSize;
+  transfer.opacity = opacity.data();
+  transfer.n_opacity = kTableSize;
+  transfer.range[0] = range[0];
+  transfer.range[1] = range[1];
+  transfer.unit_distance = property->GetScalarOpacityUnitDistance(0);
+  if (!(transfer.unit_distance > 0.0))
+  {
+    vtkErrorMacro(<< "ScalarOpacityUnitDistance must be > 0: nothing drawn.");
+    return;
+  }
+  transfer.gradient_opacity = nullptr;
+  transfer.n_gradient_opacity = 0;
+  transfer.gradient_range[0] = 0.0;
+  transfer.gradient_range[1] = 1.0;
+  std::vector<float> gradientTable;
+  if (!property->GetDisableGradientOpacity(0) && property->HasGradientOpacity(0))
+  {
+    vtkPiecewiseFunction* go = property->GetStoredGradientOpacity(0);
+    bool constantOne = true;
+    const int n = go ? go->GetSize() : 0;
+    for (int i = 0; i < n; ++i)
+    {
+      double node[4];
+      go->GetNodeValue(i, node);
+      constantOne = constantOne && node[1] == 1.0;
+    }
+    if (go && n > 0 && !constantOne)
+    {
+      double gr[2];
+      go->GetRange(gr);
+      if (!(gr[1] > gr[0]))
+      {
+        gr[1] = gr[0] + 1.0;
+      }
+      std::vector<double> tmp(kTableSize);
+      go->GetTable(gr[0], gr[1], kTableSize, tmp.data());
+      gradientTable.resize(kTableSize);
+      for (int i = 0; i < kTableSize; ++i)
+      {
+        gradientTable[i] = static_cast<float>(vtkMath::ClampValue(tmp[i], 0.0, 1.0));
+      }
+      transfer.gradient_opacity = gradientTable.data();
+      transfer.n_gradient_opacity = kTableSize;
+      transfer.gradient_range[0] = gr[0];
+      transfer.gradient_range[1] = gr[1];
+    }
+  }
+
+  // ---- image size --------------------------------------------------------------------------
+  const float oldImageSampleDistance = this->ImageSampleDistance;
+  if (this->AutoAdjustSampleDistances)
+  {
+    const double oldTime = in.RetrieveTime(ren, vol);
+    const double newTime = vol->GetAllocatedRenderTime();
+    if (oldTime > 0.0 && newTime > 0.0)
+    {
+      float isd = static_cast<float>(this->ImageSampleDistance * std::sqrt(oldTime / newTime));
+      isd = std::min(isd, this->MaximumImageSampleDistance);
+      isd = std::max(isd, this->MinimumImageSampleDistance);
+      this->ImageSampleDistance = isd;
+    }
+  }
+  int viewportWidth = 0, viewportHeight = 0, viewportX = 0, viewportY = 0;
+  ren->GetTiledSizeAndOrigin(&viewportWidth, &viewportHeight, &viewportX, &viewportY);
+  const int width = std::max(1, static_cast<int>(viewportWidth / this->ImageSampleDistance));
+  const int height = std::max(1, static_cast<int>(viewportHeight / this->ImageSampleDistance));
+  this->LastImageSize[0] = width;
+  this->LastImageSize[1] = height;
+  int memorySize[2] = { 32, 32 };
+  while (memorySize[0] < width)
+  {
+    memorySize[0] *= 2;
+  }
+  while (memorySize[1] < height)
+  {
+    memorySize[1] *= 2;
+  }
+  if (in.ImageMemorySize[0] != memorySize[0] || in.ImageMemorySize[1] != memorySize[1])
+  {
+    in.Image.assign(static_cast<size_t>(memorySize[0]) * memorySize[1] * 4, 0);
+    in.ImageMemorySize[0] = memorySize[0];
+    in.ImageMemorySize[1] = memorySize[1];
+  }
+  const size_t pixelCount = static_cast<size_t>(width) * static_cast<size_t>(height);
+  in.Tight.assign(pixelCount * 4, 0);
+
+  // ---- z-buffer of what is already drawn -----------------------------------------------
+  vtkRenderWindow* renWin = ren->GetRenderWindow();
+  const float* depthIn = nullptr;
+  if (this->IntermixIntersectingGeometry && ren->GetNumberOfPropsRendered() > 0)
+  {
+    float* z = renWin->GetZbufferData(
+      viewportX, viewportY, viewportX + viewportWidth - 1, viewportY + viewportHeight - 1);
+    if (z)
+    {
+      in.Depth.resize(pixelCount);
+      for (int j = 0; j < height; ++j)
+      {
+        int zy = static_cast<int>((j + 0.5) * viewportHeight / height);
+        zy = std::min(std::max(zy, 0), viewportHeight - 1);
+        for (int i = 0; i < width; ++i)
+        {
+          int zx = static_cast<int>((i + 0.5) * viewportWidth / width);
+          zx = std::min(std::max(zx, 0), viewportWidth - 1);
+          in.Depth[static_cast<size_t>(j) * width + i] =
+            z[static_cast<size_t>(zy) * viewportWidth + zx];
+        }
+      }
+      delete[] z;
+      depthIn = in.Depth.data();
+    }
+  }
+
+  // ---- camera ---------------------------------------------------------------------------
+  vtkCamera* cam = ren->GetActiveCamera();
+  const double aspect = ren->GetTiledAspectRatio();
+  vtkNew<vtkMatrix4x4> view;
+  vtkMatrix4x4::Multiply4x4(cam->GetModelViewTransformMatrix(), vol->GetMatrix(), view);
+  vtkNew<vtkMatrix4x4> projection;
+  projection->DeepCopy(cam->GetProjectionTransformMatrix(aspect, -1, 1));
+
+  CylvolCamera camera;
+  cylvol_camera_default(&camera);
+  camera.mode = CYLVOL_CAMERA_MATRICES;
+  ToRowMajor(view, camera.view);
+
+  // ---- render parameters -------------------------------------------------------------------
+  CylvolRenderParams params;
+  cylvol_render_params_default(&params);
+  params.width = static_cast<uint32_t>(width);
+  params.step = this->SampleDistance;
+  params.path = CYLVOL_PATH_FAST;
+  params.interpolation = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION
+    ? CYLVOL_INTERPOLATION_NEAREST
+    : CYLVOL_INTERPOLATION_LINEAR;
+  params.shading = property->GetShade(0) ? 1 : 0;
+  params.ambient = property->GetAmbient(0);
+  params.diffuse = property->GetDiffuse(0);
+  params.specular = property->GetSpecular(0);
+  params.specular_power = property->GetSpecularPower(0);
+  params.early_termination = this->EarlyTermination;
+  params.rows_bottom_up = 1;
+  this->LastSampleDistance = this->SampleDistance;
+  if (!(this->SampleDistance > 0.0))
+  {
+    double step = 0.0;
+    if (cylvol_volume_default_step(in.Volume, &step) == CYLVOL_STATUS_OK && step > 0.0)
+    {
+      this->LastSampleDistance = step * this->RelativeSampleDistance;
+      params.step = this->LastSampleDistance;
+    }
+  }
+
+  // Render in horizontal bands, so that progress can be reported and a pending abort can
+  // stop the frame. A band is the full image seen through a projection narrowed to its
+  // rows, so every pixel keeps exactly the ray it has in a one-piece render.
+  // About 64k pixels a band (4 at 512x512): each cylvol_render call is one parallel job, and
+  // more, smaller jobs measurably cost time on two cores.
+  const int bands = std::max(1, std::min(8, static_cast<int>(pixelCount / 65536)));
+  double projectionRows[16];
+  ToRowMajor(projection, projectionRows);
+  this->UpdateProgress(0.0);
+  bool aborted = false;
+  for (int b = 0; b < bands; ++b)
+  {
+    if (renWin->CheckAbortStatus())
+    {
+      aborted = true;
+      break;
+    }
+    const int r0 = static_cast<int>(static_cast<long long>(height) * b / bands);
+    const int r1 = static_cast<int>(static_cast<long long>(height) * (b + 1) / bands);
+    if (r1 <= r0)
+    {
+      continue;
+    }
+    // NDC rows [lo, hi] of this band mapped onto [-1, 1]: y' = s (y - c).
+    const double lo = -1.0 + 2.0 * r0 / height;
+    const double hi = -1.0 + 2.0 * r1 / height;
+    const double s = 2.0 / (hi - lo);
+    const double c = 0.5 * (lo + hi);
+    std::copy(projectionRows, projectionRows + 16, camera.projection);
+    for (int k = 0; k < 4; ++k)
+    {
+      camera.projection[4 + k] = s * (projectionRows[4 + k] - c * projectionRows[12 + k]);
+    }
+    params.height = static_cast<uint32_t>(r1 - r0);
+    const size_t offset = static_cast<size_t>(r0) * width;
+    const size_t bandPixels = static_cast<size_t>(r1 - r0) * width;
+    const CylvolStatus status = cylvol_render(in.Volume, &camera, &transfer, &params,
+      depthIn ? depthIn + offset : nullptr, nullptr, CYLVOL_PIXELS_RGBA8, in.Tight.data() + 4 * offset,
+      bandPixels * 4);
+    if (status != CYLVOL_STATUS_OK)
+    {
+      const char* detail = cylvol_volume_last_error(in.Volume);
+      vtkErrorMacro(<< "cylvol could not render: " << cylvol_status_message(status)
+                    << (detail && *detail ? ": " : "") << (detail ? detail : "")
+                    << ": nothing drawn.");
+      this->ImageSampleDistance = oldImageSampleDistance;
+      return;
+    }
+    CylvolRenderStats rs;
+    if (cylvol_volume_render_stats(in.Volume, &rs) == CYLVOL_STATUS_OK)
+    {
+      this->LastRaySeconds += rs.seconds;
+      this->LastRays += rs.rays;
+      this->LastSamples += rs.samples;
+      this->LastSamplesLocated += rs.samples_located;
+      this->LastHexTests += rs.hex_tests;
+      this->LastInternalVisits += rs.internal_visits;
+      this->LastLeafVisits += rs.leaf_visits;
+      this->LastGradientEvaluations += rs.gradient_evaluations;
+      this->LastEarlyTerminations += rs.early_terminations;
+    }
+    this->UpdateProgress(static_cast<double>(b + 1) / bands);
+  }
+  if (aborted || renWin->GetAbortRender())
+  {
+    this->ImageSampleDistance = oldImageSampleDistance;
+    this->Timer->StopTimer();
+    this->LastRenderSeconds = this->Timer->GetElapsedTime();
+    return;
+  }
+
+  // ---- show it ----------------------------------------------------------------------------
+  for (int j = 0; j < height; ++j)
+  {
+    std::copy(in.Tight.begin() + static_cast<std::ptrdiff_t>(4) * j * width,
+      in.Tight.begin() + static_cast<std::ptrdiff_t>(4) * (j + 1) * width,
+      in.Image.begin() + static_cast<std::ptrdiff_t>(4) * j * in.ImageMemorySize[0]);
+  }
+  // The image lies in front of everything drawn at depths behind the volume's nearest
+  // bound: the nearest depth of the volume's bounding box (in [0, 1]).
+  float depth = -1.0f;
+  if (this->IntermixIntersectingGeometry)
+  {
+    double bounds[6];
+    vol->GetBounds(bounds);
+    vtkMatrix4x4* composite = cam->GetCompositeProjectionTransformMatrix(aspect, 0, 1);
+    double minZ = 1.0;
+    for (int k = 0; k < 8; ++k)
+    {
+      double p[4] = { bounds[k & 1], bounds[2 + ((k >> 1) & 1)], bounds[4 + ((k >> 2) & 1)], 1.0 };
+      composite->MultiplyPoint(p, p);
+      if (p[3] != 0.0)
+      {
+        minZ = std::min(minZ, p[2] / p[3]);
+      }
+    }
+    depth = static_cast<float>(vtkMath::ClampValue(minZ, 0.0, 1.0));
+  }
+  int imageMemorySize[2] = { in.ImageMemorySize[0], in.ImageMemorySize[1] };
+  int imageViewportSize[2] = { width, height };
+  int imageInUseSize[2] = { width, height };
+  int imageOrigin[2] = { 0, 0 };
+  if (this->ImageDisplayHelper)
+  {
+    this->ImageDisplayHelper->RenderTexture(vol, ren, imageMemorySize, imageViewportSize,
+      imageInUseSize, imageOrigin, depth, in.Image.data());
+  }
+  this->Timer->StopTimer();
+  this->LastRenderSeconds = this->Timer->GetElapsedTime();
+  in.StoreTime(ren, vol, this->LastRenderSeconds);
+}
+
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Structure: " << this->Structure << "\n";
+  os << indent << "AxisAuto: " << this->AxisAuto << "\n";
+  os << indent << "AxisOrigin: " << this->AxisOrigin[0] << " " << this->AxisOrigin[1] << " "
+     << this->AxisOrigin[2] << "\n";
+  os << indent << "AxisDirection: " << this->AxisDirection[0] << " " << this->AxisDirection[1]
+     << " " << this->AxisDirection[2] << "\n";
+  os << indent << "BuildPreset: " << this->BuildPreset << "\n";
+  os << indent << "EarlyTermination: " << this->EarlyTermination << "\n";
+  os << indent << "SampleDistance: " << this->SampleDistance << "\n";
+  os << indent << "RelativeSampleDistance: " << this->RelativeSampleDistance << "\n";
+  os << indent << "ImageSampleDistance: " << this->ImageSampleDistance << "\n";
+  os << indent << "MinimumImageSampleDistance: " << this->MinimumImageSampleDistance << "\n";
+  os << indent << "MaximumImageSampleDistance: " << this->MaximumImageSampleDistance << "\n";
+  os << indent << "AutoAdjustSampleDistances: " << this->AutoAdjustSampleDistances << "\n";
+  os << indent << "ScalarComponent: " << this->ScalarComponent << "\n";
+  os << indent << "OpacityConvention: " << this->OpacityConvention << "\n";
+  os << indent << "IntermixIntersectingGeometry: " << this->IntermixIntersectingGeometry << "\n";
+  os << indent << "BuildCount: " << this->BuildCount << "\n";
+  os << indent << "ScalarUpdateCount: " << this->ScalarUpdateCount << "\n";
+  os << indent << "LastRenderSeconds: " << this->LastRenderSeconds << "\n";
+  os << indent << "LastSamples: " << this->LastSamples << "\n";
+  os << indent << "LastHexTests: " << this->LastHexTests << "\n";
+}

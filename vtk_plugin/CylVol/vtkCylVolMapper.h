@@ -1,0 +1,303 @@
+/**
+ * @class   vtkCylVolMapper
+ * @brief   ray casts unstructured hexahedral grids on the CPU with the cylvol library
+ *
+ * vtkCylVolMapper is a vtkUnstructuredGridVolumeMapper for large hexahedral CFD meshes
+ * (pumps, turbines, combustors). It hands the grid to cylvol once, which builds an
+ * acceleration structure (a two-level grid or a BVH, in Cartesian or cylindrical
+ * coordinates about the machine's axis), and keeps that structure across frames: it is
+ * rebuilt only when the grid's points or cells, or the structure settings, change. When
+ * only the scalars change (new values, another array, another component), the new
+ * values are handed over without a rebuild.
+ *
+ * Cells: hexahedron, voxel, wedge, pyramid and tetrahedron. Any other cell type, missing
+ * or unusable scalars, or an empty grid is reported with vtkErrorMacro and nothing is
+ * drawn.
+ *
+ * The mapper honours vtkVolumeProperty (RGB or gray colour, scalar opacity and its unit
+ * distance, shading with ambient/diffuse/specular/specular power, gradient opacity when
+ * one is set and enabled, nearest or linear interpolation), the mapper's scalar mode and
+ * SelectScalarArray, the volume's matrix, perspective and parallel cameras, viewports,
+ * and the depth of opaque geometry already drawn.
+ *
+ * Opacity convention: by default the scalar opacity is read the way
+ * vtkUnstructuredGridVolumeRayCastMapper reads it, as an attenuation coefficient per
+ * unit distance (transmittance exp(-opacity * length / unit distance));
+ * SetOpacityConventionToSampled() reads it as the image-data mappers do, as the opacity
+ * accumulated over one unit distance (transmittance (1 - opacity)^(length / unit)).
+ *
+ * Like the other ray cast mappers it renders an image ImageSampleDistance times smaller
+ * than the viewport (adjusted automatically to the render window's desired update rate
+ * when AutoAdjustSampleDistances is on) and shows it through vtkRayCastImageDisplayHelper.
+ * It fires progress events and honours render window aborts between image bands.
+ */
+
+#ifndef vtkCylVolMapper_h
+#define vtkCylVolMapper_h
+
+#include "vtkCylVolRenderingModule.h" // for export macro
+#include "vtkUnstructuredGridVolumeMapper.h"
+
+class vtkRayCastImageDisplayHelper;
+class vtkTimerLog;
+
+class VTKCYLVOLRENDERING_EXPORT vtkCylVolMapper : public vtkUnstructuredGridVolumeMapper
+{
+public:
+  static vtkCylVolMapper* New();
+  vtkTypeMacro(vtkCylVolMapper, vtkUnstructuredGridVolumeMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// The acceleration structures (values of cylvol's CylvolStructure).
+  enum StructureType
+  {
+    STRUCTURE_AUTO = 0,
+    STRUCTURE_CARTESIAN_GRID = 1,
+    STRUCTURE_CYLINDRICAL_GRID = 2,
+    STRUCTURE_CARTESIAN_BVH = 3,
+    STRUCTURE_CYLINDRICAL_BVH = 4
+  };
+
+  /// How scalar opacity values are read (see the class description).
+  enum OpacityConventionType
+  {
+    OPACITY_ATTENUATION = 0,
+    OPACITY_SAMPLED = 1
+  };
+
+  ///@{
+  /**
+   * The acceleration structure to build (default STRUCTURE_AUTO: cylvol picks one from the
+   * mesh). Changing it rebuilds the structure at the next render.
+   */
+  virtual void SetStructure(int structure);
+  vtkGetMacro(Structure, int);
+  void SetStructureToAuto() { this->SetStructure(STRUCTURE_AUTO); }
+  void SetStructureToCartesianGrid() { this->SetStructure(STRUCTURE_CARTESIAN_GRID); }
+  void SetStructureToCylindricalGrid() { this->SetStructure(STRUCTURE_CYLINDRICAL_GRID); }
+  void SetStructureToCartesianBVH() { this->SetStructure(STRUCTURE_CARTESIAN_BVH); }
+  void SetStructureToCylindricalBVH() { this->SetStructure(STRUCTURE_CYLINDRICAL_BVH); }
+  ///@}
+
+  ///@{
+  /**
+   * The machine axis used by the cylindrical structures: detected from the mesh when
+   * AxisAuto is on (the default), else AxisOrigin and AxisDirection (in data coordinates).
+   * Changing these rebuilds the structure at the next render.
+   */
+  virtual void SetAxisAuto(vtkTypeBool value);
+  vtkGetMacro(AxisAuto, vtkTypeBool);
+  vtkBooleanMacro(AxisAuto, vtkTypeBool);
+  virtual void SetAxisOrigin(double x, double y, double z);
+  virtual void SetAxisOrigin(const double origin[3])
+  {
+    this->SetAxisOrigin(origin[0], origin[1], origin[2]);
+  }
+  vtkGetVector3Macro(AxisOrigin, double);
+  virtual void SetAxisDirection(double x, double y, double z);
+  virtual void SetAxisDirection(const double direction[3])
+  {
+    this->SetAxisDirection(direction[0], direction[1], direction[2]);
+  }
+  vtkGetVector3Macro(AxisDirection, double);
+  ///@}
+
+  ///@{
+  /**
+   * Structure build preset: 0 default, 1 fast build, 2 compact/fine, 3 as in the paper
+   * (grids). Changing it rebuilds the structure at the next render.
+   */
+  virtual void SetBuildPreset(int preset);
+  vtkGetMacro(BuildPreset, int);
+  ///@}
+
+  ///@{
+  /**
+   * Rays stop once their accumulated opacity reaches this value (default 0.99; 1 disables
+   * early ray termination).
+   */
+  vtkSetClampMacro(EarlyTermination, double, 0.0, 1.0);
+  vtkGetMacro(EarlyTermination, double);
+  ///@}
+
+  ///@{
+  /**
+   * Distance between samples along a ray, in data units. 0 or less (the default) uses
+   * cylvol's default step for the mesh (half the mean cell size).
+   */
+  vtkSetMacro(SampleDistance, double);
+  vtkGetMacro(SampleDistance, double);
+  ///@}
+
+  ///@{
+  /**
+   * When SampleDistance is 0 or less, the step is cylvol's default step times this factor
+   * (default 1; 2 halves the samples, 0.125 is a converged reference).
+   */
+  vtkSetClampMacro(RelativeSampleDistance, double, 1e-3, 1e3);
+  vtkGetMacro(RelativeSampleDistance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Sample distance in screen pixels: the image is rendered this many times smaller than
+   * the viewport in each direction and stretched over it (default 1).
+   */
+  vtkSetClampMacro(ImageSampleDistance, float, 0.1f, 100.0f);
+  vtkGetMacro(ImageSampleDistance, float);
+  vtkSetClampMacro(MinimumImageSampleDistance, float, 0.1f, 100.0f);
+  vtkGetMacro(MinimumImageSampleDistance, float);
+  vtkSetClampMacro(MaximumImageSampleDistance, float, 0.1f, 100.0f);
+  vtkGetMacro(MaximumImageSampleDistance, float);
+  ///@}
+
+  ///@{
+  /**
+   * When on, ImageSampleDistance is adjusted before each render from the previous render's
+   * time and the time the renderer allocated to the volume (from the render window's
+   * desired update rate), within [Minimum, Maximum]ImageSampleDistance. Default off.
+   */
+  vtkSetClampMacro(AutoAdjustSampleDistances, vtkTypeBool, 0, 1);
+  vtkGetMacro(AutoAdjustSampleDistances, vtkTypeBool);
+  vtkBooleanMacro(AutoAdjustSampleDistances, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
+   * Which component of a multi-component scalar array to render (-1, the default: none
+   * chosen, which is an error for arrays with more than one component).
+   */
+  virtual void SetScalarComponent(int component);
+  vtkGetMacro(ScalarComponent, int);
+  ///@}
+
+  ///@{
+  /**
+   * Opacity convention (default OPACITY_ATTENUATION, as vtkUnstructuredGridVolumeRayCastMapper).
+   */
+  vtkSetClampMacro(OpacityConvention, int, OPACITY_ATTENUATION, OPACITY_SAMPLED);
+  vtkGetMacro(OpacityConvention, int);
+  void SetOpacityConventionToAttenuation() { this->SetOpacityConvention(OPACITY_ATTENUATION); }
+  void SetOpacityConventionToSampled() { this->SetOpacityConvention(OPACITY_SAMPLED); }
+  ///@}
+
+  ///@{
+  /**
+   * Whether the depth of opaque geometry already drawn stops the rays (default on).
+   */
+  vtkSetClampMacro(IntermixIntersectingGeometry, vtkTypeBool, 0, 1);
+  vtkGetMacro(IntermixIntersectingGeometry, vtkTypeBool);
+  vtkBooleanMacro(IntermixIntersectingGeometry, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
+   * Statistics of the last render: wall time of Render() (seconds, build included when it
+   * built), cylvol's own render time, rays, samples, samples located through the
+   * structure, hexahedron containment tests, structure node visits, gradient evaluations
+   * (zero unless shading or a gradient opacity asks for them), rays stopped early, and the
+   * image size.
+   */
+  vtkGetMacro(LastRenderSeconds, double);
+  vtkGetMacro(LastRaySeconds, double);
+  vtkGetMacro(LastRays, vtkTypeUInt64);
+  vtkGetMacro(LastSamples, vtkTypeUInt64);
+  vtkGetMacro(LastSamplesLocated, vtkTypeUInt64);
+  vtkGetMacro(LastHexTests, vtkTypeUInt64);
+  vtkGetMacro(LastInternalVisits, vtkTypeUInt64);
+  vtkGetMacro(LastLeafVisits, vtkTypeUInt64);
+  vtkGetMacro(LastGradientEvaluations, vtkTypeUInt64);
+  vtkGetMacro(LastEarlyTerminations, vtkTypeUInt64);
+  vtkGetVector2Macro(LastImageSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * Statistics of the structure: how many times it has been built by this mapper, how many
+   * times only the scalars were replaced, the last build's time (seconds) and memory
+   * (bytes), the structure built (a StructureType, never AUTO; -1 before the first build),
+   * the axis it used, and the sample distance last used.
+   */
+  vtkGetMacro(BuildCount, int);
+  vtkGetMacro(ScalarUpdateCount, int);
+  vtkGetMacro(LastBuildSeconds, double);
+  vtkGetMacro(LastBuildBytes, vtkTypeUInt64);
+  vtkGetMacro(BuiltStructure, int);
+  vtkGetVector3Macro(BuiltAxisOrigin, double);
+  vtkGetVector3Macro(BuiltAxisDirection, double);
+  vtkGetMacro(LastSampleDistance, double);
+  ///@}
+
+  /**
+   * The cylvol library version string.
+   */
+  static const char* GetCylVolVersion();
+
+  /**
+   * WARNING: INTERNAL METHOD - NOT INTENDED FOR GENERAL USE.
+   * Renders the volume.
+   */
+  void Render(vtkRenderer* ren, vtkVolume* vol) override;
+
+  /**
+   * WARNING: INTERNAL METHOD - NOT INTENDED FOR GENERAL USE.
+   * Releases the display helper's graphics resources.
+   */
+  void ReleaseGraphicsResources(vtkWindow* win) override;
+
+protected:
+  vtkCylVolMapper();
+  ~vtkCylVolMapper() override;
+
+  // The input is marked optional so that a mapper without one reports it itself (an error
+  // naming the problem, nothing drawn) instead of the pipeline failing the update.
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  int Structure;
+  vtkTypeBool AxisAuto;
+  double AxisOrigin[3];
+  double AxisDirection[3];
+  int BuildPreset;
+  double EarlyTermination;
+  double SampleDistance;
+  double RelativeSampleDistance;
+  float ImageSampleDistance;
+  float MinimumImageSampleDistance;
+  float MaximumImageSampleDistance;
+  vtkTypeBool AutoAdjustSampleDistances;
+  int ScalarComponent;
+  int OpacityConvention;
+  vtkTypeBool IntermixIntersectingGeometry;
+
+  double LastRenderSeconds;
+  double LastRaySeconds;
+  vtkTypeUInt64 LastRays;
+  vtkTypeUInt64 LastSamples;
+  vtkTypeUInt64 LastSamplesLocated;
+  vtkTypeUInt64 LastHexTests;
+  vtkTypeUInt64 LastInternalVisits;
+  vtkTypeUInt64 LastLeafVisits;
+  vtkTypeUInt64 LastGradientEvaluations;
+  vtkTypeUInt64 LastEarlyTerminations;
+  int LastImageSize[2];
+  int BuildCount;
+  int ScalarUpdateCount;
+  double LastBuildSeconds;
+  vtkTypeUInt64 LastBuildBytes;
+  int BuiltStructure;
+  double BuiltAxisOrigin[3];
+  double BuiltAxisDirection[3];
+  double LastSampleDistance;
+
+  vtkRayCastImageDisplayHelper* ImageDisplayHelper;
+  vtkTimerLog* Timer;
+
+  class vtkInternals;
+  vtkInternals* Internals;
+
+private:
+  vtkCylVolMapper(const vtkCylVolMapper&) = delete;
+  void operator=(const vtkCylVolMapper&) = delete;
+};
+
+#endif
