@@ -3,11 +3,12 @@
 # It installs what the tests need (Debian's VTK 9.1 with Python, Xvfb, CMake) when missing,
 # then checks formatting and lints, runs the Rust unit, integration and doc tests (some of
 # which drive VTK's own Python readers to cross-check our files), and the C ABI's test program
-# (built through the CMake package, then run under valgrind or AddressSanitizer).
+# (built through the CMake package, then run under valgrind or AddressSanitizer), and the VTK
+# mapper's CTest suite (against VTK's own unstructured ray caster, baselines, Python).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(libvtk9-dev python3-vtk9 vtk9-examples xvfb xauth cmake)
+packages=(libvtk9-dev python3-vtk9 vtk9-examples xvfb xauth cmake g++)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -29,5 +30,9 @@ echo "== cargo test"
 cargo test --locked --lib --bins --tests
 echo "== doc tests"
 cargo test --locked --doc
+echo "== release build (the CMake package's libcylvol.a, and the cylvol program the VTK tests run)"
+cargo build --locked --release
 echo "== C ABI (tests/c_api through find_package(CylVol))"
 bash tests/c_api/run.sh
+echo "== VTK mapper (vtk_plugin: build, CTest under xvfb-run, install, import cylvol)"
+bash vtk_plugin/run_tests.sh
