@@ -65,7 +65,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::boundary::{interpolate_crossing, partial_opacity, BISECTIONS};
+use super::boundary::{face_violation, interpolate_crossing, partial_opacity, BISECTIONS};
 use super::camera::{Camera, RayGenerator};
 use super::image::Image;
 use super::shading::Shading;
@@ -74,9 +74,10 @@ use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_
 use super::walk::{violated_face, walk, WalkEnd, WalkWork};
 use crate::accel::{Accel, Counters};
 use crate::geometry::bounds::{cell_bounds, Aabb};
-use crate::geometry::containment::locate_in_cell;
+use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
 use crate::geometry::inverse::invert;
 use crate::geometry::trilinear::{index, interpolate, physical_gradient};
+use crate::mesh::topology::FACES;
 use crate::mesh::Association;
 use crate::{Error, Mesh};
 
@@ -114,9 +115,21 @@ impl std::str::FromStr for RenderPath {
 
 /// The face neighbours of a cell, for the fast path: six cell ids, `u32::MAX` for none.
 /// Closures `Fn(u32) -> [u32; 6]` implement it.
+///
+/// A face without a neighbour is taken for the mesh's boundary by the boundary crossing
+/// searches (see [`super::boundary`]): the source must pair every shared face, θ-seam faces
+/// of coincident but separate points included (as
+/// [`crate::mesh::topology::FaceNeighbors::build_with_tolerance`] does), or say it does not
+/// with [`Neighbours::complete`].
 pub trait Neighbours: Sync {
     /// The cells across the six faces of `cell` (`u32::MAX` where there is none).
     fn neighbours(&self, cell: u32) -> [u32; 6];
+
+    /// Whether every shared face has its neighbour, so that a face with none is on the mesh's
+    /// boundary (default `true`).
+    fn complete(&self) -> bool {
+        true
+    }
 }
 
 impl<F: Fn(u32) -> [u32; 6] + Sync> Neighbours for F {
@@ -138,6 +151,10 @@ pub struct NoNeighbours;
 impl Neighbours for NoNeighbours {
     fn neighbours(&self, _cell: u32) -> [u32; 6] {
         [u32::MAX; 6]
+    }
+
+    fn complete(&self) -> bool {
+        false
     }
 }
 
@@ -487,6 +504,19 @@ pub struct Renderer<'a> {
     clip_box: Aabb,
 }
 
+/// Cells a boundary search tests locally before it asks the structure.
+pub const MAX_BOUNDARY_WALK: usize = 6;
+
+/// A local boundary search's answer.
+enum Local {
+    /// In this cell, at these parameters.
+    Inside(u32, DVec3),
+    /// Beyond boundary faces only.
+    Outside,
+    /// The structure must say.
+    Undecided,
+}
+
 /// Samples per ray beyond which a render is refused (a step far too small for the mesh).
 pub const MAX_SAMPLES_PER_RAY: f64 = 1e7;
 
@@ -599,26 +629,119 @@ impl<'a> Renderer<'a> {
         self.volume.accel.locate(mesh, p, counters)
     }
 
-    /// For a boundary search: the cell holding `p` if it lies in the mesh — `cell` (with
-    /// `guess` to warm-start Newton) first, then the structure. Every test is counted in
-    /// `hex_tests` and `boundary_refinements`.
+    /// For a boundary search: the cell holding `p` if it lies in the mesh. `cell` (with
+    /// `guess` to warm-start Newton) is tested first. With complete face neighbours the search
+    /// then goes on locally: across the face `p` lies farthest beyond (by `cell`'s parametric
+    /// coordinates) that has a neighbour, until a cell holds `p` or `p` lies beyond boundary
+    /// faces only — outside, with no structure look-up; where `confirm` is set (a point not
+    /// between two known samples), that answer is confirmed by the structure. Without
+    /// neighbours, or where the local search is undecided (a degenerate face, a budget of
+    /// [`MAX_BOUNDARY_WALK`] cells, an inverse that fails), the structure answers. Every test is
+    /// counted in `hex_tests` and `boundary_refinements`.
     fn boundary_locate(
         &self,
         p: DVec3,
         cell: u32,
         guess: DVec3,
+        confirm: bool,
         counters: &mut Counters,
         stats: &mut RenderStats,
     ) -> Option<(u32, DVec3)> {
         let mesh = self.volume.mesh;
         let before = counters.hex_tests;
-        counters.hex_tests += 1;
-        let found = match locate_in_cell(&mesh.cell_corners(cell as usize), p, Some(guess)) {
-            Some(q) => Some((cell, q)),
-            None => self.volume.accel.locate(mesh, p, counters),
+        let found = match self.local_boundary_locate(p, cell, guess, counters) {
+            Local::Inside(c, q) => Some((c, q)),
+            Local::Outside if !confirm => None,
+            Local::Outside | Local::Undecided => self.volume.accel.locate(mesh, p, counters),
         };
         stats.boundary_refinements += counters.hex_tests - before;
         found
+    }
+
+    /// The local part of [`Renderer::boundary_locate`].
+    fn local_boundary_locate(
+        &self,
+        p: DVec3,
+        cell: u32,
+        guess: DVec3,
+        counters: &mut Counters,
+    ) -> Local {
+        let mesh = self.volume.mesh;
+        let cells = mesh.cells();
+        if !self.neighbours.complete() {
+            counters.hex_tests += 1;
+            return match locate_in_cell(&mesh.cell_corners(cell as usize), p, Some(guess)) {
+                Some(q) => Local::Inside(cell, q),
+                None => Local::Undecided,
+            };
+        }
+        let mut visited = [u32::MAX; MAX_BOUNDARY_WALK];
+        let mut c = cell;
+        let mut guess = Some(guess);
+        for slot in 0..MAX_BOUNDARY_WALK {
+            let Some(ids) = cells.get(c as usize) else {
+                return Local::Undecided;
+            };
+            visited[slot] = c;
+            let corners = mesh.cell_corners(c as usize);
+            // Far beyond the cell the extended map says little (and Newton may not converge).
+            let b = cell_bounds(&corners);
+            if !b.padded(b.diagonal()).contains(p) {
+                return Local::Undecided;
+            }
+            counters.hex_tests += 1;
+            let Some(q) = invert(&corners, p, guess).param() else {
+                return Local::Undecided;
+            };
+            if param_inside(q) {
+                return Local::Inside(c, q);
+            }
+            let nb = self.neighbours.neighbours(c);
+            let mut next: Option<(f64, u32)> = None;
+            for (f, &n) in nb.iter().enumerate() {
+                let v = face_violation(q, f);
+                if v <= CONTAINMENT_TOLERANCE {
+                    continue;
+                }
+                if n == u32::MAX {
+                    // A boundary face, unless it is degenerate (a collapsed edge or point of a
+                    // wedge or pyramid: no area, never a neighbour, the mesh may go on there).
+                    let mut pts = FACES[f].map(|k| ids[k]);
+                    pts.sort_unstable();
+                    let distinct = 1 + pts.windows(2).filter(|w| w[0] != w[1]).count();
+                    if distinct < 3 {
+                        return Local::Undecided;
+                    }
+                    continue;
+                }
+                if visited.contains(&n) {
+                    continue;
+                }
+                if next.map_or(true, |(bv, _)| v > bv) {
+                    next = Some((v, n));
+                }
+            }
+            match next {
+                Some((_, n)) => {
+                    c = n;
+                    guess = None;
+                }
+                None => {
+                    // Beyond boundary faces only, or back towards cells already tested.
+                    let beyond_visited = nb.iter().enumerate().any(|(f, &n)| {
+                        n != u32::MAX
+                            && face_violation(q, f) > CONTAINMENT_TOLERANCE
+                            && visited.contains(&n)
+                    });
+                    return if beyond_visited {
+                        Local::Undecided
+                    } else {
+                        Local::Outside
+                    };
+                }
+            }
+        }
+        Local::Undecided
     }
 
     /// Where the ray crosses the mesh boundary between `t_outside` (a point outside the mesh)
@@ -637,7 +760,8 @@ impl<'a> Renderer<'a> {
     ) -> f64 {
         for _ in 0..BISECTIONS {
             let mid = 0.5 * (t_outside + t_inside);
-            match self.boundary_locate(origin + dir * mid, inside.0, inside.1, counters, stats) {
+            let p = origin + dir * mid;
+            match self.boundary_locate(p, inside.0, inside.1, false, counters, stats) {
                 Some(f) => {
                     t_inside = mid;
                     inside = f;
@@ -856,6 +980,7 @@ impl<'a> Renderer<'a> {
                             origin + dir * t_prev,
                             cell,
                             raw_param,
+                            true,
                             &mut counters,
                             stats,
                         )
@@ -891,7 +1016,7 @@ impl<'a> Renderer<'a> {
                     let t_next = sample_t(k).min(t_out);
                     let p_next = origin + dir * t_next;
                     if self
-                        .boundary_locate(p_next, cell, raw_param, &mut counters, stats)
+                        .boundary_locate(p_next, cell, raw_param, true, &mut counters, stats)
                         .is_none()
                     {
                         let e =
@@ -910,7 +1035,7 @@ impl<'a> Renderer<'a> {
             let p_end = origin + dir * t_out;
             if t_out.is_finite()
                 && self
-                    .boundary_locate(p_end, l.inside.0, l.inside.1, &mut counters, stats)
+                    .boundary_locate(p_end, l.inside.0, l.inside.1, true, &mut counters, stats)
                     .is_none()
             {
                 let e = self.crossing(origin, dir, t_out, l.t, l.inside, &mut counters, stats);
