@@ -14,6 +14,10 @@
 //!    recursively; a sub-cube is rejected when the box of its eight mapped corners (which holds
 //!    it: a sub-cube of a trilinear map is a trilinear cell) does not hold the target, and Newton
 //!    is run from the centre of every sub-cube that survives.
+//!    Before subdividing, a target outside the convex hull of the corners (which holds the
+//!    cell), by more than `1e-8` of the cell size along one of the six face normals, is
+//!    reported outside at once: the Newton root outside the cell if there is one, else
+//!    [`InverseFailure::NotFound`].
 //! 4. **Verify.** A result is returned only if it maps back to the target within the
 //!    acceptance tolerance; otherwise the call reports why it failed. A wrong answer is never
 //!    returned.
@@ -132,9 +136,20 @@ impl Inversion {
     }
 }
 
+/// The corner slots of the six faces (VTK hexahedron face order).
+const HULL_FACES: [[usize; 4]; 6] = [
+    [0, 4, 7, 3],
+    [1, 2, 6, 5],
+    [0, 1, 5, 4],
+    [3, 7, 6, 2],
+    [0, 3, 2, 1],
+    [4, 5, 6, 7],
+];
+
 /// The cell rebased to corner 0 with its size.
 struct Problem {
     rel: [DVec3; 8],
+    size: f64,
     target: DVec3,
     stop: f64,
     accept: f64,
@@ -178,6 +193,32 @@ fn newton_step(j: &DMat3, r: DVec3) -> DVec3 {
 }
 
 impl Problem {
+    /// Whether the target lies outside the convex hull of the corners by more than `1e-8` of
+    /// the cell size, by the slabs between the corners' extreme projections on the six face
+    /// normals (each the cross product of the face's diagonals).
+    fn outside_hull(&self) -> bool {
+        let pad = 1e-8 * self.size;
+        for f in HULL_FACES {
+            let [a, b, c, d] = f.map(|k| self.rel[k]);
+            let n = (c - a).cross(d - b);
+            let len = n.length();
+            if !(len > 0.0 && len.is_finite()) {
+                continue;
+            }
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for x in &self.rel {
+                let v = n.dot(*x);
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+            let t = n.dot(self.target);
+            if t > hi + pad * len || t < lo - pad * len {
+                return true;
+            }
+        }
+        false
+    }
+
     /// Damped Newton from `start`, iterates clamped to `[lo, hi]³`.
     fn newton(
         &self,
@@ -346,6 +387,7 @@ fn invert_inner(
     }
     let prob = Problem {
         rel,
+        size,
         target: target - corners[0],
         stop: STOP_TOLERANCE * size,
         accept: ACCEPT_TOLERANCE * size,
@@ -411,6 +453,18 @@ fn invert_inner(
             });
         }
         outside_root = Some(end);
+    }
+    // The cell lies in the convex hull of its corners (the shape functions are non-negative
+    // and sum to one on [0, 1]³): a target outside a slab of that hull has no preimage in the
+    // cell, and the subdivision would only confirm it.
+    if prob.outside_hull() {
+        return match outside_root {
+            Some(e) => Ok(Solution {
+                param: e.param,
+                residual: e.residual,
+            }),
+            None => Err(InverseFailure::NotFound),
+        };
     }
     stats.fallbacks += 1;
     match prob.subdivide(stats) {
@@ -490,6 +544,24 @@ mod tests {
                 "{target}: {inv:?}"
             );
         }
+    }
+
+    #[test]
+    fn outside_the_hull_needs_no_subdivision() {
+        // A thin sheared slab: its box holds points far from the cell in parametric terms.
+        let mut c = CORNER_PARAMETERS.map(|p| DVec3::new(p[0], p[1], 0.01 * p[2]));
+        for (k, ck) in c.iter_mut().enumerate() {
+            ck.z += 0.5 * ck.x + if k == 6 { 0.003 } else { 0.0 };
+        }
+        let target = DVec3::new(0.2, 0.5, 0.4);
+        let inv = invert(&c, target, None);
+        assert_eq!(inv.stats.fallbacks, 0);
+        assert_eq!(inv.stats.subcells, 0);
+        assert!(inv.param().map_or(true, |q| !in_cube(q, -1e-9, 1.0 + 1e-9)));
+        // Inside points are still found.
+        let p = DVec3::new(0.3, 0.6, 0.5);
+        let q = invert(&c, map(&c, p), None).param().expect("inside");
+        assert!((q - p).length() < 1e-9);
     }
 
     #[test]
