@@ -192,31 +192,60 @@ fn newton_step(j: &DMat3, r: DVec3) -> DVec3 {
     }
 }
 
+/// Whether `target` lies outside the convex hull of the cell's corners (which holds the cell)
+/// by more than `1e-8` of the cell size, by the slabs between the corners' extreme projections
+/// on the six face normals (each the cross product of the face's diagonals). `true` means the
+/// target is not in the cell; `false` says nothing.
+///
+/// ```
+/// use cylvol::geometry::inverse::outside_hull;
+/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
+/// use glam::DVec3;
+/// let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+/// assert!(outside_hull(&cube, DVec3::new(0.5, 0.5, 1.01)));
+/// assert!(!outside_hull(&cube, DVec3::new(0.5, 0.5, 0.99)));
+/// ```
+pub fn outside_hull(corners: &[DVec3; 8], target: DVec3) -> bool {
+    let rel = relative_corners(corners);
+    let (mut bmin, mut bmax) = (DVec3::ZERO, DVec3::ZERO);
+    for c in &rel {
+        bmin = bmin.min(*c);
+        bmax = bmax.max(*c);
+    }
+    let size = (bmax - bmin).length();
+    size.is_finite() && hull_separates(&rel, size, target - corners[0])
+}
+
+/// [`outside_hull`] for corners relative to corner 0 and a target relative to it.
+fn hull_separates(rel: &[DVec3; 8], size: f64, target: DVec3) -> bool {
+    let pad = 1e-8 * size;
+    for f in HULL_FACES {
+        let [a, b, c, d] = f.map(|k| rel[k]);
+        let n = (c - a).cross(d - b);
+        let len = n.length();
+        if !(len > 0.0 && len.is_finite()) {
+            continue;
+        }
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for x in rel {
+            let v = n.dot(*x);
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+        let t = n.dot(target);
+        if t > hi + pad * len || t < lo - pad * len {
+            return true;
+        }
+    }
+    false
+}
+
 impl Problem {
     /// Whether the target lies outside the convex hull of the corners by more than `1e-8` of
     /// the cell size, by the slabs between the corners' extreme projections on the six face
     /// normals (each the cross product of the face's diagonals).
     fn outside_hull(&self) -> bool {
-        let pad = 1e-8 * self.size;
-        for f in HULL_FACES {
-            let [a, b, c, d] = f.map(|k| self.rel[k]);
-            let n = (c - a).cross(d - b);
-            let len = n.length();
-            if !(len > 0.0 && len.is_finite()) {
-                continue;
-            }
-            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-            for x in &self.rel {
-                let v = n.dot(*x);
-                lo = lo.min(v);
-                hi = hi.max(v);
-            }
-            let t = n.dot(self.target);
-            if t > hi + pad * len || t < lo - pad * len {
-                return true;
-            }
-        }
-        false
+        hull_separates(&self.rel, self.size, self.target)
     }
 
     /// Damped Newton from `start`, iterates clamped to `[lo, hi]³`.
