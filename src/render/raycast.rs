@@ -69,7 +69,7 @@ use super::boundary::{face_violation, interpolate_crossing, partial_opacity, BIS
 use super::camera::{Camera, RayGenerator};
 use super::image::Image;
 use super::shading::Shading;
-use super::skip::Skipper;
+use super::skip::{NodeArcs, Skipper};
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
 use super::walk::{violated_face, walk, WalkEnd, WalkWork};
 use crate::accel::{Accel, Counters};
@@ -502,6 +502,8 @@ pub struct Renderer<'a> {
     options: RenderOptions,
     neighbours: &'a dyn Neighbours,
     clip_box: Aabb,
+    /// The cylindrical BVH's node arcs for the fast path's empty-space skipping.
+    arcs: NodeArcs,
 }
 
 /// Cells a boundary search tests locally before it asks the structure.
@@ -551,6 +553,11 @@ impl<'a> Renderer<'a> {
             options: *options,
             neighbours: &NoNeighbours,
             clip_box,
+            arcs: if options.path == RenderPath::Fast {
+                NodeArcs::new(volume.accel)
+            } else {
+                NodeArcs::default()
+            },
         })
     }
 
@@ -810,7 +817,7 @@ impl<'a> Renderer<'a> {
         let vol = self.volume;
         let mesh = vol.mesh;
         let fast = opts.path == RenderPath::Fast;
-        let skipper = Skipper::new(vol.accel);
+        let skipper = Skipper::with_arcs(vol.accel, &self.arcs);
         let mut counters = Counters::default();
         let mut acc = Accum {
             transmittance: 1.0,

@@ -6,7 +6,8 @@
 //!   and piece bounds gives the smallest `t ≥ t₀` at which the ray is inside a piece's bound.
 //!   Boxes are slab-tested. Sectors are tested on `r` (a quadratic in `t`), `h` (a slab) and,
 //!   for arcs narrower than π, θ (two half-planes through the axis); a wider arc is tested on
-//!   `r` and `h` only, a lower bound of the true entry, which is all skipping needs.
+//!   `r` and `h` only, a lower bound of the true entry, which is all skipping needs. The
+//!   sines and cosines of the nodes' arcs are computed once per renderer ([`NodeArcs`]).
 //! - **Grids**: a sample is passed over when its second-level cell holds no reference (one
 //!   top-cell and one leaf-cell look-up, no cell tested).
 //!
@@ -48,6 +49,37 @@ enum LocalRay {
     Sectors { o: DVec3, d: DVec3, pad: f64 },
 }
 
+/// `[sin θ_lo, cos θ_lo, sin θ_hi, cos θ_hi]` of a sector's arc.
+type ArcTrig = [f64; 4];
+
+#[inline]
+fn arc_trig(s: &SectorF32) -> ArcTrig {
+    let (s0, c0) = (s.theta[0] as f64).sin_cos();
+    let (s1, c1) = (s.theta[1] as f64).sin_cos();
+    [s0, c0, s1, c1]
+}
+
+/// The sines and cosines of the arcs of a cylindrical BVH's nodes, computed once per
+/// renderer so that the empty-space traversal of its nodes takes no trigonometry (its leaf
+/// pieces, fewer per traversal, still compute theirs). Empty for any other structure.
+#[derive(Clone, Debug, Default)]
+pub struct NodeArcs {
+    trig: Vec<ArcTrig>,
+}
+
+impl NodeArcs {
+    /// The table for `accel` (empty unless it is a cylindrical BVH).
+    pub fn new(accel: &Accel) -> NodeArcs {
+        use rayon::prelude::*;
+        match (accel.structure(), accel.coordinates()) {
+            (Structure::CylBvh(b), Coordinates::Cylindrical(_)) => NodeArcs {
+                trig: b.nodes.par_iter().map(|n| arc_trig(&n.bounds)).collect(),
+            },
+            _ => NodeArcs::default(),
+        }
+    }
+}
+
 impl LocalRay {
     /// The smallest `t` in `[t0, t1]` inside the (padded) bound, if any.
     #[inline]
@@ -61,8 +93,17 @@ impl LocalRay {
         (lo <= hi).then_some(lo)
     }
 
+    /// The entry into a sector; `trig` its arc's sines and cosines if known.
     #[inline]
-    fn entry_sector(o: DVec3, d: DVec3, pad: f64, s: &SectorF32, t0: f64, t1: f64) -> Option<f64> {
+    fn entry_sector(
+        o: DVec3,
+        d: DVec3,
+        pad: f64,
+        s: &SectorF32,
+        trig: Option<&ArcTrig>,
+        t0: f64,
+        t1: f64,
+    ) -> Option<f64> {
         if s.r[0] > s.r[1] || s.h[0] > s.h[1] {
             return None;
         }
@@ -72,12 +113,38 @@ impl LocalRay {
         if lo > hi {
             return None;
         }
+        // r² along the ray: a t² + 2 b t + c. Inside r ≤ r1 first: one interval, and no
+        // trigonometry for the many bounds it rejects.
+        let a = d.x * d.x + d.y * d.y;
+        let b = o.x * d.x + o.y * d.y;
+        let c = o.x * o.x + o.y * o.y;
+        let r1 = s.r[1] as f64 + pad;
+        let r0 = s.r[0] as f64 - pad;
+        let parallel = a <= 1e-300;
+        if parallel {
+            if c > r1 * r1 {
+                return None;
+            }
+        } else {
+            let disc1 = b * b - a * (c - r1 * r1);
+            if disc1 < 0.0 {
+                return None;
+            }
+            let sq1 = disc1.sqrt();
+            lo = lo.max((-b - sq1) / a);
+            hi = hi.min((-b + sq1) / a);
+            if lo > hi {
+                return None;
+            }
+        }
         // θ: an arc narrower than π is the intersection of two half-planes through the axis,
         // `cross(e(θ_lo), x) ≥ 0` and `cross(x, e(θ_hi)) ≥ 0` (padded by `pad`).
         let (th0, th1) = (s.theta[0] as f64, s.theta[1] as f64);
         if th1 - th0 < PI - 1e-6 {
-            let (s0, c0) = th0.sin_cos();
-            let (s1, c1) = th1.sin_cos();
+            let [s0, c0, s1, c1] = match trig {
+                Some(t) => *t,
+                None => arc_trig(s),
+            };
             for (f0, f1) in [
                 (c0 * o.y - s0 * o.x, c0 * d.y - s0 * d.x),
                 (s1 * o.x - c1 * o.y, s1 * d.x - c1 * d.y),
@@ -100,33 +167,13 @@ impl LocalRay {
                 return None;
             }
         }
-        // r² along the ray: a t² + 2 b t + c.
-        let a = d.x * d.x + d.y * d.y;
-        let b = o.x * d.x + o.y * d.y;
-        let c = o.x * o.x + o.y * o.y;
-        let r1 = s.r[1] as f64 + pad;
-        let r0 = s.r[0] as f64 - pad;
-        // Inside r ≤ r1: one interval.
-        if a <= 1e-300 {
-            if c > r1 * r1 {
-                return None;
-            }
+        // Outside r < r0: the complement of one interval.
+        if parallel {
             if r0 > 0.0 && c < r0 * r0 {
                 return None;
             }
             return Some(lo);
         }
-        let disc1 = b * b - a * (c - r1 * r1);
-        if disc1 < 0.0 {
-            return None;
-        }
-        let sq1 = disc1.sqrt();
-        lo = lo.max((-b - sq1) / a);
-        hi = hi.min((-b + sq1) / a);
-        if lo > hi {
-            return None;
-        }
-        // Outside r < r0: the complement of one interval.
         if r0 > 0.0 {
             let disc0 = b * b - a * (c - r0 * r0);
             if disc0 > 0.0 {
@@ -148,12 +195,22 @@ impl LocalRay {
 #[derive(Clone, Copy, Debug)]
 pub struct Skipper<'a> {
     accel: &'a Accel,
+    arcs: Option<&'a NodeArcs>,
 }
 
 impl<'a> Skipper<'a> {
     /// Skipping over `accel`.
     pub fn new(accel: &'a Accel) -> Skipper<'a> {
-        Skipper { accel }
+        Skipper { accel, arcs: None }
+    }
+
+    /// Skipping over `accel` with its nodes' arcs precomputed (`NodeArcs::new(accel)`; a table
+    /// of another structure is ignored).
+    pub fn with_arcs(accel: &'a Accel, arcs: &'a NodeArcs) -> Skipper<'a> {
+        Skipper {
+            accel,
+            arcs: Some(arcs),
+        }
     }
 
     /// For a BVH: the smallest `t ∈ [t0, t1]` at which the ray (unit `dir`) may lie in a
@@ -176,11 +233,16 @@ impl<'a> Skipper<'a> {
                     d: dir,
                     pad: root_pad_box(b),
                 };
-                first_hit(b, ray, t0, t1, counters)
+                first_hit(b, ray, &[], t0, t1, counters)
             }
             (Structure::CylBvh(b), Coordinates::Cylindrical(frame)) => {
                 let ray = sector_ray(&frame, b, origin, dir);
-                first_hit(b, ray, t0, t1, counters)
+                let trig = self
+                    .arcs
+                    .map(|a| a.trig.as_slice())
+                    .filter(|t| t.len() == b.nodes.len())
+                    .unwrap_or(&[]);
+                first_hit(b, ray, trig, t0, t1, counters)
             }
             (Structure::CylBvh(_), Coordinates::Cartesian) => Some(t0),
         }
@@ -229,12 +291,13 @@ fn sector_ray<B: BvhBounds<Compact = SectorF32>>(
 
 /// Bounds a [`LocalRay`] can enter.
 trait Enter {
-    fn enter(&self, ray: &LocalRay, t0: f64, t1: f64) -> Option<f64>;
+    /// `trig`: the arc's sines and cosines, for sectors, where known.
+    fn enter(&self, ray: &LocalRay, trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<f64>;
 }
 
 impl Enter for BoxF32 {
     #[inline]
-    fn enter(&self, ray: &LocalRay, t0: f64, t1: f64) -> Option<f64> {
+    fn enter(&self, ray: &LocalRay, _trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<f64> {
         match *ray {
             LocalRay::Boxes { o, d, pad } => LocalRay::entry_box(o, d, pad, self, t0, t1),
             LocalRay::Sectors { .. } => Some(t0),
@@ -244,18 +307,22 @@ impl Enter for BoxF32 {
 
 impl Enter for SectorF32 {
     #[inline]
-    fn enter(&self, ray: &LocalRay, t0: f64, t1: f64) -> Option<f64> {
+    fn enter(&self, ray: &LocalRay, trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<f64> {
         match *ray {
-            LocalRay::Sectors { o, d, pad } => LocalRay::entry_sector(o, d, pad, self, t0, t1),
+            LocalRay::Sectors { o, d, pad } => {
+                LocalRay::entry_sector(o, d, pad, self, trig, t0, t1)
+            }
             LocalRay::Boxes { .. } => Some(t0),
         }
     }
 }
 
 /// Closest-hit traversal: the smallest entry `t ∈ [t0, t1]` into a leaf piece's bound.
+/// `trig` holds the nodes' arcs (empty if not known).
 fn first_hit<B: BvhBounds>(
     bvh: &Bvh<B>,
     ray: LocalRay,
+    trig: &[ArcTrig],
     t0: f64,
     t1: f64,
     counters: &mut Counters,
@@ -265,7 +332,7 @@ where
 {
     const DEPTH: usize = crate::accel::bvh::MAX_DEPTH;
     let root = bvh.nodes.first()?;
-    root.bounds.enter(&ray, t0, t1)?;
+    root.bounds.enter(&ray, trig.first(), t0, t1)?;
     let mut best = f64::INFINITY;
     let mut hi = t1;
     let mut stack = [(0u32, 0.0f64); DEPTH];
@@ -286,11 +353,11 @@ where
             let el = bvh
                 .nodes
                 .get(l as usize)
-                .and_then(|n| n.bounds.enter(&ray, t0, hi));
+                .and_then(|n| n.bounds.enter(&ray, trig.get(l as usize), t0, hi));
             let er = bvh
                 .nodes
                 .get(r as usize)
-                .and_then(|n| n.bounds.enter(&ray, t0, hi));
+                .and_then(|n| n.bounds.enter(&ray, trig.get(r as usize), t0, hi));
             // Nearer child on top.
             let mut push = |n: u32, e: f64| {
                 if top < DEPTH {
@@ -316,7 +383,7 @@ where
             let first = node.index as usize;
             let end = first + node.count as usize;
             for piece in bvh.refs.get(first..end).unwrap_or(&[]) {
-                if let Some(e) = piece.bounds.enter(&ray, t0, hi) {
+                if let Some(e) = piece.bounds.enter(&ray, None, t0, hi) {
                     if e < best {
                         best = e;
                         hi = e;
