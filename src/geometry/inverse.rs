@@ -35,7 +35,7 @@
 use glam::{DMat3, DVec3};
 use std::ops::AddAssign;
 
-use super::trilinear::{relative_corners, relative_map, relative_map_and_jacobian};
+use super::trilinear::{relative_corners, Monomials};
 
 /// Newton stops once the physical residual is at most this times the cell size.
 pub const STOP_TOLERANCE: f64 = 1e-14;
@@ -149,6 +149,7 @@ const HULL_FACES: [[usize; 4]; 6] = [
 /// The cell rebased to corner 0 with its size.
 struct Problem {
     rel: [DVec3; 8],
+    poly: Monomials,
     size: f64,
     target: DVec3,
     stop: f64,
@@ -258,7 +259,7 @@ impl Problem {
         stats: &mut InverseStats,
     ) -> NewtonEnd {
         let mut p = start.clamp(DVec3::splat(lo), DVec3::splat(hi));
-        let (x, mut j) = relative_map_and_jacobian(&self.rel, p);
+        let (x, mut j) = self.poly.map_and_jacobian(p);
         stats.map_evaluations += 1;
         let mut r = x - self.target;
         let mut rn = r.length();
@@ -272,7 +273,7 @@ impl Problem {
             let mut accepted = false;
             for _ in 0..=MAX_HALVINGS {
                 let q = (p + d * t).clamp(DVec3::splat(lo), DVec3::splat(hi));
-                let (xq, jq) = relative_map_and_jacobian(&self.rel, q);
+                let (xq, jq) = self.poly.map_and_jacobian(q);
                 stats.map_evaluations += 1;
                 let rq = xq - self.target;
                 let rqn = rq.length();
@@ -318,7 +319,7 @@ impl Problem {
             let mut bmin = DVec3::splat(f64::INFINITY);
             let mut bmax = DVec3::splat(f64::NEG_INFINITY);
             for c in super::trilinear::CORNER_PARAMETERS {
-                let x = relative_map(&self.rel, lo + DVec3::from_array(c) * size);
+                let x = self.poly.map(lo + DVec3::from_array(c) * size);
                 bmin = bmin.min(x);
                 bmax = bmax.max(x);
             }
@@ -416,6 +417,7 @@ fn invert_inner(
     }
     let prob = Problem {
         rel,
+        poly: Monomials::new(&rel),
         size,
         target: target - corners[0],
         stop: STOP_TOLERANCE * size,
@@ -436,12 +438,7 @@ fn invert_inner(
             .into_iter()
             .map(DVec3::from_array)
             .chain(std::iter::once(DVec3::splat(0.5)))
-            .map(|p| {
-                relative_map_and_jacobian(&prob.rel, p)
-                    .1
-                    .determinant()
-                    .abs()
-            })
+            .map(|p| prob.poly.map_and_jacobian(p).1.determinant().abs())
             .fold(0.0, f64::max);
         stats.map_evaluations += 9;
         if max_det <= DEGENERATE_TOLERANCE * size * size * size {
@@ -459,7 +456,7 @@ fn invert_inner(
         // On a collapsed edge or apex other coordinates map to the same point: prefer the
         // clamped ones if they do.
         let clamped = end.param.clamp(DVec3::ZERO, DVec3::ONE);
-        let rc = (relative_map(&prob.rel, clamped) - prob.target).length();
+        let rc = (prob.poly.map(clamped) - prob.target).length();
         stats.map_evaluations += 1;
         if rc <= prob.accept {
             return Ok(Solution {
@@ -471,7 +468,9 @@ fn invert_inner(
         // (det J keeps its sign and stays away from zero), the root is the only one near the
         // cell and the target is outside.
         let det_root = end.jacobian.determinant();
-        let det_centre = relative_map_and_jacobian(&prob.rel, DVec3::splat(0.5))
+        let det_centre = prob
+            .poly
+            .map_and_jacobian(DVec3::splat(0.5))
             .1
             .determinant();
         stats.map_evaluations += 1;
