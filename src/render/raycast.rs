@@ -71,7 +71,7 @@ use super::image::Image;
 use super::shading::Shading;
 use super::skip::{NodeArcs, Skipper};
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
-use super::walk::{violated_face, walk, WalkEnd, WalkWork};
+use super::walk::{violated_face, walk, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS};
 use crate::accel::{Accel, Counters};
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
@@ -624,7 +624,15 @@ impl<'a> Renderer<'a> {
         let mesh = self.volume.mesh;
         if let Some(h) = hint {
             let mut work = WalkWork::default();
-            let end = walk(mesh, self.neighbours, h, None, p, &mut work);
+            let end = walk_within(
+                mesh,
+                self.neighbours,
+                h,
+                None,
+                p,
+                MAX_ENTRY_PLANE_STEPS,
+                &mut work,
+            );
             counters.hex_tests += work.tests;
             stats.walk_steps += work.plane_steps;
             if let WalkEnd::Found(c, q) = end {
