@@ -46,7 +46,13 @@ enum LocalRay {
     /// Origin relative to the BVH's anchor, direction.
     Boxes { o: DVec3, d: DVec3, pad: f64 },
     /// In the cylindrical frame: `(x, y)` across the axis, `h` relative to the anchor.
-    Sectors { o: DVec3, d: DVec3, pad: f64 },
+    Sectors {
+        o: DVec3,
+        d: DVec3,
+        pad: f64,
+        /// `r²` along the ray, `a t² + 2 b t + c`, with `1/a`.
+        quad: [f64; 4],
+    },
 }
 
 /// `[sin θ_lo, cos θ_lo, sin θ_hi, cos θ_hi]` of a sector's arc.
@@ -93,12 +99,15 @@ impl LocalRay {
         (lo <= hi).then_some(lo)
     }
 
-    /// The entry into a sector; `trig` its arc's sines and cosines if known.
+    /// The entry into a sector; `quad` the ray's `r²` polynomial (see [`LocalRay::Sectors`]),
+    /// `trig` the arc's sines and cosines if known.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     fn entry_sector(
         o: DVec3,
         d: DVec3,
         pad: f64,
+        quad: [f64; 4],
         s: &SectorF32,
         trig: Option<&ArcTrig>,
         t0: f64,
@@ -115,9 +124,7 @@ impl LocalRay {
         }
         // r² along the ray: a t² + 2 b t + c. Inside r ≤ r1 first: one interval, and no
         // trigonometry for the many bounds it rejects.
-        let a = d.x * d.x + d.y * d.y;
-        let b = o.x * d.x + o.y * d.y;
-        let c = o.x * o.x + o.y * o.y;
+        let [a, b, c, inv_a] = quad;
         let r1 = s.r[1] as f64 + pad;
         let r0 = s.r[0] as f64 - pad;
         let parallel = a <= 1e-300;
@@ -131,8 +138,8 @@ impl LocalRay {
                 return None;
             }
             let sq1 = disc1.sqrt();
-            lo = lo.max((-b - sq1) / a);
-            hi = hi.min((-b + sq1) / a);
+            lo = lo.max((-b - sq1) * inv_a);
+            hi = hi.min((-b + sq1) * inv_a);
             if lo > hi {
                 return None;
             }
@@ -178,7 +185,7 @@ impl LocalRay {
             let disc0 = b * b - a * (c - r0 * r0);
             if disc0 > 0.0 {
                 let sq0 = disc0.sqrt();
-                let (ia, ib) = ((-b - sq0) / a, (-b + sq0) / a);
+                let (ia, ib) = ((-b - sq0) * inv_a, (-b + sq0) * inv_a);
                 if lo > ia && lo < ib {
                     lo = ib;
                 }
@@ -286,7 +293,9 @@ fn sector_ray<B: BvhBounds<Compact = SectorF32>>(
     let pad = b.nodes.first().map_or(0.0, |n| {
         1e-9 * (n.bounds.r[1] as f64).max((n.bounds.h[1] - n.bounds.h[0]) as f64)
     });
-    LocalRay::Sectors { o, d, pad }
+    let a = d.x * d.x + d.y * d.y;
+    let quad = [a, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y, 1.0 / a];
+    LocalRay::Sectors { o, d, pad, quad }
 }
 
 /// Bounds a [`LocalRay`] can enter.
@@ -309,8 +318,8 @@ impl Enter for SectorF32 {
     #[inline]
     fn enter(&self, ray: &LocalRay, trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<f64> {
         match *ray {
-            LocalRay::Sectors { o, d, pad } => {
-                LocalRay::entry_sector(o, d, pad, self, trig, t0, t1)
+            LocalRay::Sectors { o, d, pad, quad } => {
+                LocalRay::entry_sector(o, d, pad, quad, self, trig, t0, t1)
             }
             LocalRay::Boxes { .. } => Some(t0),
         }
