@@ -662,9 +662,26 @@ impl<'a> Renderer<'a> {
         counters: &mut Counters,
         stats: &mut RenderStats,
     ) -> Option<(u32, DVec3)> {
+        let mut in_start = None;
+        self.boundary_locate_from(p, cell, guess, confirm, &mut in_start, counters, stats)
+    }
+
+    /// [`Renderer::boundary_locate`], also giving the parametric coordinates of `p` in `cell`
+    /// where the search computed them (inside the cell or not) in `in_start`.
+    #[allow(clippy::too_many_arguments)]
+    fn boundary_locate_from(
+        &self,
+        p: DVec3,
+        cell: u32,
+        guess: DVec3,
+        confirm: bool,
+        in_start: &mut Option<DVec3>,
+        counters: &mut Counters,
+        stats: &mut RenderStats,
+    ) -> Option<(u32, DVec3)> {
         let mesh = self.volume.mesh;
         let before = counters.hex_tests;
-        let found = match self.local_boundary_locate(p, cell, guess, counters) {
+        let found = match self.local_boundary_locate(p, cell, guess, in_start, counters) {
             Local::Inside(c, q) => Some((c, q)),
             Local::Outside if !confirm => None,
             Local::Outside | Local::Undecided => self.volume.accel.locate(mesh, p, counters),
@@ -679,6 +696,7 @@ impl<'a> Renderer<'a> {
         p: DVec3,
         cell: u32,
         guess: DVec3,
+        in_start: &mut Option<DVec3>,
         counters: &mut Counters,
     ) -> Local {
         let mesh = self.volume.mesh;
@@ -708,6 +726,9 @@ impl<'a> Renderer<'a> {
             let Some(q) = invert(&corners, p, guess).param() else {
                 return Local::Undecided;
             };
+            if slot == 0 {
+                *in_start = Some(q);
+            }
             if param_inside(q) {
                 return Local::Inside(c, q);
             }
@@ -773,21 +794,51 @@ impl<'a> Renderer<'a> {
         counters: &mut Counters,
         stats: &mut RenderStats,
     ) -> f64 {
+        // The outside end's parameters in the inside end's cell, where known: Newton for a
+        // midpoint then starts from the interpolation of the two ends' parameters.
+        let mut outside_q: Option<DVec3> = None;
         for _ in 0..BISECTIONS {
             let mid = 0.5 * (t_outside + t_inside);
             let p = origin + dir * mid;
-            match self.boundary_locate(p, inside.0, inside.1, false, counters, stats) {
+            let guess = match outside_q {
+                Some(qo) => {
+                    inside.1 + (qo - inside.1) * ((mid - t_inside) / (t_outside - t_inside))
+                }
+                None => inside.1,
+            };
+            let mut in_start = None;
+            match self.boundary_locate_from(
+                p,
+                inside.0,
+                guess,
+                false,
+                &mut in_start,
+                counters,
+                stats,
+            ) {
                 Some(f) => {
+                    if f.0 != inside.0 {
+                        outside_q = None;
+                    }
                     t_inside = mid;
                     inside = f;
                 }
-                None => t_outside = mid,
+                None => {
+                    t_outside = mid;
+                    outside_q = in_start;
+                }
             }
         }
-        let corners = self.volume.mesh.cell_corners(inside.0 as usize);
-        counters.hex_tests += 1;
-        stats.boundary_refinements += 1;
-        if let Some(q_out) = invert(&corners, origin + dir * t_outside, Some(inside.1)).param() {
+        let q_out = match outside_q {
+            Some(q) => Some(q),
+            None => {
+                let corners = self.volume.mesh.cell_corners(inside.0 as usize);
+                counters.hex_tests += 1;
+                stats.boundary_refinements += 1;
+                invert(&corners, origin + dir * t_outside, Some(inside.1)).param()
+            }
+        };
+        if let Some(q_out) = q_out {
             if let Some(t) =
                 interpolate_crossing(t_outside, q_out, t_inside, inside.1, violated_face(q_out))
             {
