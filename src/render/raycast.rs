@@ -889,6 +889,8 @@ impl<'a> Renderer<'a> {
         // The fast path's last located cell and parameters; `None` outside the mesh.
         let mut prev: Option<(u32, DVec3)> = None;
         let mut first_cell: Option<u32> = None;
+        // The ray lies in a piece's bound up to here (from the last empty-space query).
+        let mut bound_until = f64::NEG_INFINITY;
         let sample_t = |k: u64| t_in + (k as f64 + 0.5) * step;
         // The ray left the mesh before `t_outside`: the last composited sample ends at the
         // crossing (nothing to do without boundary segments, which keep no last sample).
@@ -942,8 +944,14 @@ impl<'a> Renderer<'a> {
                     }
                     None => {
                         // Outside the mesh or at the ray's start: skip the empty space.
-                        let Some(te) = skipper.next_entry(origin, dir, t, t_out, &mut counters)
-                        else {
+                        // Within the span of a bound found for an earlier sample, the sample
+                        // is in that bound: no need to ask the structure again.
+                        let span = if t <= bound_until {
+                            Some((t, bound_until))
+                        } else {
+                            skipper.next_span(origin, dir, t, t_out, &mut counters)
+                        };
+                        let Some((te, tx)) = span else {
                             close_at_exit(&mut acc, t, &mut counters, stats);
                             while sample_t(k) < t_out {
                                 stats.samples += 1;
@@ -952,6 +960,7 @@ impl<'a> Renderer<'a> {
                             }
                             break 'samples;
                         };
+                        bound_until = tx;
                         if te > t {
                             prev_in = false;
                             close_at_exit(&mut acc, t, &mut counters, stats);

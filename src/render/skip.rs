@@ -8,6 +8,8 @@
 //!   for arcs narrower than π, θ (two half-planes through the axis); a wider arc is tested on
 //!   `r` and `h` only, a lower bound of the true entry, which is all skipping needs. The
 //!   sines and cosines of the nodes' arcs are computed once per renderer ([`NodeArcs`]).
+//!   [`Skipper::next_span`] also gives the exit from the piece's bound entered first, so the
+//!   samples up to it (in that bound) go to point location without asking again.
 //! - **Grids**: a sample is passed over when its second-level cell holds no reference (one
 //!   top-cell and one leaf-cell look-up, no cell tested).
 //!
@@ -55,6 +57,9 @@ enum LocalRay {
     },
 }
 
+/// An entry and exit `t` of a ray into and out of a bound.
+type Span = (f64, f64);
+
 /// `[sin θ_lo, cos θ_lo, sin θ_hi, cos θ_hi]` of a sector's arc.
 type ArcTrig = [f64; 4];
 
@@ -89,14 +94,14 @@ impl NodeArcs {
 impl LocalRay {
     /// The smallest `t` in `[t0, t1]` inside the (padded) bound, if any.
     #[inline]
-    fn entry_box(o: DVec3, d: DVec3, pad: f64, b: &BoxF32, t0: f64, t1: f64) -> Option<f64> {
+    fn entry_box(o: DVec3, d: DVec3, pad: f64, b: &BoxF32, t0: f64, t1: f64) -> Option<Span> {
         let (mut lo, mut hi) = (t0, t1);
         for a in 0..3 {
             let (s, e) = slab(o[a], d[a], b.min[a] as f64 - pad, b.max[a] as f64 + pad);
             lo = lo.max(s);
             hi = hi.min(e);
         }
-        (lo <= hi).then_some(lo)
+        (lo <= hi).then_some((lo, hi))
     }
 
     /// The entry into a sector; `quad` the ray's `r²` polynomial (see [`LocalRay::Sectors`]),
@@ -112,7 +117,7 @@ impl LocalRay {
         trig: Option<&ArcTrig>,
         t0: f64,
         t1: f64,
-    ) -> Option<f64> {
+    ) -> Option<Span> {
         if s.r[0] > s.r[1] || s.h[0] > s.h[1] {
             return None;
         }
@@ -179,7 +184,7 @@ impl LocalRay {
             if r0 > 0.0 && c < r0 * r0 {
                 return None;
             }
-            return Some(lo);
+            return Some((lo, hi));
         }
         if r0 > 0.0 {
             let disc0 = b * b - a * (c - r0 * r0);
@@ -188,13 +193,17 @@ impl LocalRay {
                 let (ia, ib) = ((-b - sq0) * inv_a, (-b + sq0) * inv_a);
                 if lo > ia && lo < ib {
                     lo = ib;
+                } else if lo <= ia && ia < hi {
+                    // In the sector up to the inner circle (an exit that is all a span needs:
+                    // the ray may come back in beyond it).
+                    hi = ia.max(lo);
                 }
                 if lo > hi {
                     return None;
                 }
             }
         }
-        Some(lo)
+        Some((lo, hi))
     }
 }
 
@@ -232,8 +241,22 @@ impl<'a> Skipper<'a> {
         t1: f64,
         counters: &mut Counters,
     ) -> Option<f64> {
+        self.next_span(origin, dir, t0, t1, counters).map(|s| s.0)
+    }
+
+    /// [`Skipper::next_entry`] with an exit: `(entry, exit)` such that the ray lies in one
+    /// piece's bound from `entry` to `exit` (so no sample in between need ask again). For a
+    /// grid: `(t0, t0)`.
+    pub fn next_span(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        counters: &mut Counters,
+    ) -> Option<(f64, f64)> {
         match (self.accel.structure(), self.accel.coordinates()) {
-            (Structure::Grid(_), _) => Some(t0),
+            (Structure::Grid(_), _) => Some((t0, t0)),
             (Structure::CartBvh(b), _) => {
                 let ray = LocalRay::Boxes {
                     o: origin - b.frame().anchor,
@@ -251,7 +274,7 @@ impl<'a> Skipper<'a> {
                     .unwrap_or(&[]);
                 first_hit(b, ray, trig, t0, t1, counters)
             }
-            (Structure::CylBvh(_), Coordinates::Cartesian) => Some(t0),
+            (Structure::CylBvh(_), Coordinates::Cartesian) => Some((t0, t0)),
         }
     }
 
@@ -301,33 +324,33 @@ fn sector_ray<B: BvhBounds<Compact = SectorF32>>(
 /// Bounds a [`LocalRay`] can enter.
 trait Enter {
     /// `trig`: the arc's sines and cosines, for sectors, where known.
-    fn enter(&self, ray: &LocalRay, trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<f64>;
+    fn enter(&self, ray: &LocalRay, trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<Span>;
 }
 
 impl Enter for BoxF32 {
     #[inline]
-    fn enter(&self, ray: &LocalRay, _trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<f64> {
+    fn enter(&self, ray: &LocalRay, _trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<Span> {
         match *ray {
             LocalRay::Boxes { o, d, pad } => LocalRay::entry_box(o, d, pad, self, t0, t1),
-            LocalRay::Sectors { .. } => Some(t0),
+            LocalRay::Sectors { .. } => Some((t0, t0)),
         }
     }
 }
 
 impl Enter for SectorF32 {
     #[inline]
-    fn enter(&self, ray: &LocalRay, trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<f64> {
+    fn enter(&self, ray: &LocalRay, trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<Span> {
         match *ray {
             LocalRay::Sectors { o, d, pad, quad } => {
                 LocalRay::entry_sector(o, d, pad, quad, self, trig, t0, t1)
             }
-            LocalRay::Boxes { .. } => Some(t0),
+            LocalRay::Boxes { .. } => Some((t0, t0)),
         }
     }
 }
 
-/// Closest-hit traversal: the smallest entry `t ∈ [t0, t1]` into a leaf piece's bound.
-/// `trig` holds the nodes' arcs (empty if not known).
+/// Closest-hit traversal: the smallest entry `t ∈ [t0, t1]` into a leaf piece's bound, with
+/// that piece's exit. `trig` holds the nodes' arcs (empty if not known).
 fn first_hit<B: BvhBounds>(
     bvh: &Bvh<B>,
     ray: LocalRay,
@@ -335,7 +358,7 @@ fn first_hit<B: BvhBounds>(
     t0: f64,
     t1: f64,
     counters: &mut Counters,
-) -> Option<f64>
+) -> Option<Span>
 where
     B::Compact: Enter,
 {
@@ -343,6 +366,7 @@ where
     let root = bvh.nodes.first()?;
     root.bounds.enter(&ray, trig.first(), t0, t1)?;
     let mut best = f64::INFINITY;
+    let mut best_exit = f64::INFINITY;
     let mut hi = t1;
     let mut stack = [(0u32, 0.0f64); DEPTH];
     stack[0] = (0, t0);
@@ -362,11 +386,13 @@ where
             let el = bvh
                 .nodes
                 .get(l as usize)
-                .and_then(|n| n.bounds.enter(&ray, trig.get(l as usize), t0, hi));
+                .and_then(|n| n.bounds.enter(&ray, trig.get(l as usize), t0, hi))
+                .map(|s| s.0);
             let er = bvh
                 .nodes
                 .get(r as usize)
-                .and_then(|n| n.bounds.enter(&ray, trig.get(r as usize), t0, hi));
+                .and_then(|n| n.bounds.enter(&ray, trig.get(r as usize), t0, hi))
+                .map(|s| s.0);
             // Nearer child on top.
             let mut push = |n: u32, e: f64| {
                 if top < DEPTH {
@@ -392,14 +418,16 @@ where
             let first = node.index as usize;
             let end = first + node.count as usize;
             for piece in bvh.refs.get(first..end).unwrap_or(&[]) {
-                if let Some(e) = piece.bounds.enter(&ray, None, t0, hi) {
+                // Against the whole interval, for the piece's own exit.
+                if let Some((e, x)) = piece.bounds.enter(&ray, None, t0, t1) {
                     if e < best {
                         best = e;
+                        best_exit = x;
                         hi = e;
                     }
                 }
             }
         }
     }
-    best.is_finite().then_some(best)
+    best.is_finite().then_some((best, best_exit))
 }
