@@ -1,11 +1,16 @@
 //! Ray-casting measurements (a plain program, not criterion: it prints a table).
 //!
-//! `cargo bench --bench render -- [DATASET[:CELLS]] [SIZE] [FRAMES]` (default
-//! `pump-rotor:200000 256 3`): builds the four structures and the face neighbours once (not
-//! timed as frames), then renders `FRAMES` frames per structure and path at `SIZE × SIZE`
-//! with the default step and view, and prints the best frame time with the work counters:
-//! samples, samples located, hexahedra tested (in total and per located sample), internal and
-//! leaf visits, samples skipped as empty space, cells walked across, structure locations.
+//! `cargo bench --bench render -- [DATASET[:CELLS]] [SIZE] [FRAMES] [STRUCTURES] [PATHS]
+//! [SEGMENTS]` (default `pump-rotor:200000 256 3 all both segments`): builds the face
+//! neighbours and each chosen structure once (not timed as frames), then renders `FRAMES`
+//! frames per structure and path at `SIZE × SIZE` with the default step and view, and prints
+//! the best frame time (wall and process CPU seconds, the latter less sensitive to other
+//! programs on the machine) with the work counters: samples, samples located, hexahedra tested
+//! (in total, per located sample, and per located sample without the boundary crossing
+//! searches), the crossing searches' tests, internal and leaf visits, samples skipped as empty
+//! space, cells walked across, structure locations. `STRUCTURES` is `all` or a comma-separated
+//! list (`cyl-bvh,cart-grid`), `PATHS` `both`, `paper` or `fast`, `SEGMENTS` `segments`
+//! (boundary segments, the default) or `whole` (whole steps).
 
 use std::time::Instant;
 
@@ -32,6 +37,18 @@ fn main() {
         _ => Dataset::PumpRotor,
     };
     let cells: usize = cells.parse().unwrap_or(200_000);
+    let kinds: Vec<StructureKind> = match args.get(3).map(|s| s.as_str()) {
+        None | Some("all") => StructureKind::ALL.to_vec(),
+        Some(list) => list
+            .split(',')
+            .map(|k| k.parse().expect("a structure name"))
+            .collect(),
+    };
+    let paths = match args.get(4).map(|s| s.as_str()) {
+        None | Some("both") => vec![RenderPath::Paper, RenderPath::Fast],
+        Some(p) => vec![p.parse().expect("paper, fast or both")],
+    };
+    let segments = args.get(5).map_or(true, |s| s != "whole");
     let mesh = generate(dataset, cells).expect("dataset");
     let axis = cylvol::axis::detect(&mesh);
     let neighbours =
@@ -42,49 +59,60 @@ fn main() {
         mesh.cell_count()
     );
     println!(
-        "{:<10} {:<6} {:>8} {:>10} {:>9} {:>10} {:>7} {:>11} {:>10} {:>10} {:>10} {:>9}",
+        "{:<10} {:<6} {:>8} {:>8} {:>10} {:>9} {:>10} {:>7} {:>7} {:>9} {:>11} {:>10} {:>10} {:>10} {:>9}",
         "structure",
         "path",
         "frame_s",
+        "cpu_s",
         "samples",
         "located",
         "hex_tests",
         "/loc",
+        "/loc-bd",
+        "boundary",
         "internal",
         "leaf",
         "skipped",
         "walked",
         "struct"
     );
-    for kind in StructureKind::ALL {
+    for kind in kinds {
         let accel = Accel::build(&mesh, kind, &axis, &AccelParams::default()).expect("build");
         let volume = Volume::new(&mesh, &accel).expect("volume");
         let [lo, hi] = volume.scalar_range();
         let tf = TransferFunction::default_for_range(lo, hi, 0.3, 0.1);
         let camera = Camera::view(mesh.bounds(), size, size, 30.0, 20.0, 1.0);
-        for path in [RenderPath::Paper, RenderPath::Fast] {
+        for &path in &paths {
             let mut options = RenderOptions::new(size, size, step);
             options.path = path;
+            options.boundary_segments = segments;
             let renderer = Renderer::new(&volume, &tf, &options)
                 .expect("renderer")
                 .with_neighbours(&neighbours);
             let mut best = f64::INFINITY;
+            let mut best_cpu = f64::INFINITY;
             let mut stats = RenderStats::default();
             for _ in 0..frames.max(1) {
+                let cpu = cpu_seconds();
                 let started = Instant::now();
                 let (_, s) = renderer.render(&camera, None).expect("render");
                 best = best.min(started.elapsed().as_secs_f64());
+                best_cpu = best_cpu.min(cpu_seconds() - cpu);
                 stats = s;
             }
+            let located = stats.samples_located.max(1) as f64;
             println!(
-                "{:<10} {:<6} {:>8.3} {:>10} {:>9} {:>10} {:>7.3} {:>11} {:>10} {:>10} {:>10} {:>9}",
+                "{:<10} {:<6} {:>8.3} {:>8.3} {:>10} {:>9} {:>10} {:>7.3} {:>7.3} {:>9} {:>11} {:>10} {:>10} {:>10} {:>9}",
                 kind.name(),
                 path.name(),
                 best,
+                best_cpu,
                 stats.samples,
                 stats.samples_located,
                 stats.hex_tests,
-                stats.hex_tests as f64 / stats.samples_located.max(1) as f64,
+                stats.hex_tests as f64 / located,
+                (stats.hex_tests - stats.boundary_refinements) as f64 / located,
+                stats.boundary_refinements,
                 stats.internal_visits,
                 stats.leaf_visits,
                 stats.space_skips,
@@ -93,4 +121,19 @@ fn main() {
             );
         }
     }
+}
+
+/// User and system CPU seconds of this process so far (Linux `/proc/self/stat`; 0 elsewhere).
+fn cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return 0.0;
+    };
+    // Fields after the parenthesised command name: state is field 3, utime 14, stime 15.
+    let Some(rest) = stat.rsplit_once(')').map(|(_, r)| r) else {
+        return 0.0;
+    };
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    // Clock ticks are 100 a second on Linux.
+    (ticks(11) + ticks(12)) / 100.0
 }

@@ -23,7 +23,7 @@
 use glam::DVec3;
 
 use super::bounds::{cell_bounds, Aabb};
-use super::inverse::{invert, InverseStats};
+use super::inverse::{invert, outside_hull, InverseStats};
 
 /// Parametric slack of the acceptance test (see the module documentation).
 pub const CONTAINMENT_TOLERANCE: f64 = 1e-9;
@@ -45,7 +45,9 @@ pub fn param_inside(p: DVec3) -> bool {
 }
 
 /// The parametric coordinates of `p` in the cell if it lies in the cell (to the tolerance),
-/// adding the inverse map's cost to `stats`. `guess` seeds Newton (see
+/// adding the inverse map's cost to `stats`. A point outside the padded box, or (without a
+/// `guess`) outside the corners' hull ([`super::inverse::outside_hull`]), is rejected before
+/// the inverse map. `guess` seeds Newton (see
 /// [`super::inverse::invert`]). The coordinates returned may lie up to
 /// [`CONTAINMENT_TOLERANCE`] outside `[0, 1]³`; clamp them before interpolating if needed.
 pub fn locate_in_cell_with_stats(
@@ -55,6 +57,12 @@ pub fn locate_in_cell_with_stats(
     stats: &mut InverseStats,
 ) -> Option<DVec3> {
     if !reject_box(corners).contains(p) {
+        return None;
+    }
+    // Without a guess the point is often a structure's candidate outside the cell: the
+    // corners' hull rejects most such points for the price of a few dot products, where the
+    // inverse map of a point outside the cell may take many damped Newton steps.
+    if guess.is_none() && outside_hull(corners, p) {
         return None;
     }
     let inv = invert(corners, p, guess);

@@ -14,6 +14,10 @@
 //!    recursively; a sub-cube is rejected when the box of its eight mapped corners (which holds
 //!    it: a sub-cube of a trilinear map is a trilinear cell) does not hold the target, and Newton
 //!    is run from the centre of every sub-cube that survives.
+//!    Before subdividing, a target outside the convex hull of the corners (which holds the
+//!    cell), by more than `1e-8` of the cell size along one of the six face normals, is
+//!    reported outside at once: the Newton root outside the cell if there is one, else
+//!    [`InverseFailure::NotFound`].
 //! 4. **Verify.** A result is returned only if it maps back to the target within the
 //!    acceptance tolerance; otherwise the call reports why it failed. A wrong answer is never
 //!    returned.
@@ -31,7 +35,7 @@
 use glam::{DMat3, DVec3};
 use std::ops::AddAssign;
 
-use super::trilinear::{relative_corners, relative_map, relative_map_and_jacobian};
+use super::trilinear::{relative_corners, Monomials};
 
 /// Newton stops once the physical residual is at most this times the cell size.
 pub const STOP_TOLERANCE: f64 = 1e-14;
@@ -132,9 +136,21 @@ impl Inversion {
     }
 }
 
+/// The corner slots of the six faces (VTK hexahedron face order).
+const HULL_FACES: [[usize; 4]; 6] = [
+    [0, 4, 7, 3],
+    [1, 2, 6, 5],
+    [0, 1, 5, 4],
+    [3, 7, 6, 2],
+    [0, 3, 2, 1],
+    [4, 5, 6, 7],
+];
+
 /// The cell rebased to corner 0 with its size.
 struct Problem {
     rel: [DVec3; 8],
+    poly: Monomials,
+    size: f64,
     target: DVec3,
     stop: f64,
     accept: f64,
@@ -177,7 +193,62 @@ fn newton_step(j: &DMat3, r: DVec3) -> DVec3 {
     }
 }
 
+/// Whether `target` lies outside the convex hull of the cell's corners (which holds the cell)
+/// by more than `1e-8` of the cell size, by the slabs between the corners' extreme projections
+/// on the six face normals (each the cross product of the face's diagonals). `true` means the
+/// target is not in the cell; `false` says nothing.
+///
+/// ```
+/// use cylvol::geometry::inverse::outside_hull;
+/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
+/// use glam::DVec3;
+/// let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+/// assert!(outside_hull(&cube, DVec3::new(0.5, 0.5, 1.01)));
+/// assert!(!outside_hull(&cube, DVec3::new(0.5, 0.5, 0.99)));
+/// ```
+pub fn outside_hull(corners: &[DVec3; 8], target: DVec3) -> bool {
+    let rel = relative_corners(corners);
+    let (mut bmin, mut bmax) = (DVec3::ZERO, DVec3::ZERO);
+    for c in &rel {
+        bmin = bmin.min(*c);
+        bmax = bmax.max(*c);
+    }
+    let size = (bmax - bmin).length();
+    size.is_finite() && hull_separates(&rel, size, target - corners[0])
+}
+
+/// [`outside_hull`] for corners relative to corner 0 and a target relative to it.
+fn hull_separates(rel: &[DVec3; 8], size: f64, target: DVec3) -> bool {
+    let pad = 1e-8 * size;
+    for f in HULL_FACES {
+        let [a, b, c, d] = f.map(|k| rel[k]);
+        let n = (c - a).cross(d - b);
+        let len = n.length();
+        if !(len > 0.0 && len.is_finite()) {
+            continue;
+        }
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for x in rel {
+            let v = n.dot(*x);
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+        let t = n.dot(target);
+        if t > hi + pad * len || t < lo - pad * len {
+            return true;
+        }
+    }
+    false
+}
+
 impl Problem {
+    /// Whether the target lies outside the convex hull of the corners by more than `1e-8` of
+    /// the cell size, by the slabs between the corners' extreme projections on the six face
+    /// normals (each the cross product of the face's diagonals).
+    fn outside_hull(&self) -> bool {
+        hull_separates(&self.rel, self.size, self.target)
+    }
+
     /// Damped Newton from `start`, iterates clamped to `[lo, hi]³`.
     fn newton(
         &self,
@@ -188,7 +259,7 @@ impl Problem {
         stats: &mut InverseStats,
     ) -> NewtonEnd {
         let mut p = start.clamp(DVec3::splat(lo), DVec3::splat(hi));
-        let (x, mut j) = relative_map_and_jacobian(&self.rel, p);
+        let (x, mut j) = self.poly.map_and_jacobian(p);
         stats.map_evaluations += 1;
         let mut r = x - self.target;
         let mut rn = r.length();
@@ -202,7 +273,7 @@ impl Problem {
             let mut accepted = false;
             for _ in 0..=MAX_HALVINGS {
                 let q = (p + d * t).clamp(DVec3::splat(lo), DVec3::splat(hi));
-                let (xq, jq) = relative_map_and_jacobian(&self.rel, q);
+                let (xq, jq) = self.poly.map_and_jacobian(q);
                 stats.map_evaluations += 1;
                 let rq = xq - self.target;
                 let rqn = rq.length();
@@ -248,7 +319,7 @@ impl Problem {
             let mut bmin = DVec3::splat(f64::INFINITY);
             let mut bmax = DVec3::splat(f64::NEG_INFINITY);
             for c in super::trilinear::CORNER_PARAMETERS {
-                let x = relative_map(&self.rel, lo + DVec3::from_array(c) * size);
+                let x = self.poly.map(lo + DVec3::from_array(c) * size);
                 bmin = bmin.min(x);
                 bmax = bmax.max(x);
             }
@@ -346,6 +417,8 @@ fn invert_inner(
     }
     let prob = Problem {
         rel,
+        poly: Monomials::new(&rel),
+        size,
         target: target - corners[0],
         stop: STOP_TOLERANCE * size,
         accept: ACCEPT_TOLERANCE * size,
@@ -365,12 +438,7 @@ fn invert_inner(
             .into_iter()
             .map(DVec3::from_array)
             .chain(std::iter::once(DVec3::splat(0.5)))
-            .map(|p| {
-                relative_map_and_jacobian(&prob.rel, p)
-                    .1
-                    .determinant()
-                    .abs()
-            })
+            .map(|p| prob.poly.map_and_jacobian(p).1.determinant().abs())
             .fold(0.0, f64::max);
         stats.map_evaluations += 9;
         if max_det <= DEGENERATE_TOLERANCE * size * size * size {
@@ -388,7 +456,7 @@ fn invert_inner(
         // On a collapsed edge or apex other coordinates map to the same point: prefer the
         // clamped ones if they do.
         let clamped = end.param.clamp(DVec3::ZERO, DVec3::ONE);
-        let rc = (relative_map(&prob.rel, clamped) - prob.target).length();
+        let rc = (prob.poly.map(clamped) - prob.target).length();
         stats.map_evaluations += 1;
         if rc <= prob.accept {
             return Ok(Solution {
@@ -400,7 +468,9 @@ fn invert_inner(
         // (det J keeps its sign and stays away from zero), the root is the only one near the
         // cell and the target is outside.
         let det_root = end.jacobian.determinant();
-        let det_centre = relative_map_and_jacobian(&prob.rel, DVec3::splat(0.5))
+        let det_centre = prob
+            .poly
+            .map_and_jacobian(DVec3::splat(0.5))
             .1
             .determinant();
         stats.map_evaluations += 1;
@@ -411,6 +481,18 @@ fn invert_inner(
             });
         }
         outside_root = Some(end);
+    }
+    // The cell lies in the convex hull of its corners (the shape functions are non-negative
+    // and sum to one on [0, 1]³): a target outside a slab of that hull has no preimage in the
+    // cell, and the subdivision would only confirm it.
+    if prob.outside_hull() {
+        return match outside_root {
+            Some(e) => Ok(Solution {
+                param: e.param,
+                residual: e.residual,
+            }),
+            None => Err(InverseFailure::NotFound),
+        };
     }
     stats.fallbacks += 1;
     match prob.subdivide(stats) {
@@ -490,6 +572,24 @@ mod tests {
                 "{target}: {inv:?}"
             );
         }
+    }
+
+    #[test]
+    fn outside_the_hull_needs_no_subdivision() {
+        // A thin sheared slab: its box holds points far from the cell in parametric terms.
+        let mut c = CORNER_PARAMETERS.map(|p| DVec3::new(p[0], p[1], 0.01 * p[2]));
+        for (k, ck) in c.iter_mut().enumerate() {
+            ck.z += 0.5 * ck.x + if k == 6 { 0.003 } else { 0.0 };
+        }
+        let target = DVec3::new(0.2, 0.5, 0.4);
+        let inv = invert(&c, target, None);
+        assert_eq!(inv.stats.fallbacks, 0);
+        assert_eq!(inv.stats.subcells, 0);
+        assert!(inv.param().map_or(true, |q| !in_cube(q, -1e-9, 1.0 + 1e-9)));
+        // Inside points are still found.
+        let p = DVec3::new(0.3, 0.6, 0.5);
+        let q = invert(&c, map(&c, p), None).param().expect("inside");
+        assert!((q - p).length() < 1e-9);
     }
 
     #[test]

@@ -5,12 +5,23 @@
 //! (before or after) lies outside the mesh, the ray crossed the mesh boundary between the two;
 //! the sample then stands for its segment cut at (or extended to) that crossing, so that the
 //! in-mesh length of the ray is counted exactly rather than to a step. The crossing is found by
-//! [`BISECTIONS`] bisection steps on exact mesh containment (the
-//! cell of the inside end first, then the structure), then refined once by linear interpolation of the violated parametric
+//! [`BISECTIONS`] bisection steps on exact mesh containment, then refined once by linear
+//! interpolation of the violated parametric
 //! coordinate of the cell at the inside end of the bracket (exact for a planar boundary face
 //! crossed in that cell up to the curvature of the trilinear map over the bracket). Where the
 //! refinement does not land inside the bracket, the bracket's midpoint is taken: the crossing
 //! is then off by at most `step / 2^(BISECTIONS + 1)`.
+//!
+//! # Containment without the structure
+//! Each bisection point is tested in the cell of the inside end of the bracket first. With
+//! complete face neighbours (see [`super::Neighbours`]) a point outside that cell is followed
+//! locally: across the face it lies farthest beyond (by the cell's parametric coordinates)
+//! that has a neighbour, up to [`super::raycast::MAX_BOUNDARY_WALK`] cells, until a cell
+//! holds it — or it lies beyond faces without a neighbour only, i.e. beyond the mesh's
+//! boundary, and is outside with no structure look-up. The structure decides where the local
+//! search cannot (no neighbours, a degenerate face of a collapsed cell, the budget spent), and
+//! confirms an "outside" for the points that do not lie between two samples (the ray's start
+//! and end, the look-ahead at early termination).
 
 use glam::DVec3;
 

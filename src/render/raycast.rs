@@ -65,18 +65,19 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::boundary::{interpolate_crossing, partial_opacity, BISECTIONS};
+use super::boundary::{face_violation, interpolate_crossing, partial_opacity, BISECTIONS};
 use super::camera::{Camera, RayGenerator, RaySource};
 use super::image::Image;
 use super::shading::Shading;
-use super::skip::Skipper;
+use super::skip::{NodeArcs, Skipper};
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
-use super::walk::{violated_face, walk, WalkEnd, WalkWork};
+use super::walk::{violated_face, walk, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS};
 use crate::accel::{Accel, Counters};
 use crate::geometry::bounds::{cell_bounds, Aabb};
-use crate::geometry::containment::locate_in_cell;
+use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
 use crate::geometry::inverse::invert;
 use crate::geometry::trilinear::{index, interpolate, physical_gradient};
+use crate::mesh::topology::FACES;
 use crate::mesh::Association;
 use crate::{Error, Mesh};
 
@@ -114,9 +115,21 @@ impl std::str::FromStr for RenderPath {
 
 /// The face neighbours of a cell, for the fast path: six cell ids, `u32::MAX` for none.
 /// Closures `Fn(u32) -> [u32; 6]` implement it.
+///
+/// A face without a neighbour is taken for the mesh's boundary by the boundary crossing
+/// searches (see [`super::boundary`]): the source must pair every shared face, θ-seam faces
+/// of coincident but separate points included (as
+/// [`crate::mesh::topology::FaceNeighbors::build_with_tolerance`] does), or say it does not
+/// with [`Neighbours::complete`].
 pub trait Neighbours: Sync {
     /// The cells across the six faces of `cell` (`u32::MAX` where there is none).
     fn neighbours(&self, cell: u32) -> [u32; 6];
+
+    /// Whether every shared face has its neighbour, so that a face with none is on the mesh's
+    /// boundary (default `true`).
+    fn complete(&self) -> bool {
+        true
+    }
 }
 
 impl<F: Fn(u32) -> [u32; 6] + Sync> Neighbours for F {
@@ -138,6 +151,10 @@ pub struct NoNeighbours;
 impl Neighbours for NoNeighbours {
     fn neighbours(&self, _cell: u32) -> [u32; 6] {
         [u32::MAX; 6]
+    }
+
+    fn complete(&self) -> bool {
+        false
     }
 }
 
@@ -485,6 +502,21 @@ pub struct Renderer<'a> {
     options: RenderOptions,
     neighbours: &'a dyn Neighbours,
     clip_box: Aabb,
+    /// The cylindrical BVH's node arcs for the fast path's empty-space skipping.
+    arcs: NodeArcs,
+}
+
+/// Cells a boundary search tests locally before it asks the structure.
+pub const MAX_BOUNDARY_WALK: usize = 6;
+
+/// A local boundary search's answer.
+enum Local {
+    /// In this cell, at these parameters.
+    Inside(u32, DVec3),
+    /// Beyond boundary faces only.
+    Outside,
+    /// The structure must say.
+    Undecided,
 }
 
 /// Samples per ray beyond which a render is refused (a step far too small for the mesh).
@@ -521,6 +553,11 @@ impl<'a> Renderer<'a> {
             options: *options,
             neighbours: &NoNeighbours,
             clip_box,
+            arcs: if options.path == RenderPath::Fast {
+                NodeArcs::new(volume.accel)
+            } else {
+                NodeArcs::default()
+            },
         })
     }
 
@@ -587,7 +624,15 @@ impl<'a> Renderer<'a> {
         let mesh = self.volume.mesh;
         if let Some(h) = hint {
             let mut work = WalkWork::default();
-            let end = walk(mesh, self.neighbours, h, None, p, &mut work);
+            let end = walk_within(
+                mesh,
+                self.neighbours,
+                h,
+                None,
+                p,
+                MAX_ENTRY_PLANE_STEPS,
+                &mut work,
+            );
             counters.hex_tests += work.tests;
             stats.walk_steps += work.plane_steps;
             if let WalkEnd::Found(c, q) = end {
@@ -599,26 +644,140 @@ impl<'a> Renderer<'a> {
         self.volume.accel.locate(mesh, p, counters)
     }
 
-    /// For a boundary search: the cell holding `p` if it lies in the mesh — `cell` (with
-    /// `guess` to warm-start Newton) first, then the structure. Every test is counted in
-    /// `hex_tests` and `boundary_refinements`.
+    /// For a boundary search: the cell holding `p` if it lies in the mesh. `cell` (with
+    /// `guess` to warm-start Newton) is tested first. With complete face neighbours the search
+    /// then goes on locally: across the face `p` lies farthest beyond (by `cell`'s parametric
+    /// coordinates) that has a neighbour, until a cell holds `p` or `p` lies beyond boundary
+    /// faces only — outside, with no structure look-up; where `confirm` is set (a point not
+    /// between two known samples), that answer is confirmed by the structure. Without
+    /// neighbours, or where the local search is undecided (a degenerate face, a budget of
+    /// [`MAX_BOUNDARY_WALK`] cells, an inverse that fails), the structure answers. Every test is
+    /// counted in `hex_tests` and `boundary_refinements`.
     fn boundary_locate(
         &self,
         p: DVec3,
         cell: u32,
         guess: DVec3,
+        confirm: bool,
+        counters: &mut Counters,
+        stats: &mut RenderStats,
+    ) -> Option<(u32, DVec3)> {
+        let mut in_start = None;
+        self.boundary_locate_from(p, cell, guess, confirm, &mut in_start, counters, stats)
+    }
+
+    /// [`Renderer::boundary_locate`], also giving the parametric coordinates of `p` in `cell`
+    /// where the search computed them (inside the cell or not) in `in_start`.
+    #[allow(clippy::too_many_arguments)]
+    fn boundary_locate_from(
+        &self,
+        p: DVec3,
+        cell: u32,
+        guess: DVec3,
+        confirm: bool,
+        in_start: &mut Option<DVec3>,
         counters: &mut Counters,
         stats: &mut RenderStats,
     ) -> Option<(u32, DVec3)> {
         let mesh = self.volume.mesh;
         let before = counters.hex_tests;
-        counters.hex_tests += 1;
-        let found = match locate_in_cell(&mesh.cell_corners(cell as usize), p, Some(guess)) {
-            Some(q) => Some((cell, q)),
-            None => self.volume.accel.locate(mesh, p, counters),
+        let found = match self.local_boundary_locate(p, cell, guess, in_start, counters) {
+            Local::Inside(c, q) => Some((c, q)),
+            Local::Outside if !confirm => None,
+            Local::Outside | Local::Undecided => self.volume.accel.locate(mesh, p, counters),
         };
         stats.boundary_refinements += counters.hex_tests - before;
         found
+    }
+
+    /// The local part of [`Renderer::boundary_locate`].
+    fn local_boundary_locate(
+        &self,
+        p: DVec3,
+        cell: u32,
+        guess: DVec3,
+        in_start: &mut Option<DVec3>,
+        counters: &mut Counters,
+    ) -> Local {
+        let mesh = self.volume.mesh;
+        let cells = mesh.cells();
+        if !self.neighbours.complete() {
+            counters.hex_tests += 1;
+            return match locate_in_cell(&mesh.cell_corners(cell as usize), p, Some(guess)) {
+                Some(q) => Local::Inside(cell, q),
+                None => Local::Undecided,
+            };
+        }
+        let mut visited = [u32::MAX; MAX_BOUNDARY_WALK];
+        let mut c = cell;
+        let mut guess = Some(guess);
+        for slot in 0..MAX_BOUNDARY_WALK {
+            let Some(ids) = cells.get(c as usize) else {
+                return Local::Undecided;
+            };
+            visited[slot] = c;
+            let corners = mesh.cell_corners(c as usize);
+            // Far beyond the cell the extended map says little (and Newton may not converge).
+            let b = cell_bounds(&corners);
+            if !b.padded(b.diagonal()).contains(p) {
+                return Local::Undecided;
+            }
+            counters.hex_tests += 1;
+            let Some(q) = invert(&corners, p, guess).param() else {
+                return Local::Undecided;
+            };
+            if slot == 0 {
+                *in_start = Some(q);
+            }
+            if param_inside(q) {
+                return Local::Inside(c, q);
+            }
+            let nb = self.neighbours.neighbours(c);
+            let mut next: Option<(f64, u32)> = None;
+            for (f, &n) in nb.iter().enumerate() {
+                let v = face_violation(q, f);
+                if v <= CONTAINMENT_TOLERANCE {
+                    continue;
+                }
+                if n == u32::MAX {
+                    // A boundary face, unless it is degenerate (a collapsed edge or point of a
+                    // wedge or pyramid: no area, never a neighbour, the mesh may go on there).
+                    let mut pts = FACES[f].map(|k| ids[k]);
+                    pts.sort_unstable();
+                    let distinct = 1 + pts.windows(2).filter(|w| w[0] != w[1]).count();
+                    if distinct < 3 {
+                        return Local::Undecided;
+                    }
+                    continue;
+                }
+                if visited.contains(&n) {
+                    continue;
+                }
+                if next.map_or(true, |(bv, _)| v > bv) {
+                    next = Some((v, n));
+                }
+            }
+            match next {
+                Some((_, n)) => {
+                    c = n;
+                    guess = None;
+                }
+                None => {
+                    // Beyond boundary faces only, or back towards cells already tested.
+                    let beyond_visited = nb.iter().enumerate().any(|(f, &n)| {
+                        n != u32::MAX
+                            && face_violation(q, f) > CONTAINMENT_TOLERANCE
+                            && visited.contains(&n)
+                    });
+                    return if beyond_visited {
+                        Local::Undecided
+                    } else {
+                        Local::Outside
+                    };
+                }
+            }
+        }
+        Local::Undecided
     }
 
     /// Where the ray crosses the mesh boundary between `t_outside` (a point outside the mesh)
@@ -635,20 +794,51 @@ impl<'a> Renderer<'a> {
         counters: &mut Counters,
         stats: &mut RenderStats,
     ) -> f64 {
+        // The outside end's parameters in the inside end's cell, where known: Newton for a
+        // midpoint then starts from the interpolation of the two ends' parameters.
+        let mut outside_q: Option<DVec3> = None;
         for _ in 0..BISECTIONS {
             let mid = 0.5 * (t_outside + t_inside);
-            match self.boundary_locate(origin + dir * mid, inside.0, inside.1, counters, stats) {
+            let p = origin + dir * mid;
+            let guess = match outside_q {
+                Some(qo) => {
+                    inside.1 + (qo - inside.1) * ((mid - t_inside) / (t_outside - t_inside))
+                }
+                None => inside.1,
+            };
+            let mut in_start = None;
+            match self.boundary_locate_from(
+                p,
+                inside.0,
+                guess,
+                false,
+                &mut in_start,
+                counters,
+                stats,
+            ) {
                 Some(f) => {
+                    if f.0 != inside.0 {
+                        outside_q = None;
+                    }
                     t_inside = mid;
                     inside = f;
                 }
-                None => t_outside = mid,
+                None => {
+                    t_outside = mid;
+                    outside_q = in_start;
+                }
             }
         }
-        let corners = self.volume.mesh.cell_corners(inside.0 as usize);
-        counters.hex_tests += 1;
-        stats.boundary_refinements += 1;
-        if let Some(q_out) = invert(&corners, origin + dir * t_outside, Some(inside.1)).param() {
+        let q_out = match outside_q {
+            Some(q) => Some(q),
+            None => {
+                let corners = self.volume.mesh.cell_corners(inside.0 as usize);
+                counters.hex_tests += 1;
+                stats.boundary_refinements += 1;
+                invert(&corners, origin + dir * t_outside, Some(inside.1)).param()
+            }
+        };
+        if let Some(q_out) = q_out {
             if let Some(t) =
                 interpolate_crossing(t_outside, q_out, t_inside, inside.1, violated_face(q_out))
             {
@@ -686,7 +876,7 @@ impl<'a> Renderer<'a> {
         let vol = self.volume;
         let mesh = vol.mesh;
         let fast = opts.path == RenderPath::Fast;
-        let skipper = Skipper::new(vol.accel);
+        let skipper = Skipper::with_arcs(vol.accel, &self.arcs);
         let mut counters = Counters::default();
         let mut acc = Accum {
             transmittance: 1.0,
@@ -699,6 +889,8 @@ impl<'a> Renderer<'a> {
         // The fast path's last located cell and parameters; `None` outside the mesh.
         let mut prev: Option<(u32, DVec3)> = None;
         let mut first_cell: Option<u32> = None;
+        // The ray lies in a piece's bound up to here (from the last empty-space query).
+        let mut bound_until = f64::NEG_INFINITY;
         let sample_t = |k: u64| t_in + (k as f64 + 0.5) * step;
         // The ray left the mesh before `t_outside`: the last composited sample ends at the
         // crossing (nothing to do without boundary segments, which keep no last sample).
@@ -752,8 +944,14 @@ impl<'a> Renderer<'a> {
                     }
                     None => {
                         // Outside the mesh or at the ray's start: skip the empty space.
-                        let Some(te) = skipper.next_entry(origin, dir, t, t_out, &mut counters)
-                        else {
+                        // Within the span of a bound found for an earlier sample, the sample
+                        // is in that bound: no need to ask the structure again.
+                        let span = if t <= bound_until {
+                            Some((t, bound_until))
+                        } else {
+                            skipper.next_span(origin, dir, t, t_out, &mut counters)
+                        };
+                        let Some((te, tx)) = span else {
                             close_at_exit(&mut acc, t, &mut counters, stats);
                             while sample_t(k) < t_out {
                                 stats.samples += 1;
@@ -762,6 +960,7 @@ impl<'a> Renderer<'a> {
                             }
                             break 'samples;
                         };
+                        bound_until = tx;
                         if te > t {
                             prev_in = false;
                             close_at_exit(&mut acc, t, &mut counters, stats);
@@ -856,6 +1055,7 @@ impl<'a> Renderer<'a> {
                             origin + dir * t_prev,
                             cell,
                             raw_param,
+                            true,
                             &mut counters,
                             stats,
                         )
@@ -891,7 +1091,7 @@ impl<'a> Renderer<'a> {
                     let t_next = sample_t(k).min(t_out);
                     let p_next = origin + dir * t_next;
                     if self
-                        .boundary_locate(p_next, cell, raw_param, &mut counters, stats)
+                        .boundary_locate(p_next, cell, raw_param, true, &mut counters, stats)
                         .is_none()
                     {
                         let e =
@@ -910,7 +1110,7 @@ impl<'a> Renderer<'a> {
             let p_end = origin + dir * t_out;
             if t_out.is_finite()
                 && self
-                    .boundary_locate(p_end, l.inside.0, l.inside.1, &mut counters, stats)
+                    .boundary_locate(p_end, l.inside.0, l.inside.1, true, &mut counters, stats)
                     .is_none()
             {
                 let e = self.crossing(origin, dir, t_out, l.t, l.inside, &mut counters, stats);

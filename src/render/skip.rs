@@ -6,7 +6,10 @@
 //!   and piece bounds gives the smallest `t ≥ t₀` at which the ray is inside a piece's bound.
 //!   Boxes are slab-tested. Sectors are tested on `r` (a quadratic in `t`), `h` (a slab) and,
 //!   for arcs narrower than π, θ (two half-planes through the axis); a wider arc is tested on
-//!   `r` and `h` only, a lower bound of the true entry, which is all skipping needs.
+//!   `r` and `h` only, a lower bound of the true entry, which is all skipping needs. The
+//!   sines and cosines of the nodes' arcs are computed once per renderer ([`NodeArcs`]).
+//!   [`Skipper::next_span`] also gives the exit from the piece's bound entered first, so the
+//!   samples up to it (in that bound) go to point location without asking again.
 //! - **Grids**: a sample is passed over when its second-level cell holds no reference (one
 //!   top-cell and one leaf-cell look-up, no cell tested).
 //!
@@ -45,24 +48,76 @@ enum LocalRay {
     /// Origin relative to the BVH's anchor, direction.
     Boxes { o: DVec3, d: DVec3, pad: f64 },
     /// In the cylindrical frame: `(x, y)` across the axis, `h` relative to the anchor.
-    Sectors { o: DVec3, d: DVec3, pad: f64 },
+    Sectors {
+        o: DVec3,
+        d: DVec3,
+        pad: f64,
+        /// `r²` along the ray, `a t² + 2 b t + c`, with `1/a`.
+        quad: [f64; 4],
+    },
+}
+
+/// An entry and exit `t` of a ray into and out of a bound.
+type Span = (f64, f64);
+
+/// `[sin θ_lo, cos θ_lo, sin θ_hi, cos θ_hi]` of a sector's arc.
+type ArcTrig = [f64; 4];
+
+#[inline]
+fn arc_trig(s: &SectorF32) -> ArcTrig {
+    let (s0, c0) = (s.theta[0] as f64).sin_cos();
+    let (s1, c1) = (s.theta[1] as f64).sin_cos();
+    [s0, c0, s1, c1]
+}
+
+/// The sines and cosines of the arcs of a cylindrical BVH's nodes, computed once per
+/// renderer so that the empty-space traversal of its nodes takes no trigonometry (its leaf
+/// pieces, fewer per traversal, still compute theirs). Empty for any other structure.
+#[derive(Clone, Debug, Default)]
+pub struct NodeArcs {
+    trig: Vec<ArcTrig>,
+}
+
+impl NodeArcs {
+    /// The table for `accel` (empty unless it is a cylindrical BVH).
+    pub fn new(accel: &Accel) -> NodeArcs {
+        use rayon::prelude::*;
+        match (accel.structure(), accel.coordinates()) {
+            (Structure::CylBvh(b), Coordinates::Cylindrical(_)) => NodeArcs {
+                trig: b.nodes.par_iter().map(|n| arc_trig(&n.bounds)).collect(),
+            },
+            _ => NodeArcs::default(),
+        }
+    }
 }
 
 impl LocalRay {
     /// The smallest `t` in `[t0, t1]` inside the (padded) bound, if any.
     #[inline]
-    fn entry_box(o: DVec3, d: DVec3, pad: f64, b: &BoxF32, t0: f64, t1: f64) -> Option<f64> {
+    fn entry_box(o: DVec3, d: DVec3, pad: f64, b: &BoxF32, t0: f64, t1: f64) -> Option<Span> {
         let (mut lo, mut hi) = (t0, t1);
         for a in 0..3 {
             let (s, e) = slab(o[a], d[a], b.min[a] as f64 - pad, b.max[a] as f64 + pad);
             lo = lo.max(s);
             hi = hi.min(e);
         }
-        (lo <= hi).then_some(lo)
+        (lo <= hi).then_some((lo, hi))
     }
 
+    /// The entry into a sector; `quad` the ray's `r²` polynomial (see [`LocalRay::Sectors`]),
+    /// `trig` the arc's sines and cosines if known.
     #[inline]
-    fn entry_sector(o: DVec3, d: DVec3, pad: f64, s: &SectorF32, t0: f64, t1: f64) -> Option<f64> {
+    #[allow(clippy::too_many_arguments)]
+    fn entry_sector(
+        o: DVec3,
+        d: DVec3,
+        pad: f64,
+        quad: [f64; 4],
+        s: &SectorF32,
+        trig: Option<&ArcTrig>,
+        t0: f64,
+        t1: f64,
+    ) -> Option<Span> {
         if s.r[0] > s.r[1] || s.h[0] > s.h[1] {
             return None;
         }
@@ -72,12 +127,36 @@ impl LocalRay {
         if lo > hi {
             return None;
         }
+        // r² along the ray: a t² + 2 b t + c. Inside r ≤ r1 first: one interval, and no
+        // trigonometry for the many bounds it rejects.
+        let [a, b, c, inv_a] = quad;
+        let r1 = s.r[1] as f64 + pad;
+        let r0 = s.r[0] as f64 - pad;
+        let parallel = a <= 1e-300;
+        if parallel {
+            if c > r1 * r1 {
+                return None;
+            }
+        } else {
+            let disc1 = b * b - a * (c - r1 * r1);
+            if disc1 < 0.0 {
+                return None;
+            }
+            let sq1 = disc1.sqrt();
+            lo = lo.max((-b - sq1) * inv_a);
+            hi = hi.min((-b + sq1) * inv_a);
+            if lo > hi {
+                return None;
+            }
+        }
         // θ: an arc narrower than π is the intersection of two half-planes through the axis,
         // `cross(e(θ_lo), x) ≥ 0` and `cross(x, e(θ_hi)) ≥ 0` (padded by `pad`).
         let (th0, th1) = (s.theta[0] as f64, s.theta[1] as f64);
         if th1 - th0 < PI - 1e-6 {
-            let (s0, c0) = th0.sin_cos();
-            let (s1, c1) = th1.sin_cos();
+            let [s0, c0, s1, c1] = match trig {
+                Some(t) => *t,
+                None => arc_trig(s),
+            };
             for (f0, f1) in [
                 (c0 * o.y - s0 * o.x, c0 * d.y - s0 * d.x),
                 (s1 * o.x - c1 * o.y, s1 * d.x - c1 * d.y),
@@ -100,47 +179,31 @@ impl LocalRay {
                 return None;
             }
         }
-        // r² along the ray: a t² + 2 b t + c.
-        let a = d.x * d.x + d.y * d.y;
-        let b = o.x * d.x + o.y * d.y;
-        let c = o.x * o.x + o.y * o.y;
-        let r1 = s.r[1] as f64 + pad;
-        let r0 = s.r[0] as f64 - pad;
-        // Inside r ≤ r1: one interval.
-        if a <= 1e-300 {
-            if c > r1 * r1 {
-                return None;
-            }
+        // Outside r < r0: the complement of one interval.
+        if parallel {
             if r0 > 0.0 && c < r0 * r0 {
                 return None;
             }
-            return Some(lo);
+            return Some((lo, hi));
         }
-        let disc1 = b * b - a * (c - r1 * r1);
-        if disc1 < 0.0 {
-            return None;
-        }
-        let sq1 = disc1.sqrt();
-        lo = lo.max((-b - sq1) / a);
-        hi = hi.min((-b + sq1) / a);
-        if lo > hi {
-            return None;
-        }
-        // Outside r < r0: the complement of one interval.
         if r0 > 0.0 {
             let disc0 = b * b - a * (c - r0 * r0);
             if disc0 > 0.0 {
                 let sq0 = disc0.sqrt();
-                let (ia, ib) = ((-b - sq0) / a, (-b + sq0) / a);
+                let (ia, ib) = ((-b - sq0) * inv_a, (-b + sq0) * inv_a);
                 if lo > ia && lo < ib {
                     lo = ib;
+                } else if lo <= ia && ia < hi {
+                    // In the sector up to the inner circle (an exit that is all a span needs:
+                    // the ray may come back in beyond it).
+                    hi = ia.max(lo);
                 }
                 if lo > hi {
                     return None;
                 }
             }
         }
-        Some(lo)
+        Some((lo, hi))
     }
 }
 
@@ -148,12 +211,22 @@ impl LocalRay {
 #[derive(Clone, Copy, Debug)]
 pub struct Skipper<'a> {
     accel: &'a Accel,
+    arcs: Option<&'a NodeArcs>,
 }
 
 impl<'a> Skipper<'a> {
     /// Skipping over `accel`.
     pub fn new(accel: &'a Accel) -> Skipper<'a> {
-        Skipper { accel }
+        Skipper { accel, arcs: None }
+    }
+
+    /// Skipping over `accel` with its nodes' arcs precomputed (`NodeArcs::new(accel)`; a table
+    /// of another structure is ignored).
+    pub fn with_arcs(accel: &'a Accel, arcs: &'a NodeArcs) -> Skipper<'a> {
+        Skipper {
+            accel,
+            arcs: Some(arcs),
+        }
     }
 
     /// For a BVH: the smallest `t ∈ [t0, t1]` at which the ray (unit `dir`) may lie in a
@@ -168,21 +241,40 @@ impl<'a> Skipper<'a> {
         t1: f64,
         counters: &mut Counters,
     ) -> Option<f64> {
+        self.next_span(origin, dir, t0, t1, counters).map(|s| s.0)
+    }
+
+    /// [`Skipper::next_entry`] with an exit: `(entry, exit)` such that the ray lies in one
+    /// piece's bound from `entry` to `exit` (so no sample in between need ask again). For a
+    /// grid: `(t0, t0)`.
+    pub fn next_span(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        counters: &mut Counters,
+    ) -> Option<(f64, f64)> {
         match (self.accel.structure(), self.accel.coordinates()) {
-            (Structure::Grid(_), _) => Some(t0),
+            (Structure::Grid(_), _) => Some((t0, t0)),
             (Structure::CartBvh(b), _) => {
                 let ray = LocalRay::Boxes {
                     o: origin - b.frame().anchor,
                     d: dir,
                     pad: root_pad_box(b),
                 };
-                first_hit(b, ray, t0, t1, counters)
+                first_hit(b, ray, &[], t0, t1, counters)
             }
             (Structure::CylBvh(b), Coordinates::Cylindrical(frame)) => {
                 let ray = sector_ray(&frame, b, origin, dir);
-                first_hit(b, ray, t0, t1, counters)
+                let trig = self
+                    .arcs
+                    .map(|a| a.trig.as_slice())
+                    .filter(|t| t.len() == b.nodes.len())
+                    .unwrap_or(&[]);
+                first_hit(b, ray, trig, t0, t1, counters)
             }
-            (Structure::CylBvh(_), Coordinates::Cartesian) => Some(t0),
+            (Structure::CylBvh(_), Coordinates::Cartesian) => Some((t0, t0)),
         }
     }
 
@@ -224,49 +316,57 @@ fn sector_ray<B: BvhBounds<Compact = SectorF32>>(
     let pad = b.nodes.first().map_or(0.0, |n| {
         1e-9 * (n.bounds.r[1] as f64).max((n.bounds.h[1] - n.bounds.h[0]) as f64)
     });
-    LocalRay::Sectors { o, d, pad }
+    let a = d.x * d.x + d.y * d.y;
+    let quad = [a, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y, 1.0 / a];
+    LocalRay::Sectors { o, d, pad, quad }
 }
 
 /// Bounds a [`LocalRay`] can enter.
 trait Enter {
-    fn enter(&self, ray: &LocalRay, t0: f64, t1: f64) -> Option<f64>;
+    /// `trig`: the arc's sines and cosines, for sectors, where known.
+    fn enter(&self, ray: &LocalRay, trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<Span>;
 }
 
 impl Enter for BoxF32 {
     #[inline]
-    fn enter(&self, ray: &LocalRay, t0: f64, t1: f64) -> Option<f64> {
+    fn enter(&self, ray: &LocalRay, _trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<Span> {
         match *ray {
             LocalRay::Boxes { o, d, pad } => LocalRay::entry_box(o, d, pad, self, t0, t1),
-            LocalRay::Sectors { .. } => Some(t0),
+            LocalRay::Sectors { .. } => Some((t0, t0)),
         }
     }
 }
 
 impl Enter for SectorF32 {
     #[inline]
-    fn enter(&self, ray: &LocalRay, t0: f64, t1: f64) -> Option<f64> {
+    fn enter(&self, ray: &LocalRay, trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<Span> {
         match *ray {
-            LocalRay::Sectors { o, d, pad } => LocalRay::entry_sector(o, d, pad, self, t0, t1),
-            LocalRay::Boxes { .. } => Some(t0),
+            LocalRay::Sectors { o, d, pad, quad } => {
+                LocalRay::entry_sector(o, d, pad, quad, self, trig, t0, t1)
+            }
+            LocalRay::Boxes { .. } => Some((t0, t0)),
         }
     }
 }
 
-/// Closest-hit traversal: the smallest entry `t ∈ [t0, t1]` into a leaf piece's bound.
+/// Closest-hit traversal: the smallest entry `t ∈ [t0, t1]` into a leaf piece's bound, with
+/// that piece's exit. `trig` holds the nodes' arcs (empty if not known).
 fn first_hit<B: BvhBounds>(
     bvh: &Bvh<B>,
     ray: LocalRay,
+    trig: &[ArcTrig],
     t0: f64,
     t1: f64,
     counters: &mut Counters,
-) -> Option<f64>
+) -> Option<Span>
 where
     B::Compact: Enter,
 {
     const DEPTH: usize = crate::accel::bvh::MAX_DEPTH;
     let root = bvh.nodes.first()?;
-    root.bounds.enter(&ray, t0, t1)?;
+    root.bounds.enter(&ray, trig.first(), t0, t1)?;
     let mut best = f64::INFINITY;
+    let mut best_exit = f64::INFINITY;
     let mut hi = t1;
     let mut stack = [(0u32, 0.0f64); DEPTH];
     stack[0] = (0, t0);
@@ -286,11 +386,13 @@ where
             let el = bvh
                 .nodes
                 .get(l as usize)
-                .and_then(|n| n.bounds.enter(&ray, t0, hi));
+                .and_then(|n| n.bounds.enter(&ray, trig.get(l as usize), t0, hi))
+                .map(|s| s.0);
             let er = bvh
                 .nodes
                 .get(r as usize)
-                .and_then(|n| n.bounds.enter(&ray, t0, hi));
+                .and_then(|n| n.bounds.enter(&ray, trig.get(r as usize), t0, hi))
+                .map(|s| s.0);
             // Nearer child on top.
             let mut push = |n: u32, e: f64| {
                 if top < DEPTH {
@@ -316,14 +418,16 @@ where
             let first = node.index as usize;
             let end = first + node.count as usize;
             for piece in bvh.refs.get(first..end).unwrap_or(&[]) {
-                if let Some(e) = piece.bounds.enter(&ray, t0, hi) {
+                // Against the whole interval, for the piece's own exit.
+                if let Some((e, x)) = piece.bounds.enter(&ray, None, t0, t1) {
                     if e < best {
                         best = e;
+                        best_exit = x;
                         hi = e;
                     }
                 }
             }
         }
     }
-    best.is_finite().then_some(best)
+    best.is_finite().then_some((best, best_exit))
 }

@@ -24,6 +24,10 @@ use crate::Mesh;
 
 /// Cells a walk may cross by face planes before it gives up.
 pub const MAX_PLANE_STEPS: u32 = 64;
+/// Plane steps of a walk from a hint (the previous ray's first cell) to a ray's entry: such a
+/// walk usually succeeds within a few cells or not at all (the entry lies across a gap of the
+/// mesh), when the structure answers.
+pub const MAX_ENTRY_PLANE_STEPS: u32 = 16;
 /// Inverse-map tests a walk may make before it gives up.
 pub const MAX_WALK_TESTS: u32 = 4;
 
@@ -116,13 +120,27 @@ pub fn test_cell(
 }
 
 /// Walks from `start` (the previous sample's cell, `guess` its parametric coordinates there,
-/// used to warm-start Newton if the walk tests that cell) to the cell holding `p`.
+/// used to warm-start Newton if the walk tests that cell) to the cell holding `p`, with at
+/// most [`MAX_PLANE_STEPS`] plane steps.
 pub fn walk(
     mesh: &Mesh,
     neighbours: &dyn Neighbours,
     start: u32,
     guess: Option<DVec3>,
     p: DVec3,
+    work: &mut WalkWork,
+) -> WalkEnd {
+    walk_within(mesh, neighbours, start, guess, p, MAX_PLANE_STEPS, work)
+}
+
+/// [`walk`] with at most `max_plane_steps` plane steps.
+pub fn walk_within(
+    mesh: &Mesh,
+    neighbours: &dyn Neighbours,
+    start: u32,
+    guess: Option<DVec3>,
+    p: DVec3,
+    max_plane_steps: u32,
     work: &mut WalkWork,
 ) -> WalkEnd {
     let n_cells = mesh.cell_count();
@@ -144,7 +162,7 @@ pub fn walk(
                 return WalkEnd::GaveUp;
             }
             if dist > 0.0 {
-                if steps >= MAX_PLANE_STEPS {
+                if steps >= max_plane_steps {
                     return WalkEnd::GaveUp;
                 }
                 let n = neighbours.neighbours(cell)[f];
