@@ -51,8 +51,19 @@ fn main() {
     let segments = args.get(5).map_or(true, |s| s != "whole");
     let mesh = generate(dataset, cells).expect("dataset");
     let axis = cylvol::axis::detect(&mesh);
-    let neighbours =
+    let mut neighbours =
         FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+    {
+        let check = Accel::build(
+            &mesh,
+            StructureKind::CartBvh,
+            &axis,
+            &AccelParams::default(),
+        )
+        .expect("build");
+        let hanging = neighbours.check_boundary(&mesh, |p| check.cell_at(&mesh, p));
+        assert_eq!(hanging, 0, "the synthetic datasets are conforming");
+    }
     let step = default_step(&mesh);
     println!(
         "{name}: {} cells, {size}x{size}, step {step:.5}, best of {frames} frames",

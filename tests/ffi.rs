@@ -8,7 +8,6 @@ use std::ptr::{null, null_mut};
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::Axis;
 use cylvol::ffi::*;
-use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::mesh::{cells_from_vtk, OffsetStyle};
 use cylvol::render::{
     Camera, RenderOptions, Renderer, TransferFunction, Volume, DEFAULT_TABLE_SIZE,
@@ -1091,8 +1090,7 @@ fn rust_image(
         &AccelParams::default(),
     )
     .unwrap();
-    let neighbours =
-        FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+    let neighbours = cylvol::render::face_neighbours(&mesh, &accel);
     let volume = Volume::new(&mesh, &accel).unwrap();
     let mut options = RenderOptions::new(w, h, cylvol::render::default_step(&mesh));
     tweak(&mut options);

@@ -16,7 +16,6 @@ use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::Axis;
 use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::io::structured::hexahedra;
-use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::render::{
     Camera, Image, RenderOptions, RenderPath, RenderStats, Renderer, Shading, TransferFunction,
     Volume,
@@ -354,8 +353,7 @@ fn check_beer_lambert(case: &Case, step: f64) {
     let rays = hard_rays(case, 0xBEE7, 40);
     // Without face neighbours crossings are searched through the structure; with them
     // (welded across a duplicated seam) locally, a face without a neighbour being boundary.
-    let neighbours =
-        FaceNeighbors::build_with_tolerance(&case.mesh, FaceNeighbors::seam_tolerance(&case.mesh));
+    let neighbours = common::closed_neighbours(&case.mesh);
     for kind in StructureKind::ALL {
         let accel =
             Accel::build(&case.mesh, kind, &case.axis, &AccelParams::default()).expect("build");

@@ -55,7 +55,7 @@ fn render(
 /// Renders `mesh` with every structure and both paths; asserts the fast images equal the
 /// paper image within 1e-6 and the sample positions are the same. Returns the fast stats.
 fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f64)]) {
-    let neighbours = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
+    let neighbours = common::closed_neighbours(mesh);
     let step = default_step(mesh);
     let size = 40;
     for &(az, el, zoom) in views {
@@ -183,7 +183,7 @@ fn smooth_cube(n: usize) -> Mesh {
 fn about_one_cell_test_per_located_sample_on_a_smooth_mesh() {
     let n = 24;
     let mesh = smooth_cube(n);
-    let neighbours = FaceNeighbors::build(&mesh);
+    let neighbours = common::closed_neighbours(&mesh);
     let cell = 1.0 / n as f64;
     for kind in StructureKind::ALL {
         let accel = Accel::build(&mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
@@ -212,7 +212,7 @@ fn about_one_cell_test_per_located_sample_on_a_smooth_mesh() {
 #[test]
 fn empty_space_is_skipped_across_the_hub_hole() {
     let mesh = sector(&frame(), [0.5, 1.0], [-PI, PI], 1.0, [4, 48, 4], true);
-    let neighbours = FaceNeighbors::build(&mesh);
+    let neighbours = common::closed_neighbours(&mesh);
     let step = 0.01;
     for kind in StructureKind::ALL {
         let accel = Accel::build(&mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");

@@ -7,7 +7,6 @@
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::Axis;
 use cylvol::io::structured::hexahedra;
-use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::render::{
     Camera, GradientOpacity, Image, Interpolation, RenderOptions, RenderPath, RenderStats,
     Renderer, TransferFunction, Volume,
@@ -68,7 +67,7 @@ fn render(
 ) -> (Image, RenderStats) {
     let accel = Accel::build(mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
     let volume = Volume::new(mesh, &accel).expect("volume");
-    let neighbours = FaceNeighbors::build(mesh);
+    let neighbours = cylvol::render::face_neighbours(mesh, &accel);
     let mut options = RenderOptions::new(24, 24, 0.03);
     set(&mut options);
     let renderer = Renderer::new(&volume, tf, &options)

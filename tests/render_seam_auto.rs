@@ -43,7 +43,6 @@ use common::sector;
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::Axis;
 use cylvol::geometry::cylindrical::CylFrame;
-use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::render::{
     Camera, Image, RenderOptions, RenderPath, Renderer, Shading, TransferFunction, Volume,
 };
@@ -143,7 +142,7 @@ fn render(
     let mut options = RenderOptions::new(SIZE, SIZE, STEP);
     options.path = path;
     options.shading = Some(Shading::default());
-    let neighbours = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
+    let neighbours = cylvol::render::face_neighbours(mesh, &accel);
     let mut r = Renderer::new(&volume, tf, &options).expect("renderer");
     if path == RenderPath::Fast {
         // Across the duplicated seam too, as the CLI does.

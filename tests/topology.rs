@@ -605,3 +605,84 @@ proptest! {
         prop_assert_eq!(welded, adj);
     }
 }
+
+/// The cell holding `p`, by testing every cell (the reference for the boundary check).
+fn brute_force_cell(mesh: &Mesh, p: DVec3) -> Option<u32> {
+    (0..mesh.cell_count())
+        .find(|&c| cylvol::geometry::containment::contains(&mesh.cell_corners(c), p))
+        .map(|c| c as u32)
+}
+
+/// Two unit cubes stacked in z, the upper one either conforming (sharing the lower one's top
+/// face) or split into two wedges along the diagonal of that face, or shifted by half a cell
+/// in x (a face against two half faces, as at a non-conforming interface).
+fn stacked(upper: &str) -> Mesh {
+    let mut points: Vec<DVec3> = (0..12)
+        .map(|n| DVec3::new((n % 2) as f64, ((n / 2) % 2) as f64, (n / 4) as f64))
+        .collect();
+    let lower = [0, 1, 3, 2, 4, 5, 7, 6];
+    let (cells, kinds) = match upper {
+        "hexahedron" => (
+            vec![lower, [4, 5, 7, 6, 8, 9, 11, 10]],
+            vec![CellKind::Hexahedron; 2],
+        ),
+        "wedges" => (
+            vec![
+                lower,
+                // Wedges are stored collapsed: [0, 1, 2, 2, 3, 4, 5, 5].
+                [4, 5, 6, 6, 8, 9, 10, 10],
+                [5, 7, 6, 6, 9, 11, 10, 10],
+            ],
+            vec![CellKind::Hexahedron, CellKind::Wedge, CellKind::Wedge],
+        ),
+        _ => {
+            // The upper cube's own points, moved by half a cell in x.
+            let base = points.len() as u32;
+            for n in 0..8 {
+                points.push(DVec3::new(
+                    (n % 2) as f64 + 0.5,
+                    ((n / 2) % 2) as f64,
+                    (n / 4) as f64 + 1.0,
+                ));
+            }
+            let b = |k: u32| base + k;
+            (
+                vec![lower, [b(0), b(1), b(3), b(2), b(4), b(5), b(7), b(6)]],
+                vec![CellKind::Hexahedron; 2],
+            )
+        }
+    };
+    Mesh::from_parts(MeshParts {
+        points,
+        cells,
+        kinds,
+        ..MeshParts::default()
+    })
+    .expect("mesh")
+}
+
+#[test]
+fn boundary_check_finds_hanging_faces_and_only_them() {
+    let mut conforming = FaceNeighbors::build(&stacked("hexahedron"));
+    assert_eq!(conforming.hanging_faces(), None);
+    assert!(!conforming.is_closed(), "unchecked is not closed");
+    let mesh = stacked("hexahedron");
+    assert_eq!(
+        conforming.check_boundary(&mesh, |p| brute_force_cell(&mesh, p)),
+        0
+    );
+    assert!(conforming.is_closed());
+
+    // The lower cube's top face (a quad) meets two triangles: no neighbour by ids, mesh beyond.
+    let mesh = stacked("wedges");
+    let mut n = FaceNeighbors::build(&mesh);
+    assert_eq!(n.neighbors(0)[5], NONE);
+    assert_eq!(n.check_boundary(&mesh, |p| brute_force_cell(&mesh, p)), 3);
+    assert!(!n.is_closed());
+
+    // Shifted by half a cell: the lower top face and the upper bottom face overlap by half.
+    let mesh = stacked("shifted");
+    let mut n = FaceNeighbors::build(&mesh);
+    assert_eq!(n.check_boundary(&mesh, |p| brute_force_cell(&mesh, p)), 2);
+    assert!(!n.is_closed());
+}

@@ -183,6 +183,13 @@ impl Accel {
         cell.map(|c| (c, param))
     }
 
+    /// The cell containing `p`, if any, with no counting (for checks such as
+    /// [`crate::mesh::topology::FaceNeighbors::check_boundary`]).
+    pub fn cell_at(&self, mesh: &Mesh, p: DVec3) -> Option<u32> {
+        self.locate(mesh, p, &mut Counters::default())
+            .map(|(c, _)| c)
+    }
+
     /// Panics with a message unless the structure is well formed for `mesh`: every piece of
     /// every cell is referenced wherever its bounds reach, and every node holds its children.
     pub fn assert_well_formed(&self, mesh: &Mesh) {

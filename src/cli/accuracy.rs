@@ -252,7 +252,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
     let kind = scene::structure(&args.structure, &mesh, &axis)?;
     let label = cylvol::input::Input::parse(&args.input.input)?.label();
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
-    let neighbours = scene::neighbours(&mesh);
+    let neighbours = scene::neighbours(&mesh, &accel);
     let view = Some(args.view.unwrap_or(DEFAULT_VIEW));
     let result = study(
         &mesh,

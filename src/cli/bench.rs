@@ -136,7 +136,7 @@ pub fn bench_mesh(
     let started = Instant::now();
     let neighbours = paths
         .contains(&RenderPath::Fast)
-        .then(|| scene::neighbours(mesh));
+        .then(|| scene::neighbours(mesh, &built[0]));
     let neighbours_s = started.elapsed().as_secs_f64();
     let mut structures = Map::new();
     let mut images = Vec::new();

@@ -211,7 +211,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         .iter()
         .find(|a| a.kind() == StructureKind::CylBvh)
         .ok_or_else(|| Error::Invalid("demo: the cylindrical BVH is missing".into()))?;
-    let neighbours = super::scene::neighbours(&mesh);
+    let neighbours = super::scene::neighbours(&mesh, cyl_bvh);
     let accuracy = super::accuracy::study(
         &mesh,
         cyl_bvh,

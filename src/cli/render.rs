@@ -89,7 +89,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     options.boundary_segments = !args.whole_steps;
     // The fast path walks from a sample's cell to its face neighbours (across duplicated
     // seams too); the paper path locates every sample from scratch and needs none.
-    let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh));
+    let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh, &accel));
     let mut renderer = Renderer::new(&volume, &transfer, &options)?;
     if let Some(n) = &neighbours {
         renderer = renderer.with_neighbours(n);

@@ -6,6 +6,7 @@
 use std::time::Instant;
 
 use super::log;
+use cylvol::accel::Accel;
 use cylvol::accel::StructureKind;
 use cylvol::axis::Axis;
 use cylvol::mesh::topology::FaceNeighbors;
@@ -84,14 +85,16 @@ pub fn camera(mesh: &Mesh, width: u32, height: u32, view: Option<[f64; 3]>) -> C
     Camera::view(mesh.bounds(), width, height, az, el, zoom)
 }
 
-/// The face neighbours the fast path walks (duplicated seams joined by position), logged.
-pub fn neighbours(mesh: &Mesh) -> FaceNeighbors {
+/// The face neighbours the fast path walks (duplicated seams joined by position, the faces
+/// left open checked against the structure), logged.
+pub fn neighbours(mesh: &Mesh, accel: &Accel) -> FaceNeighbors {
     let started = Instant::now();
-    let n = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
+    let n = cylvol::render::face_neighbours(mesh, accel);
     log(format_args!(
-        "face neighbours: {} boundary faces, {} seam faces joined, {:.2} s",
+        "face neighbours: {} boundary faces, {} seam faces joined, {} hanging faces, {:.2} s",
         n.boundary_face_count(),
         n.seam_faces(),
+        n.hanging_faces().unwrap_or(0),
         started.elapsed().as_secs_f64()
     ));
     n

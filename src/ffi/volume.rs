@@ -180,8 +180,7 @@ pub(crate) fn build(mesh: Mesh, params: &CylvolBuildParams) -> Result<CylvolVolu
         CylvolStructure::CylindricalBvh => (StructureKind::CylBvh, 0.0),
     };
     let accel = Accel::build(&mesh, kind, &axis, &accel_params)?;
-    let neighbours =
-        FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+    let neighbours = crate::render::face_neighbours(&mesh, &accel);
     let default_step = crate::render::default_step(&mesh);
     let build = CylvolBuildStats {
         structure: to_c(kind),

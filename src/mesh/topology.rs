@@ -183,6 +183,9 @@ pub struct FaceNeighbors {
     boundary: usize,
     nonmanifold: usize,
     degenerate: usize,
+    /// Faces without a neighbour found to have mesh beyond them by
+    /// [`FaceNeighbors::check_boundary`]; `None` until it has run.
+    hanging: Option<usize>,
 }
 
 /// Counts gathered while building.
@@ -221,6 +224,7 @@ impl FaceNeighbors {
                 boundary: 0,
                 nonmanifold: 0,
                 degenerate: 0,
+                hanging: None,
             };
         }
 
@@ -319,6 +323,7 @@ impl FaceNeighbors {
             boundary: counts.boundary,
             nonmanifold: counts.nonmanifold,
             degenerate,
+            hanging: None,
         }
     }
 
@@ -501,6 +506,73 @@ impl FaceNeighbors {
                 .seams
                 .binary_search(&(cell as u64 * 6 + face as u64))
                 .is_ok()
+    }
+
+    /// Checks that every non-degenerate face without a neighbour really is the mesh's
+    /// boundary: `cell_at` (a point location, e.g. through an acceleration structure) must find
+    /// no other cell just beyond the face. Each such face is probed at its centre and at the
+    /// four points halfway from there to its corners, moved outwards along the face normal by
+    /// `1e-6` of the cell's box diagonal. A face with mesh beyond it is *hanging*: a
+    /// non-conforming interface (a hexahedron face against two wedges or four smaller
+    /// hexahedra, hanging nodes), a non-manifold face, or a seam the tolerance pass did not
+    /// weld. Returns the number of hanging faces; [`FaceNeighbors::is_closed`] is true once the
+    /// check has run and found none.
+    ///
+    /// The ray caster trusts a face without a neighbour to be the boundary only for a closed
+    /// adjacency (see [`crate::render::Neighbours::complete`]); otherwise its boundary searches
+    /// ask the structure.
+    pub fn check_boundary(
+        &mut self,
+        mesh: &Mesh,
+        cell_at: impl Fn(glam::DVec3) -> Option<u32> + Sync,
+    ) -> usize {
+        use glam::DVec3;
+        let cells = mesh.cells();
+        let hanging = self
+            .neighbors
+            .par_chunks(6)
+            .enumerate()
+            .map(|(c, nb)| {
+                let ids = &cells[c];
+                let corners = mesh.cell_corners(c);
+                let centre = corners.iter().copied().sum::<DVec3>() / 8.0;
+                let (lo, hi) = corners
+                    .iter()
+                    .fold((corners[0], corners[0]), |(l, h), &p| (l.min(p), h.max(p)));
+                let eps = 1e-6 * (hi - lo).length();
+                (0..6)
+                    .filter(|&f| {
+                        nb[f] == NONE && !FaceKey::of_cell(ids, f).is_degenerate() && {
+                            let q = face_vertices(f).map(|k| corners[k]);
+                            let mid = (q[0] + q[1] + q[2] + q[3]) / 4.0;
+                            let mut n = (q[2] - q[0]).cross(q[3] - q[1]);
+                            if n.dot(mid - centre) < 0.0 {
+                                n = -n;
+                            }
+                            let n = n.normalize_or_zero();
+                            n != DVec3::ZERO
+                                && std::iter::once(mid)
+                                    .chain(q.iter().map(|&k| 0.5 * (mid + k)))
+                                    .any(|p| cell_at(p + n * eps).is_some_and(|o| o as usize != c))
+                        }
+                    })
+                    .count()
+            })
+            .sum();
+        self.hanging = Some(hanging);
+        hanging
+    }
+
+    /// Faces [`FaceNeighbors::check_boundary`] found to have mesh beyond them (`None` before
+    /// it has run).
+    pub fn hanging_faces(&self) -> Option<usize> {
+        self.hanging
+    }
+
+    /// Whether [`FaceNeighbors::check_boundary`] has run and found every face without a
+    /// neighbour to be the mesh's boundary.
+    pub fn is_closed(&self) -> bool {
+        self.hanging == Some(0)
     }
 
     /// Bytes held: 24 per cell plus 8 per seam face.

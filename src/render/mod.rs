@@ -34,8 +34,8 @@ pub use camera::{
 };
 pub use image::Image;
 pub use raycast::{
-    default_step, Interpolation, Neighbours, NoNeighbours, RayResult, RenderOptions, RenderPath,
-    RenderStats, Renderer, Volume, MAX_SAMPLES_PER_RAY,
+    default_step, face_neighbours, Interpolation, Neighbours, NoNeighbours, RayResult,
+    RenderOptions, RenderPath, RenderStats, Renderer, Volume, MAX_SAMPLES_PER_RAY,
 };
 pub use shading::Shading;
 pub use transfer::{

@@ -142,6 +142,28 @@ impl Neighbours for crate::mesh::topology::FaceNeighbors {
     fn neighbours(&self, cell: u32) -> [u32; 6] {
         self.neighbors(cell)
     }
+
+    /// Only once [`crate::mesh::topology::FaceNeighbors::check_boundary`] has found no
+    /// hanging face.
+    fn complete(&self) -> bool {
+        self.is_closed()
+    }
+}
+
+/// The face neighbours the fast path should walk: seams of coincident points welded
+/// ([`FaceNeighbors::build_with_tolerance`] with [`FaceNeighbors::seam_tolerance`]), and the
+/// faces left without a neighbour checked against `accel`
+/// ([`FaceNeighbors::check_boundary`]), so that the boundary searches trust them only when
+/// they really bound the mesh.
+///
+/// [`FaceNeighbors::build_with_tolerance`]: crate::mesh::topology::FaceNeighbors::build_with_tolerance
+/// [`FaceNeighbors::seam_tolerance`]: crate::mesh::topology::FaceNeighbors::seam_tolerance
+/// [`FaceNeighbors::check_boundary`]: crate::mesh::topology::FaceNeighbors::check_boundary
+pub fn face_neighbours(mesh: &Mesh, accel: &Accel) -> crate::mesh::topology::FaceNeighbors {
+    use crate::mesh::topology::FaceNeighbors;
+    let mut n = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
+    n.check_boundary(mesh, |p| accel.cell_at(mesh, p));
+    n
 }
 
 /// No neighbours known: the fast path goes from the previous cell straight to the structure.

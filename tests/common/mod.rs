@@ -220,3 +220,21 @@ pub fn sample_points(mesh: &Mesh, n: usize, seed: u64) -> Vec<DVec3> {
     }
     out
 }
+
+/// The face neighbours the CLI gives the fast path ([`cylvol::render::face_neighbours`]):
+/// seams welded, open faces checked against a Cartesian BVH. Asserts the mesh is closed (no
+/// hanging faces), so the boundary searches take the local path.
+#[allow(dead_code)]
+pub fn closed_neighbours(mesh: &Mesh) -> cylvol::mesh::topology::FaceNeighbors {
+    use cylvol::accel::{Accel, AccelParams, StructureKind};
+    let accel = Accel::build(
+        mesh,
+        StructureKind::CartBvh,
+        &cylvol::axis::Axis::Z,
+        &AccelParams::default(),
+    )
+    .expect("build");
+    let n = cylvol::render::face_neighbours(mesh, &accel);
+    assert!(n.is_closed(), "hanging faces: {:?}", n.hanging_faces());
+    n
+}
