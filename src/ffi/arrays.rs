@@ -135,6 +135,21 @@ pub unsafe fn handle_mut<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Fa
     unsafe { ptr.as_mut() }.ok_or_else(|| Failure::null(what))
 }
 
+/// Frees a handle made by `Box::into_raw` (NULL is fine), inside the panic boundary of
+/// `function`.
+///
+/// # Safety
+/// `ptr` NULL or a live handle of this type, not used afterwards.
+pub unsafe fn free_handle<T>(function: &str, ptr: *mut T) {
+    let _ = super::status::guard(function, || {
+        if !ptr.is_null() {
+            // SAFETY: the caller vouches for a handle made by `Box::into_raw`.
+            drop(unsafe { Box::from_raw(ptr) });
+        }
+        Ok(())
+    });
+}
+
 /// Writes `value` through an output pointer, or fails with [`CylvolStatus::NullPointer`].
 ///
 /// # Safety

@@ -350,11 +350,6 @@ pub unsafe extern "C" fn cylvol_mesh_scalar_range(
 /// `mesh` NULL or a live handle from [`cylvol_mesh_new`], not used afterwards.
 #[no_mangle]
 pub unsafe extern "C" fn cylvol_mesh_free(mesh: *mut CylvolMesh) {
-    let _ = status::guard("cylvol_mesh_free", || {
-        if !mesh.is_null() {
-            // SAFETY: a handle made by `Box::into_raw` in `cylvol_mesh_new`.
-            drop(unsafe { Box::from_raw(mesh) });
-        }
-        Ok(())
-    });
+    // SAFETY: the caller vouches for the handle.
+    unsafe { arrays::free_handle("cylvol_mesh_free", mesh) }
 }

@@ -250,13 +250,8 @@ pub unsafe extern "C" fn cylvol_volume_new(
 /// `volume` NULL or a live handle from [`cylvol_volume_new`], not used afterwards.
 #[no_mangle]
 pub unsafe extern "C" fn cylvol_volume_free(volume: *mut CylvolVolume) {
-    let _ = status::guard("cylvol_volume_free", || {
-        if !volume.is_null() {
-            // SAFETY: a handle made by `Box::into_raw` in `cylvol_volume_new`.
-            drop(unsafe { Box::from_raw(volume) });
-        }
-        Ok(())
-    });
+    // SAFETY: the caller vouches for the handle.
+    unsafe { arrays::free_handle("cylvol_volume_free", volume) }
 }
 
 /// Replaces the active scalars of the volume without rebuilding the structure (the same rules
