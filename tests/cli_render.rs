@@ -318,3 +318,44 @@ fn boundary_segments_cost_tests_and_buy_accuracy() {
         "boundary segments {cut_err} vs whole steps {whole_err}"
     );
 }
+
+#[test]
+fn render_takes_interpolation_and_gradient_opacity_and_counts_gradients_only_for_them() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("r.png");
+    let out = out.to_str().expect("utf-8 path");
+    let gradients = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "pump-inlet:3000",
+            "-o",
+            out,
+            "--size",
+            "24x24",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        json_of(&args)["stats"]["gradient_evaluations"]
+            .as_u64()
+            .expect("a count")
+    };
+    assert_eq!(gradients(&[]), 0, "no shading, no gradient opacity");
+    assert_eq!(gradients(&["--interpolation", "nearest"]), 0);
+    assert!(gradients(&["--gradient-opacity", "0:0.2,1:1"]) > 0);
+    for bad in [
+        &["--interpolation", "cubic"][..],
+        &["--gradient-opacity", "1:0,0:1"][..],
+        &["--gradient-opacity", "0:2"][..],
+        &["--gradient-opacity", "zero"][..],
+    ] {
+        let mut args = vec!["render", "pump-inlet:3000", "-o", out, "--size", "8x8"];
+        args.extend_from_slice(bad);
+        let o = cylvol(&args);
+        assert!(!o.status.success(), "{bad:?} accepted");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("interpolation") || err.contains("gradient"),
+            "{bad:?}: {err}"
+        );
+    }
+}

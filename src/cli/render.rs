@@ -1,5 +1,6 @@
 //! `cylvol render INPUT -o OUT.png [--structure …] [--size WxH] [--step S] [--scalar NAME]
-//! [--view AZIMUTH,ELEVATION,ZOOM] [--path paper|fast] [--shade]`: renders one image and
+//! [--view AZIMUTH,ELEVATION,ZOOM] [--path paper|fast] [--shade] [--interpolation linear|nearest]
+//! [--gradient-opacity M:G,M:G,...]`: renders one image and
 //! reports the time and the work counters on standard error (as JSON on standard output with
 //! `--json`).
 //!
@@ -17,7 +18,9 @@ use serde_json::json;
 
 use super::{log, scene, InputArgs};
 use cylvol::accel::AccelParams;
-use cylvol::render::{RenderOptions, RenderPath, Renderer, Shading, Volume};
+use cylvol::render::{
+    GradientOpacity, Interpolation, RenderOptions, RenderPath, Renderer, Shading, Volume,
+};
 use cylvol::Error;
 
 /// Arguments of `cylvol render`.
@@ -50,9 +53,37 @@ pub struct RenderArgs {
     /// (faster, first order in the step); by default boundary samples are cut at the crossing.
     #[arg(long)]
     whole_steps: bool,
+    /// linear (trilinear) or nearest (the value of the nearest cell corner).
+    #[arg(long, default_value = "linear")]
+    interpolation: String,
+    /// Gradient opacity as `vtkVolumeProperty` holds it: `M:G` points of a piecewise-linear
+    /// factor G in [0, 1] of the gradient magnitude M, in increasing M, e.g. `0:0,0.5:1`.
+    #[arg(long, value_name = "M:G,M:G,...", value_parser = parse_gradient_opacity)]
+    gradient_opacity: Option<GradientOpacity>,
     /// Print the figures as JSON on standard output.
     #[arg(long)]
     json: bool,
+}
+
+fn parse_gradient_opacity(s: &str) -> Result<GradientOpacity, String> {
+    let points = s
+        .split(',')
+        .map(|pair| {
+            let (m, g) = pair
+                .split_once(':')
+                .ok_or_else(|| format!("'{pair}' is not M:G"))?;
+            let m: f64 = m
+                .trim()
+                .parse()
+                .map_err(|_| format!("bad magnitude in '{pair}'"))?;
+            let g: f64 = g
+                .trim()
+                .parse()
+                .map_err(|_| format!("bad factor in '{pair}'"))?;
+            Ok((m, g))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    GradientOpacity::new(&points).map_err(|e| e.to_string())
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -78,6 +109,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let (axis, _) = args.input.axis(&mesh);
     let kind = scene::structure(&args.structure, &mesh, &axis)?;
     let path: RenderPath = args.path.parse()?;
+    let interpolation: Interpolation = args.interpolation.parse()?;
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
     let step = scene::step(&mesh, args.step)?;
@@ -87,6 +119,8 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     options.path = path;
     options.shading = args.shade.then(Shading::default);
     options.boundary_segments = !args.whole_steps;
+    options.interpolation = interpolation;
+    options.gradient_opacity = args.gradient_opacity;
     // The fast path walks from a sample's cell to its face neighbours (across duplicated
     // seams too); the paper path locates every sample from scratch and needs none.
     let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh, &accel));
