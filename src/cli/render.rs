@@ -59,13 +59,13 @@ pub struct RenderArgs {
     /// Gradient opacity as `vtkVolumeProperty` holds it: `M:G` points of a piecewise-linear
     /// factor G in [0, 1] of the gradient magnitude M, in increasing M, e.g. `0:0,0.5:1`.
     #[arg(long, value_name = "M:G,M:G,...", value_parser = parse_gradient_opacity)]
-    gradient_opacity: Option<GradientOpacity>,
+    gradient_opacity: Option<Box<GradientOpacity>>,
     /// Print the figures as JSON on standard output.
     #[arg(long)]
     json: bool,
 }
 
-fn parse_gradient_opacity(s: &str) -> Result<GradientOpacity, String> {
+fn parse_gradient_opacity(s: &str) -> Result<Box<GradientOpacity>, String> {
     let points = s
         .split(',')
         .map(|pair| {
@@ -83,7 +83,9 @@ fn parse_gradient_opacity(s: &str) -> Result<GradientOpacity, String> {
             Ok((m, g))
         })
         .collect::<Result<Vec<_>, String>>()?;
-    GradientOpacity::new(&points).map_err(|e| e.to_string())
+    GradientOpacity::new(&points)
+        .map(Box::new)
+        .map_err(|e| e.to_string())
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -120,7 +122,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     options.shading = args.shade.then(Shading::default);
     options.boundary_segments = !args.whole_steps;
     options.interpolation = interpolation;
-    options.gradient_opacity = args.gradient_opacity;
+    options.gradient_opacity = args.gradient_opacity.as_deref().copied();
     // The fast path walks from a sample's cell to its face neighbours (across duplicated
     // seams too); the paper path locates every sample from scratch and needs none.
     let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh, &accel));
