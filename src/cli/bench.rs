@@ -27,7 +27,9 @@ use serde_json::{json, Map, Value};
 use super::{log, scene, InputArgs};
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::Axis;
-use cylvol::render::{Image, RenderOptions, RenderPath, RenderStats, Renderer, Volume};
+use cylvol::render::{
+    Image, RenderOptions, RenderPath, RenderStats, Renderer, ScalarField, Volume,
+};
 use cylvol::{Error, Mesh};
 
 /// Arguments of `cylvol bench`.
@@ -141,10 +143,12 @@ pub fn bench_mesh(
     let mut structures = Map::new();
     let mut images = Vec::new();
     let bar = progress_bar((built.len() * paths.len()) as u64, label);
+    // Gathered once for the four structures.
+    let field = ScalarField::gather(mesh)?;
     for accel in built {
         let kind = accel.kind();
         let build_s = accel.stats().build_s();
-        let volume = Volume::new(mesh, accel)?;
+        let volume = Volume::with_field(mesh, accel, &field)?;
         let transfer = scene::transfer(mesh, volume.scalar_range());
         let mut entry = Map::new();
         entry.insert("build_s".into(), json!(build_s));

@@ -359,8 +359,11 @@ pub unsafe extern "C" fn cylvol_render(
                 ));
             }
             let mesh = v.mesh()?;
-            let (lo, hi) = match mesh.scalar_range() {
-                Some([lo, hi]) => (lo, hi),
+            let (field, lo, hi) = match &v.field {
+                Some(field) => {
+                    let [lo, hi] = field.range();
+                    (field, lo, hi)
+                }
                 None => {
                     return Err(Failure::new(
                         CylvolStatus::NoScalars,
@@ -401,7 +404,7 @@ pub unsafe extern "C" fn cylvol_render(
             let mut options = options;
             options.table_size = table_size;
             options.gradient_opacity = gradient;
-            let volume = Volume::new(mesh, &v.accel)?;
+            let volume = Volume::with_field(mesh, &v.accel, field)?;
             let mut renderer = Renderer::new(&volume, &tf, &options)?;
             if options.path == RenderPath::Fast {
                 renderer = renderer.with_neighbours(&v.neighbours);

@@ -16,6 +16,7 @@ use crate::accel::choose::{cylindrical_area_ratio, structure_for_ratio};
 use crate::accel::{Accel, AccelParams, BvhParams, GridParams, StructureKind};
 use crate::axis::{detect_with_report, Axis};
 use crate::mesh::topology::FaceNeighbors;
+use crate::render::ScalarField;
 use crate::Mesh;
 
 /// How to build a volume's structure.
@@ -78,6 +79,9 @@ pub struct CylvolVolume {
     pub(crate) mesh: Option<Mesh>,
     pub(crate) accel: Accel,
     pub(crate) neighbours: FaceNeighbors,
+    /// The active scalar gathered for rendering (`None` while the mesh has none), kept
+    /// across renders and gathered again when the scalars change.
+    pub(crate) field: Option<ScalarField>,
     pub(crate) default_step: f64,
     pub(crate) build: CylvolBuildStats,
     pub(crate) render: CylvolRenderStats,
@@ -182,6 +186,7 @@ pub(crate) fn build(mesh: Mesh, params: &CylvolBuildParams) -> Result<CylvolVolu
     let accel = Accel::build(&mesh, kind, &axis, &accel_params)?;
     let neighbours = crate::render::face_neighbours(&mesh, &accel);
     let default_step = crate::render::default_step(&mesh);
+    let field = ScalarField::gather(&mesh).ok();
     let build = CylvolBuildStats {
         structure: to_c(kind),
         build_seconds: started.elapsed().as_secs_f64(),
@@ -196,6 +201,7 @@ pub(crate) fn build(mesh: Mesh, params: &CylvolBuildParams) -> Result<CylvolVolu
         mesh: Some(mesh),
         accel,
         neighbours,
+        field,
         default_step,
         build,
         render: CylvolRenderStats::default(),
@@ -286,7 +292,9 @@ pub unsafe extern "C" fn cylvol_volume_set_scalars(
                 component,
                 counts,
             )?;
-            replace_scalars(&mut v.mesh, scalars)
+            replace_scalars(&mut v.mesh, scalars)?;
+            v.field = ScalarField::gather(v.mesh()?).ok();
+            Ok(())
         })
     }
 }

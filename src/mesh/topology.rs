@@ -536,10 +536,7 @@ impl FaceNeighbors {
                 let ids = &cells[c];
                 let corners = mesh.cell_corners(c);
                 let centre = corners.iter().copied().sum::<DVec3>() / 8.0;
-                let (lo, hi) = corners
-                    .iter()
-                    .fold((corners[0], corners[0]), |(l, h), &p| (l.min(p), h.max(p)));
-                let eps = 1e-6 * (hi - lo).length();
+                let eps = 1e-6 * crate::geometry::bounds::cell_bounds(&corners).diagonal();
                 (0..6)
                     .filter(|&f| {
                         nb[f] == NONE && !FaceKey::of_cell(ids, f).is_degenerate() && {

@@ -35,7 +35,7 @@ pub use camera::{
 pub use image::Image;
 pub use raycast::{
     default_step, face_neighbours, Interpolation, Neighbours, NoNeighbours, RayResult,
-    RenderOptions, RenderPath, RenderStats, Renderer, Volume, MAX_SAMPLES_PER_RAY,
+    RenderOptions, RenderPath, RenderStats, Renderer, ScalarField, Volume, MAX_SAMPLES_PER_RAY,
 };
 pub use shading::Shading;
 pub use transfer::{

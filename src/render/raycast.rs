@@ -59,6 +59,7 @@
 //! parallel with rayon; every pixel is computed alone, and the counters are integer sums, so
 //! image and counters are identical whatever the number of threads.
 
+use std::borrow::Cow;
 use std::ops::AddAssign;
 
 use glam::DVec3;
@@ -388,12 +389,12 @@ pub fn default_step(mesh: &Mesh) -> f64 {
     }
 }
 
-/// A mesh with its structure and active scalar, ready to render: the scalars and the
-/// per-cell scalar ranges are gathered once here.
-#[derive(Clone, Debug)]
-pub struct Volume<'a> {
-    mesh: &'a Mesh,
-    accel: &'a Accel,
+/// The active scalar of a mesh gathered for rendering: its values, association and range,
+/// each cell's scalar range, and the mesh's bounds. Gathered once by [`ScalarField::gather`]
+/// and shared by every [`Volume`] over the same mesh and scalars (one per structure, or one
+/// per frame), so a render does not gather it again.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScalarField {
     association: Association,
     scalars: Vec<f64>,
     cell_ranges: Vec<[f64; 2]>,
@@ -401,9 +402,9 @@ pub struct Volume<'a> {
     bounds: Aabb,
 }
 
-impl<'a> Volume<'a> {
+impl ScalarField {
     /// Gathers the active scalar of `mesh` (an error if it has none) and each cell's range.
-    pub fn new(mesh: &'a Mesh, accel: &'a Accel) -> Result<Volume<'a>, Error> {
+    pub fn gather(mesh: &Mesh) -> Result<ScalarField, Error> {
         let (association, scalars) = mesh
             .active_scalars()
             .ok_or_else(|| Error::Invalid("the mesh has no scalar array to render".into()))?;
@@ -426,14 +427,80 @@ impl<'a> Volume<'a> {
         };
         let b = mesh.bounds();
         let bounds = Aabb::new(DVec3::new(b[0], b[2], b[4]), DVec3::new(b[1], b[3], b[5]));
-        Ok(Volume {
-            mesh,
-            accel,
+        Ok(ScalarField {
             association,
             scalars,
             cell_ranges,
             range,
             bounds,
+        })
+    }
+
+    /// `[min, max]` of the scalar.
+    pub fn range(&self) -> [f64; 2] {
+        self.range
+    }
+
+    /// Whether the field has the shape of `mesh`'s cells and points.
+    fn fits(&self, mesh: &Mesh) -> bool {
+        let values = match self.association {
+            Association::Point => mesh.point_count(),
+            Association::Cell => mesh.cell_count(),
+        };
+        self.cell_ranges.len() == mesh.cell_count() && self.scalars.len() == values
+    }
+}
+
+/// A mesh with its structure and active scalar ([`ScalarField`]), ready to render.
+#[derive(Clone, Debug)]
+pub struct Volume<'a> {
+    mesh: &'a Mesh,
+    accel: &'a Accel,
+    field: Cow<'a, ScalarField>,
+}
+
+impl<'a> Volume<'a> {
+    /// Gathers the active scalar of `mesh` (an error if it has none) and each cell's range.
+    pub fn new(mesh: &'a Mesh, accel: &'a Accel) -> Result<Volume<'a>, Error> {
+        Ok(Volume {
+            mesh,
+            accel,
+            field: Cow::Owned(ScalarField::gather(mesh)?),
+        })
+    }
+
+    /// A volume over a field gathered before from the same mesh (an error if its sizes do
+    /// not fit the mesh).
+    ///
+    /// ```
+    /// use cylvol::accel::{Accel, AccelParams, StructureKind};
+    /// use cylvol::axis::Axis;
+    /// use cylvol::datasets::{generate, Dataset};
+    /// use cylvol::render::{ScalarField, Volume};
+    /// let a = generate(Dataset::PumpInlet, 2000).unwrap();
+    /// let b = generate(Dataset::PumpInlet, 4000).unwrap();
+    /// let params = AccelParams::default();
+    /// let accel = Accel::build(&a, StructureKind::CartBvh, &Axis::Z, &params).unwrap();
+    /// let field = ScalarField::gather(&a).unwrap();
+    /// let v = Volume::with_field(&a, &accel, &field).unwrap();
+    /// assert_eq!(v.scalar_range(), Volume::new(&a, &accel).unwrap().scalar_range());
+    /// assert_eq!(v.cell_range(7), Volume::new(&a, &accel).unwrap().cell_range(7));
+    /// assert!(Volume::with_field(&b, &accel, &field).is_err());
+    /// ```
+    pub fn with_field(
+        mesh: &'a Mesh,
+        accel: &'a Accel,
+        field: &'a ScalarField,
+    ) -> Result<Volume<'a>, Error> {
+        if !field.fits(mesh) {
+            return Err(Error::Invalid(
+                "the scalar field was gathered from another mesh".into(),
+            ));
+        }
+        Ok(Volume {
+            mesh,
+            accel,
+            field: Cow::Borrowed(field),
         })
     }
 
@@ -449,12 +516,12 @@ impl<'a> Volume<'a> {
 
     /// `[min, max]` of the active scalar.
     pub fn scalar_range(&self) -> [f64; 2] {
-        self.range
+        self.field.range
     }
 
     /// `[min, max]` of the scalar over cell `c` (its corners' values for point data).
     pub fn cell_range(&self, c: u32) -> [f64; 2] {
-        self.cell_ranges[c as usize]
+        self.field.cell_ranges[c as usize]
     }
 }
 
@@ -553,9 +620,9 @@ impl<'a> Renderer<'a> {
         transfer: &TransferFunction,
         options: &RenderOptions,
     ) -> Result<Renderer<'a>, Error> {
-        let [lo, hi] = volume.range;
+        let [lo, hi] = volume.field.range;
         let table = transfer.table(lo, hi, options.step, options.table_size)?;
-        let diag = volume.bounds.diagonal();
+        let diag = volume.field.bounds.diagonal();
         if diag / options.step > MAX_SAMPLES_PER_RAY {
             return Err(Error::Invalid(format!(
                 "step {} is too small for a mesh of diagonal {diag}",
@@ -563,12 +630,16 @@ impl<'a> Renderer<'a> {
             )));
         }
         let mag = volume
+            .field
             .bounds
             .min
             .abs()
-            .max(volume.bounds.max.abs())
+            .max(volume.field.bounds.max.abs())
             .max_element();
-        let clip_box = volume.bounds.padded(1e-9 * diag + 8.0 * f64::EPSILON * mag);
+        let clip_box = volume
+            .field
+            .bounds
+            .padded(1e-9 * diag + 8.0 * f64::EPSILON * mag);
         Ok(Renderer {
             volume,
             table,
@@ -1025,19 +1096,19 @@ impl<'a> Renderer<'a> {
                 first_cell = Some(cell);
             }
             if fast {
-                let [a, b] = vol.cell_ranges[cell as usize];
+                let [a, b] = vol.field.cell_ranges[cell as usize];
                 if self.table.transparent_over(a, b) {
                     stats.samples_skipped += 1;
                     continue;
                 }
             }
             let param = param.clamp(DVec3::ZERO, DVec3::ONE);
-            let (s, values) = match vol.association {
+            let (s, values) = match vol.field.association {
                 Association::Point => {
-                    let values = mesh.cells()[cell as usize].map(|i| vol.scalars[i as usize]);
+                    let values = mesh.cells()[cell as usize].map(|i| vol.field.scalars[i as usize]);
                     (opts.interpolation.sample(&values, param), Some(values))
                 }
-                Association::Cell => (vol.scalars[cell as usize], None),
+                Association::Cell => (vol.field.scalars[cell as usize], None),
             };
             let [r, g, b, mut a] = self.table.lookup(s);
             if a <= 0.0 || a.is_nan() {
