@@ -22,6 +22,7 @@ pub mod accuracy;
 pub mod boundary;
 pub mod camera;
 pub mod image;
+pub mod march;
 pub mod plot;
 pub mod raycast;
 pub mod shading;

@@ -69,10 +69,11 @@ use serde::Serialize;
 use super::boundary::{face_violation, interpolate_crossing, partial_opacity, BISECTIONS};
 use super::camera::{Camera, RayGenerator, RaySource};
 use super::image::Image;
+use super::march::March;
 use super::shading::Shading;
 use super::skip::{NodeArcs, Skipper};
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
-use super::walk::{violated_face, walk, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS};
+use super::walk::{violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS};
 use crate::accel::{Accel, Counters};
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
@@ -981,6 +982,8 @@ impl<'a> Renderer<'a> {
         let mut prev_in = false;
         // The fast path's last located cell and parameters; `None` outside the mesh.
         let mut prev: Option<(u32, DVec3)> = None;
+        // The fast path's march along the ray through `prev`'s cell.
+        let mut march: Option<March> = None;
         let mut first_cell: Option<u32> = None;
         // The ray lies in a piece's bound up to here (from the last empty-space query).
         let mut bound_until = f64::NEG_INFINITY;
@@ -1008,9 +1011,17 @@ impl<'a> Renderer<'a> {
             } else {
                 // With a previous cell, walk from it; a walk that leaves the mesh drops it.
                 let mut walked = None;
-                if let Some((c, q)) = prev {
+                if let (Some((c, q)), Some(m)) = (prev, march.as_mut()) {
                     let mut work = WalkWork::default();
-                    let end = walk(mesh, self.neighbours, c, Some(q), p, &mut work);
+                    let end = m.locate(
+                        mesh,
+                        self.neighbours,
+                        origin,
+                        dir,
+                        t,
+                        Some((c, q)),
+                        &mut work,
+                    );
                     counters.hex_tests += work.tests;
                     stats.walk_steps += work.plane_steps;
                     match end {
@@ -1081,6 +1092,13 @@ impl<'a> Renderer<'a> {
             };
             if fast {
                 prev = found;
+                march = match found {
+                    Some((c, _)) => match march {
+                        Some(m) if m.cell() == c => Some(m),
+                        _ => Some(March::start(mesh, c, origin, dir)),
+                    },
+                    None => None,
+                };
             }
             let Some((cell, param)) = found else {
                 prev_in = false;

@@ -1,0 +1,180 @@
+//! The fast path's point location along a ray by marching from cell to cell through exit faces.
+//!
+//! A ray inside the mesh crosses a sequence of face-adjacent cells. Rather than asking, for
+//! every sample, which face plane of the previous sample's cell the sample lies beyond (a
+//! point walk, see [`super::walk`]), the march follows the ray itself: each cell is entered
+//! once, and the ray's exit from it is computed from its face planes (each face approximated
+//! by the plane through its centroid normal to the cross product of its diagonals, oriented
+//! away from the cell's centroid) as the smallest `t` at which the ray crosses a plane it is
+//! heading out of. Every sample with `t` up to that exit is proposed to that cell, and the
+//! march moves across the exit face to the neighbour only when a sample lies beyond it. One
+//! plane evaluation per cell crossed, none per sample, and no square root or per-face
+//! division: the face planes need not be normalised to compare the ray's crossings.
+//!
+//! Like the walk, the march only *proposes* cells: the proposed cell must hold the sample by
+//! the inverse map's containment test, the same test the structure uses. Where it does not
+//! (a face far from planar, a twisted cell), the walk takes over from there, and where the
+//! march leaves through a face without a neighbour, or runs out of its budget, the caller
+//! locates the sample another way. The answer is therefore exact whatever the planes say.
+
+use glam::DVec3;
+
+use super::raycast::Neighbours;
+use super::walk::{test_cell, walk, WalkEnd, WalkWork};
+use crate::mesh::topology::FACES;
+use crate::Mesh;
+
+/// Cells a march may cross between two samples before it gives up.
+pub const MAX_MARCH_STEPS: u32 = 64;
+
+/// Where a ray leaves a cell by its face planes: the face (0–5, in [`FACES`] order) and the
+/// ray parameter `t` of the crossing, for the ray `o + t d`. `None` when the ray heads out of
+/// no face plane (a degenerate cell, or non-finite input).
+///
+/// ```
+/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
+/// use cylvol::render::march::exit_face;
+/// use glam::DVec3;
+/// let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+/// let (face, t) = exit_face(&cube, DVec3::new(-1.0, 0.5, 0.5), DVec3::X).unwrap();
+/// assert_eq!(face, 1); // u = 1
+/// assert!((t - 2.0).abs() < 1e-15);
+/// ```
+#[inline]
+pub fn exit_face(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(usize, f64)> {
+    let x0 = corners[0];
+    let rel = corners.map(|c| c - x0);
+    let o = o - x0;
+    let centre = rel.iter().fold(DVec3::ZERO, |a, &c| a + c) * 0.125;
+    // The smallest num/den over faces with den > 0, compared without dividing.
+    let mut best: Option<(usize, f64, f64)> = None;
+    for (f, slots) in FACES.iter().enumerate() {
+        let [a, b, c, e] = slots.map(|s| rel[s]);
+        let mut n = (c - a).cross(e - b);
+        let mid = (a + b + c + e) * 0.25;
+        if n.dot(centre - mid) > 0.0 {
+            n = -n;
+        }
+        let den = n.dot(d);
+        if !(den > 0.0 && den.is_finite()) {
+            continue;
+        }
+        let num = n.dot(mid - o);
+        if !num.is_finite() {
+            continue;
+        }
+        if best.map_or(true, |(_, bn, bd)| num * bd < bn * den) {
+            best = Some((f, num, den));
+        }
+    }
+    best.map(|(f, num, den)| (f, num / den))
+}
+
+/// A ray's march through the mesh: the current cell and where the ray leaves it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct March {
+    cell: u32,
+    /// The exit face and its `t`; `None` when the cell has no exit by its planes.
+    exit: Option<(usize, f64)>,
+}
+
+impl March {
+    /// Starts a march in `cell` (where a sample of the ray `o + t d` was found).
+    pub fn start(mesh: &Mesh, cell: u32, o: DVec3, d: DVec3) -> March {
+        let exit = if (cell as usize) < mesh.cell_count() {
+            exit_face(&mesh.cell_corners(cell as usize), o, d)
+        } else {
+            None
+        };
+        March { cell, exit }
+    }
+
+    /// The current cell.
+    pub fn cell(&self) -> u32 {
+        self.cell
+    }
+
+    /// Locates the sample `p = o + t d` (`t` not before the march's previous sample): marches
+    /// across exit faces to the cell the ray is in at `t` by the planes, and tests it (Newton
+    /// warm-started at `guess` when the cell is `guess`'s). Where the test fails, the walk
+    /// goes on from that cell; the march then restarts in the cell found.
+    #[allow(clippy::too_many_arguments)]
+    pub fn locate(
+        &mut self,
+        mesh: &Mesh,
+        neighbours: &dyn Neighbours,
+        o: DVec3,
+        d: DVec3,
+        t: f64,
+        guess: Option<(u32, DVec3)>,
+        work: &mut WalkWork,
+    ) -> WalkEnd {
+        let n_cells = mesh.cell_count();
+        let p = o + d * t;
+        let mut steps = 0u32;
+        while let Some((face, t_exit)) = self.exit {
+            if t <= t_exit {
+                break;
+            }
+            if steps >= MAX_MARCH_STEPS {
+                return WalkEnd::GaveUp;
+            }
+            let n = neighbours.neighbours(self.cell)[face];
+            if n == u32::MAX || n as usize >= n_cells || n == self.cell {
+                return WalkEnd::Boundary;
+            }
+            steps += 1;
+            work.plane_steps += 1;
+            *self = March::start(mesh, n, o, d);
+        }
+        if self.cell as usize >= n_cells {
+            return WalkEnd::GaveUp;
+        }
+        let start_guess = guess.filter(|g| g.0 == self.cell).map(|g| g.1);
+        work.tests += 1;
+        match test_cell(&mesh.cell_corners(self.cell as usize), p, start_guess) {
+            Ok(q) => WalkEnd::Found(self.cell, q),
+            Err(_) => {
+                let end = walk(mesh, neighbours, self.cell, start_guess, p, work);
+                if let WalkEnd::Found(c, _) = end {
+                    if c != self.cell {
+                        *self = March::start(mesh, c, o, d);
+                    }
+                }
+                end
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::trilinear::CORNER_PARAMETERS;
+
+    #[test]
+    fn exit_of_the_unit_cube_along_each_axis() {
+        let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+        let centre = DVec3::splat(0.5);
+        for (axis, (lo, hi)) in [(DVec3::X, (0, 1)), (DVec3::Y, (2, 3)), (DVec3::Z, (4, 5))] {
+            assert_eq!(exit_face(&cube, centre, axis), Some((hi, 0.5)));
+            assert_eq!(exit_face(&cube, centre, -axis), Some((lo, 0.5)));
+        }
+        // A diagonal ray leaves through the face it reaches first.
+        let (f, t) = exit_face(&cube, centre, DVec3::new(1.0, 0.5, 0.0)).unwrap();
+        assert_eq!((f, t), (1, 0.5));
+    }
+
+    #[test]
+    fn exit_is_independent_of_orientation_and_far_origins() {
+        let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+        let mirrored = cube.map(|c| DVec3::new(-c.x, c.y, c.z));
+        let (f, t) = exit_face(&mirrored, DVec3::new(-0.5, 0.5, 0.5), -DVec3::X).unwrap();
+        assert_eq!((f, t), (1, 0.5));
+        let shift = DVec3::splat(1e6);
+        let far = cube.map(|c| c + shift);
+        let (f, t) = exit_face(&far, shift + DVec3::new(0.25, 0.5, 0.5), DVec3::X).unwrap();
+        assert_eq!(f, 1);
+        assert!((t - 0.75).abs() < 1e-9);
+    }
+}
