@@ -147,6 +147,44 @@ impl March {
     }
 }
 
+/// Where the ray `o + t d` leaves the mesh by the face planes, marching from `cell` (which
+/// holds the ray at `t_from`) towards `t_to`, backwards along the ray when `t_to < t_from`:
+/// the `t` at which it crosses the plane of the first face without a neighbour, if that lies
+/// between `t_from` and `t_to` and is reached within [`MAX_MARCH_STEPS`] cells. An estimate
+/// of a boundary crossing, exact for planar faces; callers verify it.
+pub fn boundary_plane_crossing(
+    mesh: &Mesh,
+    neighbours: &dyn Neighbours,
+    cell: u32,
+    o: DVec3,
+    d: DVec3,
+    t_from: f64,
+    t_to: f64,
+) -> Option<f64> {
+    let (dir, sign) = if t_to >= t_from { (d, 1.0) } else { (-d, -1.0) };
+    let n_cells = mesh.cell_count();
+    let mut c = cell;
+    for _ in 0..MAX_MARCH_STEPS {
+        if c as usize >= n_cells {
+            return None;
+        }
+        let (face, s) = exit_face(&mesh.cell_corners(c as usize), o, dir)?;
+        let t = sign * s;
+        if (t - t_from) * sign > (t_to - t_from) * sign {
+            return None;
+        }
+        let n = neighbours.neighbours(c)[face];
+        if n == u32::MAX {
+            return ((t - t_from) * sign >= 0.0).then_some(t);
+        }
+        if n as usize >= n_cells || n == c {
+            return None;
+        }
+        c = n;
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -163,6 +201,51 @@ mod tests {
         // A diagonal ray leaves through the face it reaches first.
         let (f, t) = exit_face(&cube, centre, DVec3::new(1.0, 0.5, 0.0)).unwrap();
         assert_eq!((f, t), (1, 0.5));
+    }
+
+    #[test]
+    fn boundary_crossing_of_a_row_of_cubes() {
+        use crate::mesh::{CellKind, Mesh, MeshParts};
+        // Three unit cubes along x: the ray along x leaves the row at x = 3 forwards and at
+        // x = 0 backwards, whichever cube it starts in.
+        let mut points = Vec::new();
+        for i in 0..4 {
+            for (y, z) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+                points.push([i as f64, y, z]);
+            }
+        }
+        let cells: Vec<[u32; 8]> = (0..3u32)
+            .map(|i| {
+                let a = 4 * i;
+                let b = a + 4;
+                [a, b, b + 1, a + 1, a + 3, b + 3, b + 2, a + 2]
+            })
+            .collect();
+        let mesh = Mesh::from_parts(MeshParts {
+            points: points.into_iter().map(DVec3::from_array).collect(),
+            kinds: vec![CellKind::Hexahedron; cells.len()],
+            cells,
+            ..Default::default()
+        })
+        .unwrap();
+        let nb = |c: u32| -> [u32; 6] {
+            let left = if c == 0 { u32::MAX } else { c - 1 };
+            let right = if c == 2 { u32::MAX } else { c + 1 };
+            [left, right, u32::MAX, u32::MAX, u32::MAX, u32::MAX]
+        };
+        let o = DVec3::new(-1.0, 0.5, 0.5);
+        for start in 0..3 {
+            let t_from = 1.5 + start as f64;
+            let fwd = boundary_plane_crossing(&mesh, &nb, start, o, DVec3::X, t_from, 10.0);
+            assert!((fwd.unwrap() - 4.0).abs() < 1e-12, "{start}: {fwd:?}");
+            let back = boundary_plane_crossing(&mesh, &nb, start, o, DVec3::X, t_from, 0.0);
+            assert!((back.unwrap() - 1.0).abs() < 1e-12, "{start}: {back:?}");
+            // Not within the bracket.
+            assert_eq!(
+                boundary_plane_crossing(&mesh, &nb, start, o, DVec3::X, t_from, 3.9),
+                None
+            );
+        }
     }
 
     #[test]

@@ -69,7 +69,7 @@ use serde::Serialize;
 use super::boundary::{face_violation, interpolate_crossing, partial_opacity, BISECTIONS};
 use super::camera::{Camera, RayGenerator, RaySource};
 use super::image::Image;
-use super::march::March;
+use super::march::{boundary_plane_crossing, March};
 use super::shading::Shading;
 use super::skip::{NodeArcs, Skipper};
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
@@ -596,6 +596,16 @@ pub struct Renderer<'a> {
     arcs: NodeArcs,
 }
 
+/// A bracket of a boundary crossing: `t_outside` outside the mesh, `t_inside` in cell
+/// `inside.0` at parameters `inside.1`, and the outside end's parameters in that cell where a
+/// search computed them.
+struct Bracket {
+    t_outside: f64,
+    t_inside: f64,
+    inside: (u32, DVec3),
+    outside_q: Option<DVec3>,
+}
+
 /// Cells a boundary search tests locally before it asks the structure.
 pub const MAX_BOUNDARY_WALK: usize = 6;
 
@@ -874,72 +884,128 @@ impl<'a> Renderer<'a> {
         Local::Undecided
     }
 
+    /// Whether the point at `t` of the ray is in the mesh, by a boundary search from the
+    /// bracket's inside end; the bracket's end on the same side moves to `t`.
+    fn probe(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t: f64,
+        b: &mut Bracket,
+        counters: &mut Counters,
+        stats: &mut RenderStats,
+    ) -> bool {
+        let guess = match b.outside_q {
+            Some(qo) => {
+                b.inside.1 + (qo - b.inside.1) * ((t - b.t_inside) / (b.t_outside - b.t_inside))
+            }
+            None => b.inside.1,
+        };
+        let mut in_start = None;
+        match self.boundary_locate_from(
+            origin + dir * t,
+            b.inside.0,
+            guess,
+            false,
+            &mut in_start,
+            counters,
+            stats,
+        ) {
+            Some(f) => {
+                if f.0 != b.inside.0 {
+                    b.outside_q = None;
+                }
+                b.t_inside = t;
+                b.inside = f;
+                true
+            }
+            None => {
+                b.t_outside = t;
+                b.outside_q = in_start;
+                false
+            }
+        }
+    }
+
     /// Where the ray crosses the mesh boundary between `t_outside` (a point outside the mesh)
-    /// and `t_inside` (a point in cell `inside.0` at parameters `inside.1`): bisection, then
-    /// one interpolation of the violated parametric coordinate (see [`super::boundary`]).
+    /// and `t_inside` (a point in cell `inside.0` at parameters `inside.1`), to a bracket of
+    /// `1/2^BISECTIONS` of the starting one, then one interpolation of the violated parametric
+    /// coordinate (see [`super::boundary`]).
+    ///
+    /// The bracket is first narrowed around an estimate: where the march from the inside end
+    /// leaves the mesh by face planes ([`boundary_plane_crossing`]). The points half a final
+    /// bracket to either side of it are tested; where the first is inside and the second
+    /// outside, the bracket is final after two tests. Otherwise (a curved boundary face, a
+    /// march that gave up) bisection finishes from whatever bracket the tests left.
     #[allow(clippy::too_many_arguments)]
     fn crossing(
         &self,
         origin: DVec3,
         dir: DVec3,
-        mut t_outside: f64,
-        mut t_inside: f64,
-        mut inside: (u32, DVec3),
+        t_outside: f64,
+        t_inside: f64,
+        inside: (u32, DVec3),
         counters: &mut Counters,
         stats: &mut RenderStats,
     ) -> f64 {
-        // The outside end's parameters in the inside end's cell, where known: Newton for a
-        // midpoint then starts from the interpolation of the two ends' parameters.
-        let mut outside_q: Option<DVec3> = None;
-        for _ in 0..BISECTIONS {
-            let mid = 0.5 * (t_outside + t_inside);
-            let p = origin + dir * mid;
-            let guess = match outside_q {
-                Some(qo) => {
-                    inside.1 + (qo - inside.1) * ((mid - t_inside) / (t_outside - t_inside))
-                }
-                None => inside.1,
+        let final_width = (t_outside - t_inside).abs() / f64::from(1u32 << BISECTIONS);
+        let mut b = Bracket {
+            t_outside,
+            t_inside,
+            inside,
+            outside_q: None,
+        };
+        let estimate = boundary_plane_crossing(
+            self.volume.mesh,
+            self.neighbours,
+            inside.0,
+            origin,
+            dir,
+            t_inside,
+            t_outside,
+        );
+        if let Some(t_est) = estimate {
+            let toward_out = (t_outside - t_inside).signum() * 0.5 * final_width;
+            let (lo, hi) = (t_est - toward_out, t_est + toward_out);
+            let strictly_within = |t: f64, b: &Bracket| {
+                t > b.t_inside.min(b.t_outside) && t < b.t_inside.max(b.t_outside)
             };
-            let mut in_start = None;
-            match self.boundary_locate_from(
-                p,
-                inside.0,
-                guess,
-                false,
-                &mut in_start,
-                counters,
-                stats,
-            ) {
-                Some(f) => {
-                    if f.0 != inside.0 {
-                        outside_q = None;
-                    }
-                    t_inside = mid;
-                    inside = f;
-                }
-                None => {
-                    t_outside = mid;
-                    outside_q = in_start;
-                }
+            if strictly_within(lo, &b)
+                && self.probe(origin, dir, lo, &mut b, counters, stats)
+                && strictly_within(hi, &b)
+            {
+                self.probe(origin, dir, hi, &mut b, counters, stats);
             }
         }
-        let q_out = match outside_q {
+        // At most BISECTIONS halvings (the bound also ends the loop should rounding stall it).
+        for _ in 0..BISECTIONS {
+            if (b.t_outside - b.t_inside).abs() <= final_width * (1.0 + 1e-9) {
+                break;
+            }
+            let mid = 0.5 * (b.t_outside + b.t_inside);
+            self.probe(origin, dir, mid, &mut b, counters, stats);
+        }
+        let q_out = match b.outside_q {
             Some(q) => Some(q),
             None => {
-                let corners = self.volume.mesh.cell_corners(inside.0 as usize);
+                let corners = self.volume.mesh.cell_corners(b.inside.0 as usize);
                 counters.hex_tests += 1;
                 stats.boundary_refinements += 1;
-                invert(&corners, origin + dir * t_outside, Some(inside.1)).param()
+                invert(&corners, origin + dir * b.t_outside, Some(b.inside.1)).param()
             }
         };
         if let Some(q_out) = q_out {
-            if let Some(t) =
-                interpolate_crossing(t_outside, q_out, t_inside, inside.1, violated_face(q_out))
-            {
+            if let Some(t) = interpolate_crossing(
+                b.t_outside,
+                q_out,
+                b.t_inside,
+                b.inside.1,
+                violated_face(q_out),
+            ) {
                 return t;
             }
         }
-        0.5 * (t_outside + t_inside)
+        0.5 * (b.t_outside + b.t_inside)
     }
 
     /// [`Renderer::cast`] with the first cell of the previous ray as a starting point
