@@ -16,9 +16,8 @@ use std::time::Instant;
 
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::datasets::{generate, Dataset};
-use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::render::{
-    default_step, Camera, RenderOptions, RenderPath, RenderStats, Renderer, TransferFunction,
+    default_step, face_neighbours, Camera, RenderOptions, RenderPath, RenderStats, Renderer, TransferFunction,
     Volume,
 };
 
@@ -51,9 +50,7 @@ fn main() {
     let segments = args.get(5).map_or(true, |s| s != "whole");
     let mesh = generate(dataset, cells).expect("dataset");
     let axis = cylvol::axis::detect(&mesh);
-    let mut neighbours =
-        FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
-    {
+    let neighbours = {
         let check = Accel::build(
             &mesh,
             StructureKind::CartBvh,
@@ -61,9 +58,10 @@ fn main() {
             &AccelParams::default(),
         )
         .expect("build");
-        let hanging = neighbours.check_boundary(&mesh, |p| check.cell_at(&mesh, p));
-        assert_eq!(hanging, 0, "the synthetic datasets are conforming");
-    }
+        let n = face_neighbours(&mesh, &check);
+        assert_eq!(n.hanging_faces(), Some(0), "the synthetic datasets are conforming");
+        n
+    };
     let step = default_step(&mesh);
     println!(
         "{name}: {} cells, {size}x{size}, step {step:.5}, best of {frames} frames",

@@ -2,7 +2,9 @@
 //! pump datasets and the hard meshes (a closed annulus, an annulus with a duplicated seam, an
 //! O-grid with wedges on the axis) for all four structures, with the face neighbours the CLI
 //! plugs in; about one hexahedron tested per located sample on a smooth mesh at a step below
-//! the cell size (counters, not timings); and empty-space skipping across the hub's hole.
+//! the cell size (counters, not timings); and empty-space skipping across the hub's hole, by
+//! the structure's bounds and by the boundary surface. Every fast render is also made
+//! without the boundary surface, and must locate the same samples.
 //!
 //! Why 1e-6: both paths take the same sample positions (asserted) and accept a cell only by
 //! the same containment test; they may differ only in which of two cells sharing a face holds
@@ -22,7 +24,7 @@ use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::io::structured::hexahedra;
 use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::render::{
-    default_step, Camera, Image, RenderOptions, RenderPath, RenderStats, Renderer,
+    default_step, Camera, Neighbours, Image, RenderOptions, RenderPath, RenderStats, Renderer,
     TransferFunction, Volume,
 };
 use cylvol::{CellKind, DataArray, Mesh, MeshParts};
@@ -35,7 +37,7 @@ fn frame() -> CylFrame {
 fn render(
     mesh: &Mesh,
     accel: &Accel,
-    neighbours: &FaceNeighbors,
+    neighbours: &dyn Neighbours,
     path: RenderPath,
     step: f64,
     camera: &Camera,
@@ -80,6 +82,18 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
                 step,
                 &camera,
                 size,
+            );
+            // Without the boundary surface (face neighbours alone): the same samples located,
+            // at least as many cells tested, and no surface visited.
+            let faces: &FaceNeighbors = &neighbours;
+            let (walk_only, ws) =
+                render(mesh, &accel, faces, RenderPath::Fast, step, &camera, size);
+            assert!(walk_only.max_abs_difference(&paper) <= 1e-6, "{name} {kind}");
+            assert_eq!(ws.samples_located, fs.samples_located, "{name} {kind}");
+            assert_eq!(ws.surface_visits, 0, "{name} {kind}");
+            assert!(
+                fs.structure_locates <= ws.structure_locates,
+                "{name} {kind}: {fs:?} {ws:?}"
             );
             let (reference, rs) = reference.get_or_insert_with(|| (paper.clone(), ps));
             assert!(
@@ -244,5 +258,56 @@ fn empty_space_is_skipped_across_the_hub_hole() {
             s.space_skips + s.samples_located <= s.samples,
             "{kind}: {s:?}"
         );
+    }
+}
+
+/// Rays across the hole of an annulus, from outside the mesh: with the boundary surface the
+/// samples before the mesh and in the hole are known to be outside without any structure
+/// look-up, so fewer cells are tested, while the same samples are located and the pixel is
+/// the same; without it, no surface node is visited.
+#[test]
+fn the_boundary_surface_skips_outside_samples_without_location() {
+    let mesh = sector(&frame(), [0.5, 1.0], [-PI, PI], 1.0, [4, 48, 4], true);
+    let topology = common::closed_neighbours(&mesh);
+    let step = 0.01;
+    for kind in StructureKind::ALL {
+        let accel = Accel::build(&mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
+        let volume = Volume::new(&mesh, &accel).expect("volume");
+        let [lo, hi] = volume.scalar_range();
+        let tf = TransferFunction::default_for_range(lo, hi, 0.6, 0.2);
+        let mut options = RenderOptions::new(1, 1, step);
+        options.early_termination = 2.0;
+        let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| {
+            let renderer = Renderer::new(&volume, &tf, &options)
+                .expect("renderer")
+                .with_neighbours(n);
+            let mut s = RenderStats::default();
+            let r = renderer.cast(o, d, f64::INFINITY, &mut s);
+            (r, s)
+        };
+        let faces: &FaceNeighbors = &topology;
+        for (o, d) in [
+            (DVec3::new(-2.0, 0.003, 0.5), DVec3::X),
+            (DVec3::new(-2.0, -1.5, 0.37), DVec3::new(1.0, 0.8, 0.05).normalize()),
+            (DVec3::new(0.1, -3.0, 0.9), DVec3::new(0.05, 1.0, -0.2).normalize()),
+        ] {
+            let (with, ws) = cast(&topology, o, d);
+            let (without, ns) = cast(faces, o, d);
+            eprintln!("{kind}: with the surface {ws:?}\n  without {ns:?}");
+            assert_eq!(ws.samples, ns.samples, "{kind}");
+            assert_eq!(ws.samples_located, ns.samples_located, "{kind}");
+            assert!(ws.samples_located > 20, "{kind}: {ws:?}");
+            for c in 0..4 {
+                assert!((with.rgba[c] - without.rgba[c]).abs() <= 1e-9, "{kind}");
+            }
+            assert!(ws.surface_visits > 0, "{kind}: {ws:?}");
+            assert_eq!(ns.surface_visits, 0, "{kind}: {ns:?}");
+            assert!(ws.hex_tests <= ns.hex_tests, "{kind}: {ws:?} {ns:?}");
+            assert!(
+                ws.structure_locates < ns.structure_locates,
+                "{kind}: {ws:?} {ns:?}"
+            );
+            assert!(ws.space_skips >= ns.space_skips, "{kind}: {ws:?} {ns:?}");
+        }
     }
 }

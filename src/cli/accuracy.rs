@@ -25,12 +25,12 @@ use serde_json::{json, Value};
 
 use super::{log, scene, InputArgs};
 use cylvol::accel::{Accel, AccelParams, StructureKind};
-use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::render::accuracy::{
     compare, factor_label, mean_cell_size, step_study, Scene, StepStudy, REFERENCE_FACTOR,
     STEP_FACTORS,
 };
 use cylvol::render::plot::{Plot, Scale, Series};
+use cylvol::render::Topology;
 use cylvol::render::{RenderOptions, RenderPath, Volume};
 use cylvol::{Error, Mesh};
 
@@ -96,7 +96,7 @@ pub struct Sampling {
 pub fn study(
     mesh: &Mesh,
     accel: &Accel,
-    neighbours: &FaceNeighbors,
+    neighbours: &Topology,
     label: &str,
     size: u32,
     view: Option<[f64; 3]>,

@@ -9,7 +9,7 @@ use super::log;
 use cylvol::accel::Accel;
 use cylvol::accel::StructureKind;
 use cylvol::axis::Axis;
-use cylvol::mesh::topology::FaceNeighbors;
+use cylvol::render::Topology;
 use cylvol::render::{Camera, TransferFunction};
 use cylvol::{Error, Mesh};
 
@@ -87,7 +87,7 @@ pub fn camera(mesh: &Mesh, width: u32, height: u32, view: Option<[f64; 3]>) -> C
 
 /// The face neighbours the fast path walks (duplicated seams joined by position, the faces
 /// left open checked against the structure), logged.
-pub fn neighbours(mesh: &Mesh, accel: &Accel) -> FaceNeighbors {
+pub fn neighbours(mesh: &Mesh, accel: &Accel) -> Topology {
     let started = Instant::now();
     let n = cylvol::render::face_neighbours(mesh, accel);
     log(format_args!(

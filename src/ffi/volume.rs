@@ -15,8 +15,8 @@ use super::status::{self, c_string, CylvolStatus, Failure};
 use crate::accel::choose::{cylindrical_area_ratio, structure_for_ratio};
 use crate::accel::{Accel, AccelParams, BvhParams, GridParams, StructureKind};
 use crate::axis::{detect_with_report, Axis};
-use crate::mesh::topology::FaceNeighbors;
 use crate::render::ScalarField;
+use crate::render::Topology;
 use crate::Mesh;
 
 /// How to build a volume's structure.
@@ -78,7 +78,7 @@ pub struct CylvolVolume {
     /// The mesh (always `Some` between calls).
     pub(crate) mesh: Option<Mesh>,
     pub(crate) accel: Accel,
-    pub(crate) neighbours: FaceNeighbors,
+    pub(crate) neighbours: Topology,
     /// The active scalar gathered for rendering (`None` while the mesh has none), kept
     /// across renders and gathered again when the scalars change.
     pub(crate) field: Option<ScalarField>,

@@ -27,6 +27,8 @@ pub mod plot;
 pub mod raycast;
 pub mod shading;
 pub mod skip;
+pub mod surface;
+pub mod topology;
 pub mod transfer;
 pub mod walk;
 
@@ -35,10 +37,11 @@ pub use camera::{
 };
 pub use image::Image;
 pub use raycast::{
-    default_step, face_neighbours, Interpolation, Neighbours, NoNeighbours, RayResult,
-    RenderOptions, RenderPath, RenderStats, Renderer, ScalarField, Volume, MAX_SAMPLES_PER_RAY,
+    default_step, Interpolation, Neighbours, NoNeighbours, RayResult, RenderOptions, RenderPath,
+    RenderStats, Renderer, ScalarField, Volume, MAX_SAMPLES_PER_RAY,
 };
 pub use shading::Shading;
+pub use topology::{face_neighbours, Topology};
 pub use transfer::{
     GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE, GRADIENT_TABLE_SIZE,
 };

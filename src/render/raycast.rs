@@ -72,6 +72,7 @@ use super::image::Image;
 use super::march::{boundary_plane_crossing, March};
 use super::shading::Shading;
 use super::skip::{NodeArcs, Skipper};
+use super::surface::BoundarySurface;
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
 use super::walk::{violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS};
 use crate::accel::{Accel, Counters};
@@ -132,6 +133,12 @@ pub trait Neighbours: Sync {
     fn complete(&self) -> bool {
         true
     }
+
+    /// The mesh's boundary faces (those without a neighbour), for skipping the space
+    /// outside the mesh; `None` (the default) where the source has none.
+    fn surface(&self) -> Option<&BoundarySurface> {
+        None
+    }
 }
 
 impl<F: Fn(u32) -> [u32; 6] + Sync> Neighbours for F {
@@ -150,22 +157,6 @@ impl Neighbours for crate::mesh::topology::FaceNeighbors {
     fn complete(&self) -> bool {
         self.is_closed()
     }
-}
-
-/// The face neighbours the fast path should walk: seams of coincident points welded
-/// ([`FaceNeighbors::build_with_tolerance`] with [`FaceNeighbors::seam_tolerance`]), and the
-/// faces left without a neighbour checked against `accel`
-/// ([`FaceNeighbors::check_boundary`]), so that the boundary searches trust them only when
-/// they really bound the mesh.
-///
-/// [`FaceNeighbors::build_with_tolerance`]: crate::mesh::topology::FaceNeighbors::build_with_tolerance
-/// [`FaceNeighbors::seam_tolerance`]: crate::mesh::topology::FaceNeighbors::seam_tolerance
-/// [`FaceNeighbors::check_boundary`]: crate::mesh::topology::FaceNeighbors::check_boundary
-pub fn face_neighbours(mesh: &Mesh, accel: &Accel) -> crate::mesh::topology::FaceNeighbors {
-    use crate::mesh::topology::FaceNeighbors;
-    let mut n = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
-    n.check_boundary(mesh, |p| accel.cell_at(mesh, p));
-    n
 }
 
 /// No neighbours known: the fast path goes from the previous cell straight to the structure.
@@ -281,6 +272,9 @@ pub struct RenderStats {
     /// Containment tests (and inverse maps) made to find where rays cross the mesh boundary
     /// between two samples (see [`super::boundary`]); also counted in `hex_tests`.
     pub boundary_refinements: u64,
+    /// Nodes of the boundary surface's BVH visited to skip the space outside the mesh (fast
+    /// path, see [`super::surface`]).
+    pub surface_visits: u64,
 }
 
 impl AddAssign for RenderStats {
@@ -301,6 +295,7 @@ impl AddAssign for RenderStats {
         self.structure_locates += o.structure_locates;
         self.entry_walk_hits += o.entry_walk_hits;
         self.boundary_refinements += o.boundary_refinements;
+        self.surface_visits += o.surface_visits;
     }
 }
 
@@ -1063,6 +1058,39 @@ impl<'a> Renderer<'a> {
                     acc.exit(l, e, step, opts.depth_opacity);
                 }
             };
+        // The fast path's skipping over the boundary surface: the ray is outside the mesh
+        // before `outside_until` (from the last point known to be outside), and the face it
+        // may enter through is in `surface_cell`.
+        let surface = if fast {
+            self.neighbours.surface()
+        } else {
+            None
+        };
+        let mut surface_counters = Counters::default();
+        let mut next_surface_crossing = |t_outside: f64| -> (f64, Option<u32>) {
+            match surface {
+                Some(s) => {
+                    match s.next_crossing(
+                        mesh,
+                        origin,
+                        dir,
+                        t_outside,
+                        t_out,
+                        &mut surface_counters,
+                    ) {
+                        Some((t, c)) => (t, Some(c)),
+                        None => (t_out, None),
+                    }
+                }
+                None => (f64::NEG_INFINITY, None),
+            }
+        };
+        // A ray starting on the (padded) box of the mesh starts outside it.
+        let (mut outside_until, mut surface_cell) = if t_in > 0.0 {
+            next_surface_crossing(t_in)
+        } else {
+            (f64::NEG_INFINITY, None)
+        };
         let mut k = 0u64;
         'samples: loop {
             let t = sample_t(k);
@@ -1112,6 +1140,18 @@ impl<'a> Renderer<'a> {
                         k += 1;
                         f
                     }
+                    None if t < outside_until => {
+                        // Known to be outside the mesh up to a possible boundary crossing.
+                        while sample_t(k) < outside_until {
+                            if sample_t(k) >= t_out {
+                                break 'samples;
+                            }
+                            stats.samples += 1;
+                            stats.space_skips += 1;
+                            k += 1;
+                        }
+                        continue 'samples;
+                    }
                     None => {
                         // Outside the mesh or at the ray's start: skip the empty space.
                         // Within the span of a bound found for an earlier sample, the sample
@@ -1152,7 +1192,7 @@ impl<'a> Renderer<'a> {
                             close_at_exit(&mut acc, t, &mut counters, stats);
                             continue 'samples;
                         }
-                        self.locate_entry(p, *hint, &mut counters, stats)
+                        self.locate_entry(p, surface_cell.take().or(*hint), &mut counters, stats)
                     }
                 }
             };
@@ -1169,6 +1209,8 @@ impl<'a> Renderer<'a> {
             let Some((cell, param)) = found else {
                 prev_in = false;
                 close_at_exit(&mut acc, t, &mut counters, stats);
+                // Located nowhere: outside the mesh, exactly.
+                (outside_until, surface_cell) = next_surface_crossing(t);
                 continue;
             };
             // The previous composited sample (if any) keeps its full end: this one is inside.
@@ -1298,6 +1340,7 @@ impl<'a> Renderer<'a> {
             *hint = first_cell;
         }
         stats.add_counters(&counters);
+        stats.surface_visits += surface_counters.internal_visits + surface_counters.leaf_visits;
         out.depth = acc.depth;
         out.rgba = [
             acc.color[0],

@@ -21,26 +21,11 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
+use crate::accel::bvh::ray::slab;
 use crate::accel::bvh::{BoxF32, Bvh, BvhBounds, SectorF32};
 use crate::accel::{Accel, Coordinates, Counters, Structure};
 use crate::geometry::bounds::Aabb;
 use crate::geometry::cylindrical::CylFrame;
-
-/// The ray's `t`-interval inside `[lo, hi]` along one axis (origin `o`, direction `d`).
-#[inline]
-fn slab(o: f64, d: f64, lo: f64, hi: f64) -> (f64, f64) {
-    if d == 0.0 {
-        if o >= lo && o <= hi {
-            (f64::NEG_INFINITY, f64::INFINITY)
-        } else {
-            (f64::INFINITY, f64::NEG_INFINITY)
-        }
-    } else {
-        let inv = 1.0 / d;
-        let (a, b) = ((lo - o) * inv, (hi - o) * inv);
-        (a.min(b), a.max(b))
-    }
-}
 
 /// A ray in the structure's frame, ready for its bounds.
 #[derive(Clone, Copy, Debug)]

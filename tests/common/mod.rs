@@ -225,7 +225,7 @@ pub fn sample_points(mesh: &Mesh, n: usize, seed: u64) -> Vec<DVec3> {
 /// seams welded, open faces checked against a Cartesian BVH. Asserts the mesh is closed (no
 /// hanging faces), so the boundary searches take the local path.
 #[allow(dead_code)]
-pub fn closed_neighbours(mesh: &Mesh) -> cylvol::mesh::topology::FaceNeighbors {
+pub fn closed_neighbours(mesh: &Mesh) -> cylvol::render::Topology {
     use cylvol::accel::{Accel, AccelParams, StructureKind};
     let accel = Accel::build(
         mesh,

@@ -48,6 +48,7 @@
 
 mod binned_build;
 mod bounds;
+pub(crate) mod ray;
 mod stats;
 mod traverse;
 mod validation;

@@ -1,0 +1,188 @@
+//! The mesh's boundary surface, for the fast path's empty-space skipping from points known to
+//! lie outside the mesh.
+//!
+//! The boundary of the mesh is made of the cell faces without a face neighbour (faces with
+//! fewer than three distinct points have no area and are left out). A ray that is outside the
+//! mesh at `t₀` stays outside until it crosses one of them, so every sample before the first
+//! such crossing is outside, with no point location at all.
+//!
+//! The crossing is bounded conservatively: a bilinear face lies in the convex hull of its
+//! four corners, hence in their box and in the slab between the corners' extreme projections
+//! on the face normal (the cross product of its diagonals). [`BoundarySurface::next_crossing`]
+//! finds, through a BVH over the faces' boxes, the smallest `t ≥ t₀` at which the ray is in
+//! both a face's box and its slab (padded by `1e-9` of the face's size, far above rounding).
+//! The ray cannot cross a face before that, so the answer never skips a sample the mesh
+//! holds. Faces the ray is already past at `t₀` (the one it just left through, typically)
+//! are not in its way, which is what makes the skip reach across a blade or the hub's hole.
+//!
+//! Without a neighbour source that pairs shared faces, extra faces only make the bound more
+//! conservative: a face counted as boundary that is not only costs skipping distance.
+
+use glam::DVec3;
+
+use super::raycast::Neighbours;
+use crate::accel::bvh::{build_bvh, Bvh, BvhParams};
+use crate::accel::space::Pieces;
+use crate::accel::Counters;
+use crate::geometry::bounds::Aabb;
+use crate::mesh::topology::FACES;
+use crate::Mesh;
+
+/// Padding of a face's slab, relative to the face's size.
+const SLAB_PAD: f64 = 1e-9;
+
+/// The mesh's boundary faces in a BVH over their boxes (see the module documentation).
+#[derive(Clone, Debug)]
+pub struct BoundarySurface {
+    bvh: Bvh<Aabb>,
+    /// `(cell, face)` of each boundary face; the BVH's pieces index this.
+    faces: Vec<(u32, u8)>,
+}
+
+impl BoundarySurface {
+    /// The faces of `mesh` without a neighbour in `neighbours` (and with three or more
+    /// distinct points), in a BVH.
+    ///
+    /// ```
+    /// use cylvol::datasets::{generate, Dataset};
+    /// use cylvol::mesh::topology::FaceNeighbors;
+    /// use cylvol::render::surface::BoundarySurface;
+    /// let mesh = generate(Dataset::PumpInlet, 2000).unwrap();
+    /// let faces = FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+    /// let surface = BoundarySurface::new(&mesh, &faces);
+    /// assert_eq!(surface.face_count(), faces.boundary_face_count() + faces.nonmanifold_faces());
+    /// ```
+    pub fn new(mesh: &Mesh, neighbours: &dyn Neighbours) -> BoundarySurface {
+        use rayon::prelude::*;
+        let cells = mesh.cells();
+        let faces: Vec<(u32, u8)> = (0..cells.len() as u32)
+            .into_par_iter()
+            .flat_map_iter(|c| {
+                let ids = cells[c as usize];
+                let nb = neighbours.neighbours(c);
+                (0..6u8)
+                    .filter(move |&f| {
+                        if nb[f as usize] != u32::MAX {
+                            return false;
+                        }
+                        let mut pts = FACES[f as usize].map(|k| ids[k]);
+                        pts.sort_unstable();
+                        1 + pts.windows(2).filter(|w| w[0] != w[1]).count() >= 3
+                    })
+                    .map(move |f| (c, f))
+            })
+            .collect();
+        let bounds: Vec<Aabb> = faces
+            .par_iter()
+            .map(|&(c, f)| Aabb::from_points(&face_corners(mesh, c, f)))
+            .collect();
+        let pieces = Pieces {
+            bounds,
+            cells: (0..faces.len() as u32).collect(),
+        };
+        BoundarySurface {
+            bvh: build_bvh(&pieces, &BvhParams::default()),
+            faces,
+        }
+    }
+
+    /// The number of boundary faces.
+    pub fn face_count(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// The `(cell, face)` of each boundary face (face 0–5 in hexahedron face order).
+    pub fn faces(&self) -> &[(u32, u8)] {
+        &self.faces
+    }
+
+    /// The first `t ∈ [t0, t1]` at which the ray `origin + t dir` may cross the boundary
+    /// (see the module documentation), with the cell of that face; `None` if it crosses none
+    /// on that interval. If the ray is outside the mesh at `t0`, it is outside on
+    /// `[t0, t)`. Node visits are counted in `counters`.
+    pub fn next_crossing(
+        &self,
+        mesh: &Mesh,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        counters: &mut Counters,
+    ) -> Option<(f64, u32)> {
+        self.bvh
+            .first_along(origin, dir, t0, t1, counters, |i, lo, hi| {
+                let &(c, f) = self.faces.get(i as usize)?;
+                let (s, e) = slab_span(&face_corners(mesh, c, f), origin, dir)?;
+                let (lo, hi) = (lo.max(s), hi.min(e));
+                (lo <= hi).then_some((lo, hi))
+            })
+            .and_then(|(t, _, i)| self.faces.get(i as usize).map(|&(c, _)| (t, c)))
+    }
+}
+
+/// The four corners of face `f` of cell `c`.
+fn face_corners(mesh: &Mesh, c: u32, f: u8) -> [DVec3; 4] {
+    let ids = mesh.cells()[c as usize];
+    FACES[f as usize].map(|k| mesh.points()[ids[k] as usize])
+}
+
+/// The ray's interval in the slab of a face: between the corners' extreme projections on the
+/// face normal, padded; the whole line where the normal vanishes. `None` where it misses.
+fn slab_span(corners: &[DVec3; 4], origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
+    let a = corners[0];
+    let rel = corners.map(|c| c - a);
+    let n = (rel[2] - rel[0]).cross(rel[3] - rel[1]);
+    let size = rel.iter().map(|r| r.length()).fold(0.0, f64::max);
+    let len = n.length();
+    if !(len > 0.0 && len.is_finite()) {
+        return Some((f64::NEG_INFINITY, f64::INFINITY));
+    }
+    let (mut lo, mut hi) = (0.0f64, 0.0f64);
+    for r in &rel[1..] {
+        let v = n.dot(*r);
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    let pad = SLAB_PAD * size * len;
+    let (s, e) = crate::accel::bvh::ray::slab(n.dot(origin - a), n.dot(dir), lo - pad, hi + pad);
+    (s <= e).then_some((s, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slab_of_a_planar_face_is_thin() {
+        let square = [
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(1.0, 1.0, 1.0),
+            DVec3::new(0.0, 1.0, 1.0),
+        ];
+        let (s, e) = slab_span(&square, DVec3::new(0.5, 0.5, 0.0), DVec3::Z).unwrap();
+        assert!((s - 1.0).abs() < 1e-8 && (e - 1.0).abs() < 1e-8 && s <= 1.0 && e >= 1.0);
+        // Parallel to the face, off its plane: missed.
+        assert_eq!(slab_span(&square, DVec3::ZERO, DVec3::X), None);
+    }
+
+    #[test]
+    fn slab_of_a_twisted_face_holds_it() {
+        let twisted = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.3),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.3),
+        ];
+        // Points of the bilinear patch are inside the slab along any line through them.
+        for (u, v) in [(0.5, 0.5), (0.1, 0.9), (0.7, 0.2)] {
+            let p = twisted[0] * (1.0 - u) * (1.0 - v)
+                + twisted[1] * u * (1.0 - v)
+                + twisted[2] * u * v
+                + twisted[3] * (1.0 - u) * v;
+            let d = DVec3::new(0.3, -0.2, 1.0).normalize();
+            let (s, e) = slab_span(&twisted, p - d * 2.0, d).unwrap();
+            assert!(s <= 2.0 && e >= 2.0, "{u} {v}: {s} {e}");
+        }
+    }
+}

@@ -1,0 +1,68 @@
+//! What the fast path walks: the mesh's face neighbours ([`FaceNeighbors`]) and its boundary
+//! surface ([`BoundarySurface`]), built once per mesh and structure by [`face_neighbours`].
+
+use std::ops::Deref;
+
+use super::raycast::Neighbours;
+use super::surface::BoundarySurface;
+use crate::accel::Accel;
+use crate::mesh::topology::FaceNeighbors;
+use crate::Mesh;
+
+/// Face neighbours with the boundary surface they bound (dereferences to the neighbours).
+#[derive(Clone, Debug)]
+pub struct Topology {
+    faces: FaceNeighbors,
+    surface: BoundarySurface,
+}
+
+impl Topology {
+    /// The boundary surface of `faces` over `mesh`, kept with them.
+    pub fn new(mesh: &Mesh, faces: FaceNeighbors) -> Topology {
+        let surface = BoundarySurface::new(mesh, &faces);
+        Topology { faces, surface }
+    }
+
+    /// The face neighbours.
+    pub fn faces(&self) -> &FaceNeighbors {
+        &self.faces
+    }
+
+    /// The boundary surface.
+    pub fn surface(&self) -> &BoundarySurface {
+        &self.surface
+    }
+}
+
+impl Deref for Topology {
+    type Target = FaceNeighbors;
+    fn deref(&self) -> &FaceNeighbors {
+        &self.faces
+    }
+}
+
+impl Neighbours for Topology {
+    fn neighbours(&self, cell: u32) -> [u32; 6] {
+        self.faces.neighbors(cell)
+    }
+
+    fn complete(&self) -> bool {
+        self.faces.is_closed()
+    }
+
+    fn surface(&self) -> Option<&BoundarySurface> {
+        Some(&self.surface)
+    }
+}
+
+/// The face neighbours the fast path should walk, with their boundary surface: seams of
+/// coincident points welded ([`FaceNeighbors::build_with_tolerance`] with
+/// [`FaceNeighbors::seam_tolerance`]), the faces left without a neighbour checked against
+/// `accel` ([`FaceNeighbors::check_boundary`]) so that the boundary searches trust them only
+/// when they really bound the mesh, and those faces in a [`BoundarySurface`] for skipping the
+/// space outside the mesh.
+pub fn face_neighbours(mesh: &Mesh, accel: &Accel) -> Topology {
+    let mut n = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
+    n.check_boundary(mesh, |p| accel.cell_at(mesh, p));
+    Topology::new(mesh, n)
+}
