@@ -17,8 +17,8 @@ use std::time::Instant;
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::datasets::{generate, Dataset};
 use cylvol::render::{
-    default_step, face_neighbours, Camera, RenderOptions, RenderPath, RenderStats, Renderer, TransferFunction,
-    Volume,
+    default_step, face_neighbours, Camera, RenderOptions, RenderPath, RenderStats, Renderer,
+    TransferFunction, Volume,
 };
 
 fn main() {
@@ -59,7 +59,11 @@ fn main() {
         )
         .expect("build");
         let n = face_neighbours(&mesh, &check);
-        assert_eq!(n.hanging_faces(), Some(0), "the synthetic datasets are conforming");
+        assert_eq!(
+            n.hanging_faces(),
+            Some(0),
+            "the synthetic datasets are conforming"
+        );
         n
     };
     let step = default_step(&mesh);

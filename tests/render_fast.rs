@@ -24,7 +24,7 @@ use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::io::structured::hexahedra;
 use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::render::{
-    default_step, Camera, Neighbours, Image, RenderOptions, RenderPath, RenderStats, Renderer,
+    default_step, Camera, Image, Neighbours, RenderOptions, RenderPath, RenderStats, Renderer,
     TransferFunction, Volume,
 };
 use cylvol::{CellKind, DataArray, Mesh, MeshParts};
@@ -88,7 +88,10 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
             let faces: &FaceNeighbors = &neighbours;
             let (walk_only, ws) =
                 render(mesh, &accel, faces, RenderPath::Fast, step, &camera, size);
-            assert!(walk_only.max_abs_difference(&paper) <= 1e-6, "{name} {kind}");
+            assert!(
+                walk_only.max_abs_difference(&paper) <= 1e-6,
+                "{name} {kind}"
+            );
             assert_eq!(ws.samples_located, fs.samples_located, "{name} {kind}");
             assert_eq!(ws.surface_visits, 0, "{name} {kind}");
             assert!(
@@ -288,8 +291,14 @@ fn the_boundary_surface_skips_outside_samples_without_location() {
         let faces: &FaceNeighbors = &topology;
         for (o, d) in [
             (DVec3::new(-2.0, 0.003, 0.5), DVec3::X),
-            (DVec3::new(-2.0, -1.5, 0.37), DVec3::new(1.0, 0.8, 0.05).normalize()),
-            (DVec3::new(0.1, -3.0, 0.9), DVec3::new(0.05, 1.0, -0.2).normalize()),
+            (
+                DVec3::new(-2.0, -1.5, 0.37),
+                DVec3::new(1.0, 0.8, 0.05).normalize(),
+            ),
+            (
+                DVec3::new(0.1, -3.0, 0.9),
+                DVec3::new(0.05, 1.0, -0.2).normalize(),
+            ),
         ] {
             let (with, ws) = cast(&topology, o, d);
             let (without, ns) = cast(faces, o, d);

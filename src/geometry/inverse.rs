@@ -147,10 +147,76 @@ const HULL_FACES: [[usize; 4]; 6] = [
 ];
 
 /// The cell rebased to corner 0 with its size.
-struct Problem {
+/// A cell made ready for inversion: its corners rebased to corner 0, the monomial
+/// coefficients of its trilinear map, and its size. [`invert`] prepares the cell for each
+/// target; a caller with several targets in one cell (the samples of a ray crossing it)
+/// prepares it once and calls [`PreparedCell::invert`] for each, with the same results.
+///
+/// ```
+/// use cylvol::geometry::inverse::{invert, PreparedCell};
+/// use cylvol::geometry::trilinear::{map, CORNER_PARAMETERS};
+/// use glam::DVec3;
+/// let mut cell = CORNER_PARAMETERS.map(DVec3::from_array);
+/// cell[6] += DVec3::new(0.3, 0.2, 0.1);
+/// let prepared = PreparedCell::new(&cell).unwrap();
+/// for p in [DVec3::new(0.2, 0.7, 0.9), DVec3::new(0.5, 0.1, 0.4)] {
+///     let x = map(&cell, p);
+///     assert_eq!(prepared.invert(x, None), invert(&cell, x, None));
+/// }
+/// ```
+#[derive(Clone, Debug)]
+pub struct PreparedCell {
+    x0: DVec3,
     rel: [DVec3; 8],
     poly: Monomials,
     size: f64,
+}
+
+impl PreparedCell {
+    /// Prepares `corners`: [`InverseFailure::NonFinite`] if one is not finite,
+    /// [`InverseFailure::Degenerate`] if they all coincide.
+    pub fn new(corners: &[DVec3; 8]) -> Result<PreparedCell, InverseFailure> {
+        if corners.iter().any(|c| !c.is_finite()) {
+            return Err(InverseFailure::NonFinite);
+        }
+        let rel = relative_corners(corners);
+        let (mut bmin, mut bmax) = (DVec3::ZERO, DVec3::ZERO);
+        for c in &rel {
+            bmin = bmin.min(*c);
+            bmax = bmax.max(*c);
+        }
+        let size = (bmax - bmin).length();
+        if !(size > 0.0 && size.is_finite()) {
+            return Err(InverseFailure::Degenerate);
+        }
+        Ok(PreparedCell {
+            x0: corners[0],
+            rel,
+            poly: Monomials::new(&rel),
+            size,
+        })
+    }
+
+    /// [`invert`] of `target` in this cell.
+    pub fn invert(&self, target: DVec3, guess: Option<DVec3>) -> Inversion {
+        let mut stats = InverseStats {
+            inversions: 1,
+            ..Default::default()
+        };
+        let outcome = if !target.is_finite() || guess.is_some_and(|g| !g.is_finite()) {
+            Err(InverseFailure::NonFinite)
+        } else {
+            solve(self, target, guess, &mut stats)
+        };
+        if outcome.is_err() {
+            stats.failures += 1;
+        }
+        Inversion { outcome, stats }
+    }
+}
+
+struct Problem<'a> {
+    cell: &'a PreparedCell,
     target: DVec3,
     stop: f64,
     accept: f64,
@@ -241,12 +307,12 @@ fn hull_separates(rel: &[DVec3; 8], size: f64, target: DVec3) -> bool {
     false
 }
 
-impl Problem {
+impl Problem<'_> {
     /// Whether the target lies outside the convex hull of the corners by more than `1e-8` of
     /// the cell size, by the slabs between the corners' extreme projections on the six face
     /// normals (each the cross product of the face's diagonals).
     fn outside_hull(&self) -> bool {
-        hull_separates(&self.rel, self.size, self.target)
+        hull_separates(&self.cell.rel, self.cell.size, self.target)
     }
 
     /// Damped Newton from `start`, iterates clamped to `[lo, hi]³`.
@@ -259,7 +325,7 @@ impl Problem {
         stats: &mut InverseStats,
     ) -> NewtonEnd {
         let mut p = start.clamp(DVec3::splat(lo), DVec3::splat(hi));
-        let (x, mut j) = self.poly.map_and_jacobian(p);
+        let (x, mut j) = self.cell.poly.map_and_jacobian(p);
         stats.map_evaluations += 1;
         let mut r = x - self.target;
         let mut rn = r.length();
@@ -273,7 +339,7 @@ impl Problem {
             let mut accepted = false;
             for _ in 0..=MAX_HALVINGS {
                 let q = (p + d * t).clamp(DVec3::splat(lo), DVec3::splat(hi));
-                let (xq, jq) = self.poly.map_and_jacobian(q);
+                let (xq, jq) = self.cell.poly.map_and_jacobian(q);
                 stats.map_evaluations += 1;
                 let rq = xq - self.target;
                 let rqn = rq.length();
@@ -319,7 +385,7 @@ impl Problem {
             let mut bmin = DVec3::splat(f64::INFINITY);
             let mut bmax = DVec3::splat(f64::NEG_INFINITY);
             for c in super::trilinear::CORNER_PARAMETERS {
-                let x = self.poly.map(lo + DVec3::from_array(c) * size);
+                let x = self.cell.poly.map(lo + DVec3::from_array(c) * size);
                 bmin = bmin.min(x);
                 bmax = bmax.max(x);
             }
@@ -382,44 +448,38 @@ impl Problem {
 /// assert!(inv.stats.newton_iterations < 10);
 /// ```
 pub fn invert(corners: &[DVec3; 8], target: DVec3, guess: Option<DVec3>) -> Inversion {
-    let mut stats = InverseStats {
-        inversions: 1,
-        ..Default::default()
-    };
-    let outcome = invert_inner(corners, target, guess, &mut stats);
-    if outcome.is_err() {
-        stats.failures += 1;
+    // Non-finite input is reported as such before a degenerate cell.
+    if !target.is_finite() || guess.is_some_and(|g| !g.is_finite()) {
+        return failed(InverseFailure::NonFinite);
     }
-    Inversion { outcome, stats }
+    match PreparedCell::new(corners) {
+        Ok(cell) => cell.invert(target, guess),
+        Err(e) => failed(e),
+    }
 }
 
-fn invert_inner(
-    corners: &[DVec3; 8],
+/// An inversion that failed before any work.
+fn failed(e: InverseFailure) -> Inversion {
+    Inversion {
+        outcome: Err(e),
+        stats: InverseStats {
+            inversions: 1,
+            failures: 1,
+            ..Default::default()
+        },
+    }
+}
+
+fn solve(
+    cell: &PreparedCell,
     target: DVec3,
     guess: Option<DVec3>,
     stats: &mut InverseStats,
 ) -> Result<Solution, InverseFailure> {
-    if !target.is_finite()
-        || corners.iter().any(|c| !c.is_finite())
-        || guess.is_some_and(|g| !g.is_finite())
-    {
-        return Err(InverseFailure::NonFinite);
-    }
-    let rel = relative_corners(corners);
-    let (mut bmin, mut bmax) = (DVec3::ZERO, DVec3::ZERO);
-    for c in &rel {
-        bmin = bmin.min(*c);
-        bmax = bmax.max(*c);
-    }
-    let size = (bmax - bmin).length();
-    if !(size > 0.0 && size.is_finite()) {
-        return Err(InverseFailure::Degenerate);
-    }
+    let size = cell.size;
     let prob = Problem {
-        rel,
-        poly: Monomials::new(&rel),
-        size,
-        target: target - corners[0],
+        cell,
+        target: target - cell.x0,
         stop: STOP_TOLERANCE * size,
         accept: ACCEPT_TOLERANCE * size,
     };
@@ -438,7 +498,7 @@ fn invert_inner(
             .into_iter()
             .map(DVec3::from_array)
             .chain(std::iter::once(DVec3::splat(0.5)))
-            .map(|p| prob.poly.map_and_jacobian(p).1.determinant().abs())
+            .map(|p| prob.cell.poly.map_and_jacobian(p).1.determinant().abs())
             .fold(0.0, f64::max);
         stats.map_evaluations += 9;
         if max_det <= DEGENERATE_TOLERANCE * size * size * size {
@@ -456,7 +516,7 @@ fn invert_inner(
         // On a collapsed edge or apex other coordinates map to the same point: prefer the
         // clamped ones if they do.
         let clamped = end.param.clamp(DVec3::ZERO, DVec3::ONE);
-        let rc = (prob.poly.map(clamped) - prob.target).length();
+        let rc = (prob.cell.poly.map(clamped) - prob.target).length();
         stats.map_evaluations += 1;
         if rc <= prob.accept {
             return Ok(Solution {
@@ -469,6 +529,7 @@ fn invert_inner(
         // cell and the target is outside.
         let det_root = end.jacobian.determinant();
         let det_centre = prob
+            .cell
             .poly
             .map_and_jacobian(DVec3::splat(0.5))
             .1

@@ -21,6 +21,9 @@ use glam::DVec3;
 
 use super::raycast::Neighbours;
 use super::walk::{test_cell, walk, WalkEnd, WalkWork};
+use crate::geometry::bounds::Aabb;
+use crate::geometry::containment::{param_inside, reject_box};
+use crate::geometry::inverse::PreparedCell;
 use crate::mesh::topology::FACES;
 use crate::Mesh;
 
@@ -70,12 +73,35 @@ pub fn exit_face(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(usize, f64
     best.map(|(f, num, den)| (f, num / den))
 }
 
-/// A ray's march through the mesh: the current cell and where the ray leaves it.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A ray's march through the mesh: the current cell, where the ray leaves it, and the cell
+/// prepared for the inverse map once a sample has been tested in it (the next samples in the
+/// same cell reuse it).
+#[derive(Clone, Debug)]
 pub struct March {
     cell: u32,
     /// The exit face and its `t`; `None` when the cell has no exit by its planes.
     exit: Option<(usize, f64)>,
+    solver: Option<Solver>,
+}
+
+/// The current cell prepared for containment tests: its reject box and inverse map.
+#[derive(Clone, Debug)]
+struct Solver {
+    reject: Aabb,
+    cell: PreparedCell,
+}
+
+impl Solver {
+    /// [`test_cell`] with the preparation done.
+    fn test(&self, p: DVec3, guess: Option<DVec3>) -> Result<DVec3, Option<DVec3>> {
+        if !self.reject.contains(p) {
+            return Err(None);
+        }
+        match self.cell.invert(p, guess).param() {
+            Some(q) if param_inside(q) => Ok(q),
+            other => Err(other),
+        }
+    }
 }
 
 impl March {
@@ -86,7 +112,11 @@ impl March {
         } else {
             None
         };
-        March { cell, exit }
+        March {
+            cell,
+            exit,
+            solver: None,
+        }
     }
 
     /// The current cell.
@@ -132,7 +162,18 @@ impl March {
         }
         let start_guess = guess.filter(|g| g.0 == self.cell).map(|g| g.1);
         work.tests += 1;
-        match test_cell(&mesh.cell_corners(self.cell as usize), p, start_guess) {
+        if self.solver.is_none() {
+            let corners = mesh.cell_corners(self.cell as usize);
+            self.solver = PreparedCell::new(&corners).ok().map(|cell| Solver {
+                reject: reject_box(&corners),
+                cell,
+            });
+        }
+        let tested = match &self.solver {
+            Some(s) => s.test(p, start_guess),
+            None => test_cell(&mesh.cell_corners(self.cell as usize), p, start_guess),
+        };
+        match tested {
             Ok(q) => WalkEnd::Found(self.cell, q),
             Err(_) => {
                 let end = walk(mesh, neighbours, self.cell, start_guess, p, work);

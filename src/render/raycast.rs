@@ -1198,13 +1198,14 @@ impl<'a> Renderer<'a> {
             };
             if fast {
                 prev = found;
-                march = match found {
-                    Some((c, _)) => match march {
-                        Some(m) if m.cell() == c => Some(m),
-                        _ => Some(March::start(mesh, c, origin, dir)),
-                    },
-                    None => None,
-                };
+                match found {
+                    Some((c, _)) => {
+                        if !matches!(&march, Some(m) if m.cell() == c) {
+                            march = Some(March::start(mesh, c, origin, dir));
+                        }
+                    }
+                    None => march = None,
+                }
             }
             let Some((cell, param)) = found else {
                 prev_in = false;
