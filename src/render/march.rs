@@ -87,6 +87,8 @@ pub struct March {
 /// The current cell prepared for containment tests: its reject box and inverse map.
 #[derive(Clone, Debug)]
 struct Solver {
+    /// The cell's id.
+    id: u32,
     reject: Aabb,
     cell: PreparedCell,
 }
@@ -107,16 +109,24 @@ impl Solver {
 impl March {
     /// Starts a march in `cell` (where a sample of the ray `o + t d` was found).
     pub fn start(mesh: &Mesh, cell: u32, o: DVec3, d: DVec3) -> March {
-        let exit = if (cell as usize) < mesh.cell_count() {
+        let mut m = March {
+            cell,
+            exit: None,
+            solver: None,
+        };
+        m.move_to(mesh, cell, o, d);
+        m
+    }
+
+    /// Moves the march to `cell` (in place: the prepared cell, if any, stays until a sample
+    /// is tested in another cell).
+    pub fn move_to(&mut self, mesh: &Mesh, cell: u32, o: DVec3, d: DVec3) {
+        self.cell = cell;
+        self.exit = if (cell as usize) < mesh.cell_count() {
             exit_face(&mesh.cell_corners(cell as usize), o, d)
         } else {
             None
         };
-        March {
-            cell,
-            exit,
-            solver: None,
-        }
     }
 
     /// The current cell.
@@ -155,23 +165,24 @@ impl March {
             }
             steps += 1;
             work.plane_steps += 1;
-            *self = March::start(mesh, n, o, d);
+            self.move_to(mesh, n, o, d);
         }
         if self.cell as usize >= n_cells {
             return WalkEnd::GaveUp;
         }
         let start_guess = guess.filter(|g| g.0 == self.cell).map(|g| g.1);
         work.tests += 1;
-        if self.solver.is_none() {
+        if self.solver.as_ref().map(|s| s.id) != Some(self.cell) {
             let corners = mesh.cell_corners(self.cell as usize);
             self.solver = PreparedCell::new(&corners).ok().map(|cell| Solver {
+                id: self.cell,
                 reject: reject_box(&corners),
                 cell,
             });
         }
         let tested = match &self.solver {
-            Some(s) => s.test(p, start_guess),
-            None => test_cell(&mesh.cell_corners(self.cell as usize), p, start_guess),
+            Some(s) if s.id == self.cell => s.test(p, start_guess),
+            _ => test_cell(&mesh.cell_corners(self.cell as usize), p, start_guess),
         };
         match tested {
             Ok(q) => WalkEnd::Found(self.cell, q),
@@ -179,7 +190,7 @@ impl March {
                 let end = walk(mesh, neighbours, self.cell, start_guess, p, work);
                 if let WalkEnd::Found(c, _) = end {
                     if c != self.cell {
-                        *self = March::start(mesh, c, o, d);
+                        self.move_to(mesh, c, o, d);
                     }
                 }
                 end

@@ -1199,11 +1199,14 @@ impl<'a> Renderer<'a> {
             if fast {
                 prev = found;
                 match found {
-                    Some((c, _)) => {
-                        if !matches!(&march, Some(m) if m.cell() == c) {
-                            march = Some(March::start(mesh, c, origin, dir));
+                    Some((c, _)) => match &mut march {
+                        Some(m) => {
+                            if m.cell() != c {
+                                m.move_to(mesh, c, origin, dir);
+                            }
                         }
-                    }
+                        None => march = Some(March::start(mesh, c, origin, dir)),
+                    },
                     None => march = None,
                 }
             }
