@@ -44,13 +44,19 @@
 //! # The two paths
 //! - **paper**: every sample is located from scratch through the structure
 //!   ([`Accel::locate`]) and interpolated trilinearly — what the talk measured.
-//! - **fast**: the sample is first tested in the previous sample's cell (Newton warm-started at
-//!   the previous parameters), then in that cell's face neighbours (from a [`Neighbours`]
-//!   source; [`NoNeighbours`] until the mesh topology is plugged in), and only then through the
-//!   structure; a sample whose cell's scalar range the transfer function maps to zero opacity
-//!   everywhere is skipped without interpolation (it would add nothing). The image equals the
-//!   paper path's up to the choice between two cells on a shared face (both valid, values equal
-//!   to the inverse map's tolerance, `~1e-9` relative).
+//! - **fast**: the ray marches from cell to cell through exit faces ([`super::march`]), so a
+//!   sample is proposed to the cell the ray is in at its `t` and tested there alone (Newton
+//!   warm-started in the previous sample's cell, the cell's inverse-map set-up reused), with a
+//!   walk over face neighbours ([`super::walk`]; from a [`Neighbours`] source, [`NoNeighbours`]
+//!   without one) where that test fails, and the structure only where both give up or the ray
+//!   has just entered the mesh. Space outside the mesh is skipped: with a boundary surface
+//!   ([`Neighbours::surface`], see [`super::surface`]), from every point known to be outside
+//!   up to where the ray may first cross a boundary face; without one, by the structure's
+//!   bounds ([`super::skip`]). Boundary crossings start from where the march leaves the mesh
+//!   by face planes. A sample whose cell's scalar range the transfer function maps to zero
+//!   opacity everywhere is skipped without interpolation (it would add nothing). The image
+//!   equals the paper path's up to the choice between two cells on a shared face (both valid,
+//!   values equal to the inverse map's tolerance, `~1e-9` relative).
 //!
 //! Both count their work in [`RenderStats`].
 //!
@@ -1156,8 +1162,13 @@ impl<'a> Renderer<'a> {
                         // Outside the mesh or at the ray's start: skip the empty space.
                         // Within the span of a bound found for an earlier sample, the sample
                         // is in that bound: no need to ask the structure again.
+                        // With the boundary surface, which skips from the points known to be
+                        // outside, the structure's bounds cost more to traverse than they
+                        // save: they are not asked.
                         let span = if t <= bound_until {
                             Some((t, bound_until))
+                        } else if surface.is_some() {
+                            Some((t, t))
                         } else {
                             skipper.next_span(origin, dir, t, t_out, &mut counters)
                         };
