@@ -164,7 +164,7 @@ const HULL_FACES: [[usize; 4]; 6] = [
 ///     assert_eq!(prepared.invert(x, None), invert(&cell, x, None));
 /// }
 /// ```
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct PreparedCell {
     x0: DVec3,
     rel: [DVec3; 8],
@@ -176,12 +176,21 @@ impl PreparedCell {
     /// Prepares `corners`: [`InverseFailure::NonFinite`] if one is not finite,
     /// [`InverseFailure::Degenerate`] if they all coincide.
     pub fn new(corners: &[DVec3; 8]) -> Result<PreparedCell, InverseFailure> {
+        let mut cell = PreparedCell::default();
+        cell.prepare(corners)?;
+        Ok(cell)
+    }
+
+    /// Prepares `corners` in place of the cell held (no prepared data is copied); on an error
+    /// the cell held is not usable, and [`PreparedCell::invert`] reports it degenerate.
+    pub fn prepare(&mut self, corners: &[DVec3; 8]) -> Result<(), InverseFailure> {
+        self.size = 0.0;
         if corners.iter().any(|c| !c.is_finite()) {
             return Err(InverseFailure::NonFinite);
         }
-        let rel = relative_corners(corners);
+        self.rel = relative_corners(corners);
         let (mut bmin, mut bmax) = (DVec3::ZERO, DVec3::ZERO);
-        for c in &rel {
+        for c in &self.rel {
             bmin = bmin.min(*c);
             bmax = bmax.max(*c);
         }
@@ -189,12 +198,10 @@ impl PreparedCell {
         if !(size > 0.0 && size.is_finite()) {
             return Err(InverseFailure::Degenerate);
         }
-        Ok(PreparedCell {
-            x0: corners[0],
-            rel,
-            poly: Monomials::new(&rel),
-            size,
-        })
+        self.x0 = corners[0];
+        self.poly = Monomials::new(&self.rel);
+        self.size = size;
+        Ok(())
     }
 
     /// [`invert`] of `target` in this cell.
@@ -205,6 +212,8 @@ impl PreparedCell {
         };
         let outcome = if !target.is_finite() || guess.is_some_and(|g| !g.is_finite()) {
             Err(InverseFailure::NonFinite)
+        } else if !(self.size > 0.0) {
+            Err(InverseFailure::Degenerate)
         } else {
             solve(self, target, guess, &mut stats)
         };

@@ -114,7 +114,7 @@ pub fn relative_map_and_jacobian(rel: &[DVec3; 8], p: DVec3) -> (DVec3, DMat3) {
 /// `x(u, v, w) − x₀ = b u + c v + d w + e uv + f vw + g uw + h uvw`: the map and its Jacobian
 /// then cost about a third of the shape-function sums of [`relative_map_and_jacobian`] (the
 /// inverse map evaluates them a few times per call). The values agree with it to rounding.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Monomials {
     b: DVec3,
     c: DVec3,

@@ -92,14 +92,16 @@ pub struct March {
     cell: u32,
     /// The exit face and its `t`; `None` when the cell has no exit by its planes.
     exit: Option<(usize, f64)>,
-    solver: Option<Solver>,
+    solver: Solver,
 }
 
 /// The current cell prepared for containment tests: its reject box and inverse map.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 struct Solver {
-    /// The cell's id.
+    /// The cell's id (`u32::MAX` before any).
     id: u32,
+    /// Whether the cell could be prepared (else the plain test is used).
+    ready: bool,
     reject: Aabb,
     cell: PreparedCell,
 }
@@ -117,14 +119,29 @@ impl Solver {
     }
 }
 
+impl Default for March {
+    fn default() -> March {
+        March::new()
+    }
+}
+
 impl March {
+    /// A march in no cell yet: [`March::move_to`] puts it in one (a ray's march is made once
+    /// and moved, so that its prepared cell is never copied).
+    pub fn new() -> March {
+        March {
+            cell: u32::MAX,
+            exit: None,
+            solver: Solver {
+                id: u32::MAX,
+                ..Solver::default()
+            },
+        }
+    }
+
     /// Starts a march in `cell` (where a sample of the ray `o + t d` was found).
     pub fn start(mesh: &Mesh, cell: u32, o: DVec3, d: DVec3) -> March {
-        let mut m = March {
-            cell,
-            exit: None,
-            solver: None,
-        };
+        let mut m = March::new();
         m.move_to(mesh, cell, o, d);
         m
     }
@@ -183,17 +200,16 @@ impl March {
         }
         let start_guess = guess.filter(|g| g.0 == self.cell).map(|g| g.1);
         work.tests += 1;
-        if self.solver.as_ref().map(|s| s.id) != Some(self.cell) {
+        if self.solver.id != self.cell {
             let corners = mesh.cell_corners(self.cell as usize);
-            self.solver = PreparedCell::new(&corners).ok().map(|cell| Solver {
-                id: self.cell,
-                reject: reject_box(&corners),
-                cell,
-            });
+            self.solver.id = self.cell;
+            self.solver.ready = self.solver.cell.prepare(&corners).is_ok();
+            self.solver.reject = reject_box(&corners);
         }
-        let tested = match &self.solver {
-            Some(s) if s.id == self.cell => s.test(p, start_guess),
-            _ => test_cell(&mesh.cell_corners(self.cell as usize), p, start_guess),
+        let tested = if self.solver.ready {
+            self.solver.test(p, start_guess)
+        } else {
+            test_cell(&mesh.cell_corners(self.cell as usize), p, start_guess)
         };
         match tested {
             Ok(q) => WalkEnd::Found(self.cell, q),
@@ -271,7 +287,10 @@ mod tests {
         close(exit_face(&cube, centre, DVec3::new(2.0, 1.0, 0.0)), 1, 0.25);
         // Non-finite or zero directions have no exit.
         assert_eq!(exit_face(&cube, centre, DVec3::ZERO), None);
-        assert_eq!(exit_face(&cube, centre, DVec3::new(f64::NAN, 0.0, 1.0)), None);
+        assert_eq!(
+            exit_face(&cube, centre, DVec3::new(f64::NAN, 0.0, 1.0)),
+            None
+        );
     }
 
     #[test]

@@ -1050,7 +1050,7 @@ impl<'a> Renderer<'a> {
         // The fast path's last located cell and parameters; `None` outside the mesh.
         let mut prev: Option<(u32, DVec3)> = None;
         // The fast path's march along the ray through `prev`'s cell.
-        let mut march: Option<March> = None;
+        let mut march = March::new();
         let mut first_cell: Option<u32> = None;
         // The ray lies in a piece's bound up to here (from the last empty-space query).
         let mut bound_until = f64::NEG_INFINITY;
@@ -1111,9 +1111,9 @@ impl<'a> Renderer<'a> {
             } else {
                 // With a previous cell, walk from it; a walk that leaves the mesh drops it.
                 let mut walked = None;
-                if let (Some((c, q)), Some(m)) = (prev, march.as_mut()) {
+                if let Some((c, q)) = prev {
                     let mut work = WalkWork::default();
-                    let end = m.locate(
+                    let end = march.locate(
                         mesh,
                         self.neighbours,
                         origin,
@@ -1209,16 +1209,11 @@ impl<'a> Renderer<'a> {
             };
             if fast {
                 prev = found;
-                match found {
-                    Some((c, _)) => match &mut march {
-                        Some(m) => {
-                            if m.cell() != c {
-                                m.move_to(mesh, c, origin, dir);
-                            }
-                        }
-                        None => march = Some(March::start(mesh, c, origin, dir)),
-                    },
-                    None => march = None,
+                // The march follows `prev` (and is not used while there is none).
+                if let Some((c, _)) = found {
+                    if march.cell() != c {
+                        march.move_to(mesh, c, origin, dir);
+                    }
                 }
             }
             let Some((cell, param)) = found else {
