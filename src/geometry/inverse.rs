@@ -212,7 +212,7 @@ impl PreparedCell {
         };
         let outcome = if !target.is_finite() || guess.is_some_and(|g| !g.is_finite()) {
             Err(InverseFailure::NonFinite)
-        } else if !(self.size > 0.0) {
+        } else if self.size <= 0.0 || self.size.is_nan() {
             Err(InverseFailure::Degenerate)
         } else {
             solve(self, target, guess, &mut stats)
