@@ -90,6 +90,55 @@ pub fn contains(corners: &[DVec3; 8], p: DVec3) -> bool {
     locate_in_cell(corners, p, None).is_some()
 }
 
+/// Whether `p` lies inside the cell for certain, by its face planes alone (no inverse map).
+///
+/// Each face is compared with its plane (through the face's centroid, normal to the cross
+/// product of its diagonals, oriented away from the cell's centre): a bilinear face deviates
+/// from that plane by at most `δ`, the largest distance of its corners from it (the distance
+/// is bilinear on the face, so extreme at a corner). The region behind every face plane by
+/// more than its `δ` (plus `1e-9` of the face's size) is convex, and meets no face, so it lies
+/// wholly inside the cell or wholly outside; it is inside when it holds the cell's centre
+/// `x(½, ½, ½)`, which is checked too. A `true` is therefore exact; a `false` says nothing
+/// (twisted faces, points near a face, collapsed faces, and any non-finite input).
+///
+/// ```
+/// use cylvol::geometry::containment::certainly_inside;
+/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
+/// use glam::DVec3;
+/// let mut cell = CORNER_PARAMETERS.map(DVec3::from_array);
+/// cell[6] += DVec3::new(0.1, 0.1, 0.1); // one face bent
+/// assert!(certainly_inside(&cell, DVec3::splat(0.5)));
+/// assert!(!certainly_inside(&cell, DVec3::new(0.5, 0.5, 1.2)));
+/// assert!(!certainly_inside(&cell, DVec3::new(0.5, 0.5, 0.999))); // too near the bent face
+/// ```
+pub fn certainly_inside(corners: &[DVec3; 8], p: DVec3) -> bool {
+    use crate::mesh::topology::FACES;
+    let x0 = corners[0];
+    let rel = corners.map(|c| c - x0);
+    let q = p - x0;
+    let centre = rel.iter().fold(DVec3::ZERO, |a, &c| a + c) * 0.125;
+    for slots in FACES {
+        let face = slots.map(|s| rel[s]);
+        let [a, b, c, e] = face;
+        let mut n = (c - a).cross(e - b);
+        let mid = (a + b + c + e) * 0.25;
+        if n.dot(centre - mid) > 0.0 {
+            n = -n;
+        }
+        let deviation = face
+            .iter()
+            .map(|&x| n.dot(x - mid).abs())
+            .fold(0.0, f64::max);
+        let size = (c - a).length().max((e - b).length());
+        let limit = -deviation - 1e-9 * size * n.length();
+        // Both the point and the centre strictly behind the shrunk plane (false on NaN).
+        if !(n.dot(q - mid) < limit && n.dot(centre - mid) < limit) {
+            return false;
+        }
+    }
+    true
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

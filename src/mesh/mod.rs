@@ -130,8 +130,22 @@ impl Mesh {
     }
 
     /// The eight corner positions of cell `c`.
+    #[inline]
     pub fn cell_corners(&self, c: usize) -> [DVec3; 8] {
-        self.cells[c].map(|i| self.points[i as usize])
+        // Indexed one by one rather than by `array::map`, which the hot loops of the ray
+        // caster paid for in a call and a copy of the array.
+        let [a, b, c2, d, e, f, g, h] = self.cells[c];
+        let p = &self.points;
+        [
+            p[a as usize],
+            p[b as usize],
+            p[c2 as usize],
+            p[d as usize],
+            p[e as usize],
+            p[f as usize],
+            p[g as usize],
+            p[h as usize],
+        ]
     }
 
     /// Number of cells of each kind, in [`CellKind::ALL`] order.

@@ -22,7 +22,7 @@ use glam::{DVec3, Vec3A};
 use super::raycast::Neighbours;
 use super::walk::{test_cell, walk, WalkEnd, WalkWork};
 use crate::geometry::bounds::Aabb;
-use crate::geometry::containment::{param_inside, reject_box};
+use crate::geometry::containment::{certainly_inside, param_inside, reject_box};
 use crate::geometry::inverse::PreparedCell;
 use crate::mesh::topology::FACES;
 use crate::Mesh;
@@ -165,7 +165,11 @@ impl March {
     /// Locates the sample `p = o + t d` (`t` not before the march's previous sample): marches
     /// across exit faces to the cell the ray is in at `t` by the planes, and tests it (Newton
     /// warm-started at `guess` when the cell is `guess`'s). Where the test fails, the walk
-    /// goes on from that cell; the march then restarts in the cell found.
+    /// goes on from that cell; the march then restarts in the cell found. A cell for which
+    /// `no_parameters` holds (the caller needs no parametric coordinates there: a transparent
+    /// cell) is first tried by its face planes alone
+    /// ([`crate::geometry::containment::certainly_inside`]), and where they settle it the
+    /// answer is [`WalkEnd::Certified`], with no inverse map.
     #[allow(clippy::too_many_arguments)]
     pub fn locate(
         &mut self,
@@ -175,6 +179,7 @@ impl March {
         d: DVec3,
         t: f64,
         guess: Option<(u32, DVec3)>,
+        no_parameters: &dyn Fn(u32) -> bool,
         work: &mut WalkWork,
     ) -> WalkEnd {
         let n_cells = mesh.cell_count();
@@ -197,6 +202,10 @@ impl March {
         }
         if self.cell as usize >= n_cells {
             return WalkEnd::GaveUp;
+        }
+        if no_parameters(self.cell) && certainly_inside(&mesh.cell_corners(self.cell as usize), p) {
+            work.certified += 1;
+            return WalkEnd::Certified(self.cell);
         }
         let start_guess = guess.filter(|g| g.0 == self.cell).map(|g| g.1);
         work.tests += 1;

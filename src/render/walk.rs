@@ -36,6 +36,10 @@ pub const MAX_WALK_TESTS: u32 = 4;
 pub enum WalkEnd {
     /// The point lies in this cell, at these parametric coordinates.
     Found(u32, DVec3),
+    /// The point lies in this cell, certified by its face planes alone
+    /// ([`crate::geometry::containment::certainly_inside`]), with no parametric coordinates:
+    /// the march asks only for cells the caller does not need them in (transparent ones).
+    Certified(u32),
     /// The point lies beyond a boundary face (no neighbour) of the mesh, by its face plane.
     Boundary,
     /// The walk gave up (budget spent, a non-finite value, a reject-box miss).
@@ -49,6 +53,8 @@ pub struct WalkWork {
     pub tests: u64,
     /// Cells stepped across by face planes (no inverse map).
     pub plane_steps: u64,
+    /// Points found inside a cell by its face planes alone ([`WalkEnd::Certified`]).
+    pub certified: u64,
 }
 
 /// The face (0–5, in [`FACES`] order) whose plane `p` lies farthest beyond, with that signed
