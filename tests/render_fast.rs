@@ -58,6 +58,8 @@ fn render(
 /// paper image within 1e-6 and the sample positions are the same. Returns the fast stats.
 fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f64)]) {
     let neighbours = common::closed_neighbours(mesh);
+    // Samples in transparent cells found by face planes alone, over every render.
+    let mut certified = 0;
     let step = default_step(mesh);
     let size = 40;
     for &(az, el, zoom) in views {
@@ -97,6 +99,11 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
             assert_eq!(ws.samples_located, fs.samples_located, "{name} {kind}");
             assert_eq!(ws.surface_visits, 0, "{name} {kind}");
             assert!(fs.hex_tests <= ws.hex_tests, "{name} {kind}: {fs:?} {ws:?}");
+            // Samples certified by face planes are skipped ones (transparent cells), and
+            // only the fast path certifies.
+            assert!(fs.plane_certified <= fs.samples_skipped, "{name} {kind}: {fs:?}");
+            assert_eq!(ps.plane_certified, 0, "{name} {kind}");
+            certified += fs.plane_certified;
             let (reference, rs) = reference.get_or_insert_with(|| (paper.clone(), ps));
             assert!(
                 reference.rgba.iter().any(|p| p[3] > 0.05),
@@ -121,6 +128,8 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
             );
         }
     }
+    // The transfer function leaves part of every test mesh's range transparent.
+    assert!(certified > 0, "{name}: no sample certified by face planes");
 }
 
 #[test]
