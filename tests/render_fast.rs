@@ -101,7 +101,10 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
             assert!(fs.hex_tests <= ws.hex_tests, "{name} {kind}: {fs:?} {ws:?}");
             // Samples certified by face planes are skipped ones (transparent cells), and
             // only the fast path certifies.
-            assert!(fs.plane_certified <= fs.samples_skipped, "{name} {kind}: {fs:?}");
+            assert!(
+                fs.plane_certified <= fs.samples_skipped,
+                "{name} {kind}: {fs:?}"
+            );
             assert_eq!(ps.plane_certified, 0, "{name} {kind}");
             certified += fs.plane_certified;
             let (reference, rs) = reference.get_or_insert_with(|| (paper.clone(), ps));

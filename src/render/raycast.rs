@@ -599,8 +599,10 @@ pub struct Renderer<'a> {
     options: RenderOptions,
     neighbours: &'a dyn Neighbours,
     clip_box: Aabb,
-    /// The cylindrical BVH's node arcs for the fast path's empty-space skipping.
-    arcs: NodeArcs,
+    /// The cylindrical BVH's node arcs for the fast path's empty-space skipping by the
+    /// structure's bounds, made on first use (never with a boundary surface, which skips
+    /// instead).
+    arcs: std::sync::OnceLock<NodeArcs>,
 }
 
 /// A bracket of a boundary crossing: `t_outside` outside the mesh, `t_inside` in cell
@@ -664,11 +666,7 @@ impl<'a> Renderer<'a> {
             options: *options,
             neighbours: &NoNeighbours,
             clip_box,
-            arcs: if options.path == RenderPath::Fast {
-                NodeArcs::new(volume.accel)
-            } else {
-                NodeArcs::default()
-            },
+            arcs: std::sync::OnceLock::new(),
         })
     }
 
@@ -1043,7 +1041,12 @@ impl<'a> Renderer<'a> {
         let vol = self.volume;
         let mesh = vol.mesh;
         let fast = opts.path == RenderPath::Fast;
-        let skipper = Skipper::with_arcs(vol.accel, &self.arcs);
+        let skipper = || {
+            Skipper::with_arcs(
+                vol.accel,
+                self.arcs.get_or_init(|| NodeArcs::new(vol.accel)),
+            )
+        };
         let mut counters = Counters::default();
         let mut acc = Accum {
             transmittance: 1.0,
@@ -1187,7 +1190,7 @@ impl<'a> Renderer<'a> {
                         } else if surface.is_some() {
                             Some((t, t))
                         } else {
-                            skipper.next_span(origin, dir, t, t_out, &mut counters)
+                            skipper().next_span(origin, dir, t, t_out, &mut counters)
                         };
                         let Some((te, tx)) = span else {
                             close_at_exit(&mut acc, t, &mut counters, stats);
@@ -1214,7 +1217,7 @@ impl<'a> Renderer<'a> {
                         }
                         stats.samples += 1;
                         k += 1;
-                        if !skipper.may_hold(p, &mut counters) {
+                        if !Skipper::new(vol.accel).may_hold(p, &mut counters) {
                             stats.space_skips += 1;
                             prev_in = false;
                             close_at_exit(&mut acc, t, &mut counters, stats);
