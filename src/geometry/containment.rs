@@ -109,7 +109,9 @@ pub fn contains(corners: &[DVec3; 8], p: DVec3) -> bool {
 /// cell[6] += DVec3::new(0.1, 0.1, 0.1); // one face bent
 /// assert!(certainly_inside(&cell, DVec3::splat(0.5)));
 /// assert!(!certainly_inside(&cell, DVec3::new(0.5, 0.5, 1.2)));
-/// assert!(!certainly_inside(&cell, DVec3::new(0.5, 0.5, 0.999))); // too near the bent face
+/// // Inside (the bent face bulges to w ≈ 1.025 there) but too near that face to be sure.
+/// assert!(cylvol::geometry::containment::contains(&cell, DVec3::new(0.5, 0.5, 1.01)));
+/// assert!(!certainly_inside(&cell, DVec3::new(0.5, 0.5, 1.01)));
 /// ```
 pub fn certainly_inside(corners: &[DVec3; 8], p: DVec3) -> bool {
     use crate::mesh::topology::FACES;

@@ -69,8 +69,8 @@ impl Bvh<Aabb> {
     /// let (entry, _, cell) = bvh.first_along(o, DVec3::X, 0.0, 100.0, &mut counters, |_, lo, hi| Some((lo, hi))).unwrap();
     /// assert_eq!(cell, 0);
     /// assert!((entry - 1.0).abs() < 1e-6);
-    /// // Only odd boxes are hits, from t = 2.5 on: box 3.
-    /// let first = bvh.first_along(o, DVec3::X, 2.5, 100.0, &mut counters, |c, lo, hi| (c % 2 == 1).then_some((lo, hi)));
+    /// // Only odd boxes are hits, from t = 2.7 (x = 1.7) on: box 3.
+    /// let first = bvh.first_along(o, DVec3::X, 2.7, 100.0, &mut counters, |c, lo, hi| (c % 2 == 1).then_some((lo, hi)));
     /// assert_eq!(first.unwrap().2, 3);
     /// ```
     pub fn first_along(
