@@ -1223,7 +1223,42 @@ impl<'a> Renderer<'a> {
                             close_at_exit(&mut acc, t, &mut counters, stats);
                             continue 'samples;
                         }
-                        self.locate_entry(p, surface_cell.take().or(*hint), &mut counters, stats)
+                        match surface_cell.take() {
+                            // The cell of the boundary face the ray may enter through: march
+                            // from it along the ray (the structure where the march fails).
+                            Some(c) => {
+                                march.move_to(mesh, c, origin, dir);
+                                let mut work = WalkWork::default();
+                                let end = march.locate(
+                                    mesh,
+                                    self.neighbours,
+                                    origin,
+                                    dir,
+                                    t,
+                                    None,
+                                    &|_| false,
+                                    &mut work,
+                                );
+                                counters.hex_tests += work.tests;
+                                stats.walk_steps += work.plane_steps;
+                                match end {
+                                    WalkEnd::Found(n, q) => {
+                                        stats.entry_walk_hits += 1;
+                                        Some((n, q))
+                                    }
+                                    _ => {
+                                        stats.structure_locates += 1;
+                                        vol.accel.locate(mesh, p, &mut counters)
+                                    }
+                                }
+                            }
+                            // The previous ray's first cell is a hint for this ray's first
+                            // entry only: later, it lies far behind.
+                            None => {
+                                let h = if first_cell.is_none() { *hint } else { None };
+                                self.locate_entry(p, h, &mut counters, stats)
+                            }
+                        }
                     }
                 }
             };
