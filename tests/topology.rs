@@ -686,3 +686,59 @@ fn boundary_check_finds_hanging_faces_and_only_them() {
     assert_eq!(n.check_boundary(&mesh, |p| brute_force_cell(&mesh, p)), 2);
     assert!(!n.is_closed());
 }
+
+/// The boundary surface's filter in front of the check changes no count: on the conforming
+/// stack, the hex against two wedges and the half-shifted stack, `render::face_neighbours`
+/// (filtered, through a structure) finds the hanging faces the unfiltered brute-force check
+/// finds, and so does a filtered check through brute force; the filter passes the probes
+/// near another open face and no others.
+#[test]
+fn boundary_check_filtered_by_the_surface_finds_the_same_faces() {
+    use cylvol::accel::{Accel, AccelParams, StructureKind};
+    use cylvol::render::surface::BoundarySurface;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    for (kind, expected) in [("hexahedron", 0), ("wedges", 3), ("shifted", 2)] {
+        let mesh = stacked(kind);
+        let mut plain =
+            FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+        assert_eq!(
+            plain.check_boundary(&mesh, |p| brute_force_cell(&mesh, p)),
+            expected,
+            "{kind}"
+        );
+        let mut filtered =
+            FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+        let surface = BoundarySurface::new(&mesh, &filtered);
+        let (asked, passed) = (AtomicUsize::new(0), AtomicUsize::new(0));
+        let hanging = filtered.check_boundary_near(
+            &mesh,
+            |c, f, p, r| {
+                asked.fetch_add(1, Ordering::Relaxed);
+                let near = surface.other_face_near(&mesh, c, f, p, r);
+                passed.fetch_add(near as usize, Ordering::Relaxed);
+                near
+            },
+            |p| brute_force_cell(&mesh, p),
+        );
+        assert_eq!(hanging, expected, "{kind}");
+        let (asked, passed) = (asked.into_inner(), passed.into_inner());
+        assert!(asked > 0, "{kind}");
+        if expected == 0 {
+            // Two stacked cubes: every probe is away from the other open faces.
+            assert_eq!(passed, 0, "{kind}: {passed} of {asked}");
+        } else {
+            assert!(passed > 0 && passed < asked, "{kind}: {passed} of {asked}");
+        }
+        for structure in StructureKind::ALL {
+            let accel = Accel::build(
+                &mesh,
+                structure,
+                &cylvol::axis::Axis::Z,
+                &AccelParams::default(),
+            )
+            .expect("build");
+            let t = cylvol::render::face_neighbours(&mesh, &accel);
+            assert_eq!(t.hanging_faces(), Some(expected), "{kind} {structure}");
+        }
+    }
+}

@@ -526,6 +526,23 @@ impl FaceNeighbors {
         mesh: &Mesh,
         cell_at: impl Fn(glam::DVec3) -> Option<u32> + Sync,
     ) -> usize {
+        self.check_boundary_near(mesh, |_, _, _, _| true, cell_at)
+    }
+
+    /// [`FaceNeighbors::check_boundary`] with a filter in front of the point location: a probe
+    /// `p` beyond face `face` of `cell` goes to `cell_at` only where `near(cell, face, p, r)`
+    /// says another face without a neighbour may lie within `r` of it. `r` is the probe's
+    /// offset plus the face's deviation from its plane, the farthest the probe can be from
+    /// the face itself; a cell holding the probe would have a face without a neighbour within
+    /// that distance (the face it touches this one with, unmatched since this one has no
+    /// neighbour), so a filter that answers `false` only where no such face exists (e.g. from
+    /// [`crate::render::surface::BoundarySurface::other_face_near`]) changes no result.
+    pub fn check_boundary_near(
+        &mut self,
+        mesh: &Mesh,
+        near: impl Fn(u32, usize, glam::DVec3, f64) -> bool + Sync,
+        cell_at: impl Fn(glam::DVec3) -> Option<u32> + Sync,
+    ) -> usize {
         use glam::DVec3;
         let cells = mesh.cells();
         let hanging = self
@@ -547,10 +564,17 @@ impl FaceNeighbors {
                                 n = -n;
                             }
                             let n = n.normalize_or_zero();
+                            let deviation =
+                                q.iter().map(|&k| n.dot(k - mid).abs()).fold(0.0, f64::max);
+                            let reach = 2.0 * (eps + deviation);
                             n != DVec3::ZERO
                                 && std::iter::once(mid)
                                     .chain(q.iter().map(|&k| 0.5 * (mid + k)))
-                                    .any(|p| cell_at(p + n * eps).is_some_and(|o| o as usize != c))
+                                    .map(|b| b + n * eps)
+                                    .any(|p| {
+                                        near(c as u32, f, p, reach)
+                                            && cell_at(p).is_some_and(|o| o as usize != c)
+                                    })
                         }
                     })
                     .count()

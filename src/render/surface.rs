@@ -120,6 +120,49 @@ impl BoundarySurface {
     }
 }
 
+impl BoundarySurface {
+    /// Whether a boundary face other than face `face` of `cell` may lie within `r` of `p`:
+    /// one whose box, slab (see the module documentation) and four edge slabs (between the
+    /// corners' extreme projections on each edge crossed with the normal), all padded by `r`,
+    /// hold `p`. Each holds the convex hull of the face's corners, hence the face, so `false`
+    /// means no other boundary face comes that close.
+    pub fn other_face_near(&self, mesh: &Mesh, cell: u32, face: usize, p: DVec3, r: f64) -> bool {
+        self.bvh.any_near(p, r, |i| {
+            let Some(&(c, f)) = self.faces.get(i as usize) else {
+                return false;
+            };
+            if c == cell && f as usize == face {
+                return false;
+            }
+            let corners = face_corners(mesh, c, f);
+            let a = corners[0];
+            let n = (corners[2] - a).cross(corners[3] - corners[1]);
+            let len = n.length();
+            if !(len > 0.0 && len.is_finite()) {
+                return true;
+            }
+            let size = corners
+                .iter()
+                .map(|k| (*k - a).length())
+                .fold(0.0, f64::max);
+            // Within r of the hull of the corners along the normal and across each edge
+            // (the slabs between the corners' extreme projections hold the hull).
+            let within = |m: DVec3| {
+                let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+                for k in &corners {
+                    let v = m.dot(*k - a);
+                    lo = lo.min(v);
+                    hi = hi.max(v);
+                }
+                let pad = (r + SLAB_PAD * size) * m.length();
+                let v = m.dot(p - a);
+                v >= lo - pad && v <= hi + pad
+            };
+            within(n) && (0..4).all(|e| within((corners[(e + 1) % 4] - corners[e]).cross(n)))
+        })
+    }
+}
+
 /// The four corners of face `f` of cell `c`.
 fn face_corners(mesh: &Mesh, c: u32, f: u8) -> [DVec3; 4] {
     let ids = mesh.cells()[c as usize];

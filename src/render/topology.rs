@@ -58,11 +58,18 @@ impl Neighbours for Topology {
 /// The face neighbours the fast path should walk, with their boundary surface: seams of
 /// coincident points welded ([`FaceNeighbors::build_with_tolerance`] with
 /// [`FaceNeighbors::seam_tolerance`]), the faces left without a neighbour checked against
-/// `accel` ([`FaceNeighbors::check_boundary`]) so that the boundary searches trust them only
-/// when they really bound the mesh, and those faces in a [`BoundarySurface`] for skipping the
-/// space outside the mesh.
+/// `accel` ([`FaceNeighbors::check_boundary_near`], the probes near no other such face passed
+/// by the surface) so that the boundary searches trust them only when they really bound the
+/// mesh, and those faces in a [`BoundarySurface`] for skipping the space outside the mesh.
 pub fn face_neighbours(mesh: &Mesh, accel: &Accel) -> Topology {
     let mut n = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
-    n.check_boundary(mesh, |p| accel.cell_at(mesh, p));
-    Topology::new(mesh, n)
+    // The surface of the faces without a neighbour, before the check: probes with no other
+    // such face near them are outside without a structure look-up.
+    let surface = BoundarySurface::new(mesh, &n);
+    n.check_boundary_near(
+        mesh,
+        |c, f, p, r| surface.other_face_near(mesh, c, f, p, r),
+        |p| accel.cell_at(mesh, p),
+    );
+    Topology { faces: n, surface }
 }

@@ -48,6 +48,7 @@
 
 mod binned_build;
 mod bounds;
+mod near;
 pub(crate) mod ray;
 mod stats;
 mod traverse;
