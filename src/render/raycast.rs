@@ -1085,14 +1085,7 @@ impl<'a> Renderer<'a> {
         let mut next_surface_crossing = |t_outside: f64| -> (f64, Option<u32>) {
             match surface {
                 Some(s) => {
-                    match s.next_crossing(
-                        mesh,
-                        origin,
-                        dir,
-                        t_outside,
-                        t_out,
-                        &mut surface_counters,
-                    ) {
+                    match s.next_crossing(origin, dir, t_outside, t_out, &mut surface_counters) {
                         Some((t, c)) => (t, Some(c)),
                         None => (t_out, None),
                     }

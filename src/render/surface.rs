@@ -37,6 +37,61 @@ pub struct BoundarySurface {
     bvh: Bvh<Aabb>,
     /// `(cell, face)` of each boundary face; the BVH's pieces index this.
     faces: Vec<(u32, u8)>,
+    /// The slab of each face, in the same order.
+    slabs: Vec<Slab>,
+}
+
+/// The slab between the extreme projections of a face's corners on its normal (padded):
+/// `lo ≤ n·(x − a) ≤ hi` holds the face.
+#[derive(Clone, Copy, Debug)]
+struct Slab {
+    a: DVec3,
+    n: DVec3,
+    lo: f64,
+    hi: f64,
+}
+
+impl Slab {
+    /// The slab of a face; the whole space where its normal vanishes.
+    fn of(corners: &[DVec3; 4]) -> Slab {
+        let a = corners[0];
+        let rel = corners.map(|c| c - a);
+        let n = (rel[2] - rel[0]).cross(rel[3] - rel[1]);
+        let size = rel.iter().map(|r| r.length()).fold(0.0, f64::max);
+        let len = n.length();
+        if !(len > 0.0 && len.is_finite()) {
+            return Slab {
+                a,
+                n: DVec3::ZERO,
+                lo: f64::NEG_INFINITY,
+                hi: f64::INFINITY,
+            };
+        }
+        let (mut lo, mut hi) = (0.0f64, 0.0f64);
+        for r in &rel[1..] {
+            let v = n.dot(*r);
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+        let pad = SLAB_PAD * size * len;
+        Slab {
+            a,
+            n,
+            lo: lo - pad,
+            hi: hi + pad,
+        }
+    }
+
+    /// The ray's interval in the slab, `None` where it misses.
+    fn span(&self, origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
+        let (s, e) = crate::accel::bvh::ray::slab(
+            self.n.dot(origin - self.a),
+            self.n.dot(dir),
+            self.lo,
+            self.hi,
+        );
+        (s <= e).then_some((s, e))
+    }
 }
 
 impl BoundarySurface {
@@ -80,9 +135,14 @@ impl BoundarySurface {
             bounds,
             cells: (0..faces.len() as u32).collect(),
         };
+        let slabs = faces
+            .par_iter()
+            .map(|&(c, f)| Slab::of(&face_corners(mesh, c, f)))
+            .collect();
         BoundarySurface {
             bvh: build_bvh(&pieces, &BvhParams::default()),
             faces,
+            slabs,
         }
     }
 
@@ -102,7 +162,7 @@ impl BoundarySurface {
     /// `[t0, t)`. Node visits are counted in `counters`.
     pub fn next_crossing(
         &self,
-        mesh: &Mesh,
+
         origin: DVec3,
         dir: DVec3,
         t0: f64,
@@ -111,8 +171,7 @@ impl BoundarySurface {
     ) -> Option<(f64, u32)> {
         self.bvh
             .first_along(origin, dir, t0, t1, counters, |i, lo, hi| {
-                let &(c, f) = self.faces.get(i as usize)?;
-                let (s, e) = slab_span(&face_corners(mesh, c, f), origin, dir)?;
+                let (s, e) = self.slabs.get(i as usize)?.span(origin, dir)?;
                 let (lo, hi) = (lo.max(s), hi.min(e));
                 (lo <= hi).then_some((lo, hi))
             })
@@ -169,28 +228,6 @@ fn face_corners(mesh: &Mesh, c: u32, f: u8) -> [DVec3; 4] {
     FACES[f as usize].map(|k| mesh.points()[ids[k] as usize])
 }
 
-/// The ray's interval in the slab of a face: between the corners' extreme projections on the
-/// face normal, padded; the whole line where the normal vanishes. `None` where it misses.
-fn slab_span(corners: &[DVec3; 4], origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
-    let a = corners[0];
-    let rel = corners.map(|c| c - a);
-    let n = (rel[2] - rel[0]).cross(rel[3] - rel[1]);
-    let size = rel.iter().map(|r| r.length()).fold(0.0, f64::max);
-    let len = n.length();
-    if !(len > 0.0 && len.is_finite()) {
-        return Some((f64::NEG_INFINITY, f64::INFINITY));
-    }
-    let (mut lo, mut hi) = (0.0f64, 0.0f64);
-    for r in &rel[1..] {
-        let v = n.dot(*r);
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    let pad = SLAB_PAD * size * len;
-    let (s, e) = crate::accel::bvh::ray::slab(n.dot(origin - a), n.dot(dir), lo - pad, hi + pad);
-    (s <= e).then_some((s, e))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -203,10 +240,12 @@ mod tests {
             DVec3::new(1.0, 1.0, 1.0),
             DVec3::new(0.0, 1.0, 1.0),
         ];
-        let (s, e) = slab_span(&square, DVec3::new(0.5, 0.5, 0.0), DVec3::Z).unwrap();
+        let (s, e) = Slab::of(&square)
+            .span(DVec3::new(0.5, 0.5, 0.0), DVec3::Z)
+            .unwrap();
         assert!((s - 1.0).abs() < 1e-8 && (e - 1.0).abs() < 1e-8 && s <= 1.0 && e >= 1.0);
         // Parallel to the face, off its plane: missed.
-        assert_eq!(slab_span(&square, DVec3::ZERO, DVec3::X), None);
+        assert_eq!(Slab::of(&square).span(DVec3::ZERO, DVec3::X), None);
     }
 
     #[test]
@@ -224,7 +263,7 @@ mod tests {
                 + twisted[2] * u * v
                 + twisted[3] * (1.0 - u) * v;
             let d = DVec3::new(0.3, -0.2, 1.0).normalize();
-            let (s, e) = slab_span(&twisted, p - d * 2.0, d).unwrap();
+            let (s, e) = Slab::of(&twisted).span(p - d * 2.0, d).unwrap();
             assert!(s <= 2.0 && e >= 2.0, "{u} {v}: {s} {e}");
         }
     }
