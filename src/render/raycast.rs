@@ -80,7 +80,7 @@ use super::shading::Shading;
 use super::skip::{NodeArcs, Skipper};
 use super::surface::BoundarySurface;
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
-use super::walk::{violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS};
+use super::walk::{farthest_face, violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS};
 use crate::accel::{Accel, Counters};
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
@@ -833,6 +833,17 @@ impl<'a> Renderer<'a> {
             }
             counters.hex_tests += 1;
             let Some(q) = invert(&corners, p, guess).param() else {
+                // No parameters (the point lies many of this thin cell's thicknesses away):
+                // go on across the face whose plane it lies farthest beyond, where there is a
+                // cell not yet visited. The planes only choose the way; a decision still
+                // needs parameters.
+                let (f, dist) = farthest_face(&corners, p);
+                let n = self.neighbours.neighbours(c)[f];
+                if dist > 0.0 && n != u32::MAX && !visited.contains(&n) {
+                    c = n;
+                    guess = None;
+                    continue;
+                }
                 return Local::Undecided;
             };
             if slot == 0 {
