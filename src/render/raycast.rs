@@ -80,7 +80,9 @@ use super::shading::Shading;
 use super::skip::{NodeArcs, Skipper};
 use super::surface::BoundarySurface;
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
-use super::walk::{farthest_face, violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS};
+use super::walk::{
+    farthest_face, violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS,
+};
 use crate::accel::{Accel, Counters};
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
