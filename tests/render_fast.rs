@@ -249,11 +249,23 @@ fn about_one_cell_test_per_located_sample_on_a_smooth_mesh() {
     }
 }
 
+/// A closed annulus `0.5 ≤ r ≤ 1` (the hub's hole inside), `0 ≤ z ≤ 1`.
+fn annulus_with_hole() -> Mesh {
+    sector(&frame(), [0.5, 1.0], [-PI, PI], 1.0, [4, 48, 4], true)
+}
+
+/// Options for casting single rays at `step`, never terminated early.
+fn one_ray(step: f64) -> RenderOptions {
+    let mut options = RenderOptions::new(1, 1, step);
+    options.early_termination = 2.0;
+    options
+}
+
 /// Rays across the hole of an annulus: samples in the hole lie outside every piece of the
 /// BVHs and are passed over without location, and so are the samples in empty grid cells.
 #[test]
 fn empty_space_is_skipped_across_the_hub_hole() {
-    let mesh = sector(&frame(), [0.5, 1.0], [-PI, PI], 1.0, [4, 48, 4], true);
+    let mesh = annulus_with_hole();
     let neighbours = common::closed_neighbours(&mesh);
     let step = 0.01;
     for kind in StructureKind::ALL {
@@ -261,8 +273,7 @@ fn empty_space_is_skipped_across_the_hub_hole() {
         let volume = Volume::new(&mesh, &accel).expect("volume");
         let [lo, hi] = volume.scalar_range();
         let tf = TransferFunction::default_for_range(lo, hi, 0.6, 0.2);
-        let mut options = RenderOptions::new(1, 1, step);
-        options.early_termination = 2.0;
+        let options = one_ray(step);
         let renderer = Renderer::new(&volume, &tf, &options)
             .expect("renderer")
             .with_neighbours(&neighbours);
@@ -296,7 +307,7 @@ fn empty_space_is_skipped_across_the_hub_hole() {
 /// is visited.
 #[test]
 fn the_boundary_surface_skips_outside_samples_without_location() {
-    let mesh = sector(&frame(), [0.5, 1.0], [-PI, PI], 1.0, [4, 48, 4], true);
+    let mesh = annulus_with_hole();
     let topology = common::closed_neighbours(&mesh);
     let step = 0.01;
     // Cells tested with and without the surface, over every ray and structure.
@@ -306,8 +317,7 @@ fn the_boundary_surface_skips_outside_samples_without_location() {
         let volume = Volume::new(&mesh, &accel).expect("volume");
         let [lo, hi] = volume.scalar_range();
         let tf = TransferFunction::default_for_range(lo, hi, 0.6, 0.2);
-        let mut options = RenderOptions::new(1, 1, step);
-        options.early_termination = 2.0;
+        let options = one_ray(step);
         let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| {
             let renderer = Renderer::new(&volume, &tf, &options)
                 .expect("renderer")

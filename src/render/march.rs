@@ -139,13 +139,6 @@ impl March {
         }
     }
 
-    /// Starts a march in `cell` (where a sample of the ray `o + t d` was found).
-    pub fn start(mesh: &Mesh, cell: u32, o: DVec3, d: DVec3) -> March {
-        let mut m = March::new();
-        m.move_to(mesh, cell, o, d);
-        m
-    }
-
     /// Moves the march to `cell` (in place: the prepared cell, if any, stays until a sample
     /// is tested in another cell).
     pub fn move_to(&mut self, mesh: &Mesh, cell: u32, o: DVec3, d: DVec3) {

@@ -723,19 +723,41 @@ impl<'a> Renderer<'a> {
         self.cast_with_hint(origin, dir, t_stop, &mut hint, stats)
     }
 
-    /// The fast path's location of the sample `p` with no previous cell: a walk from `hint`
-    /// (the first cell of the previous ray, usually near), else the structure.
+    /// The fast path's location of the sample at `t` on the ray with no previous cell: a march
+    /// along the ray from `surface_cell` (the cell of the boundary face the ray may enter
+    /// through), or else a walk from `hint` (the first cell of the previous ray, usually near);
+    /// the structure where they fail.
+    #[allow(clippy::too_many_arguments)]
     fn locate_entry(
         &self,
-        p: DVec3,
+        origin: DVec3,
+        dir: DVec3,
+        t: f64,
+        surface_cell: Option<u32>,
         hint: Option<u32>,
+        march: &mut March,
         counters: &mut Counters,
         stats: &mut RenderStats,
     ) -> Option<(u32, DVec3)> {
         let mesh = self.volume.mesh;
-        if let Some(h) = hint {
-            let mut work = WalkWork::default();
-            let end = walk_within(
+        let p = origin + dir * t;
+        let mut work = WalkWork::default();
+        let end = match (surface_cell, hint) {
+            (Some(c), _) => {
+                march.move_to(mesh, c, origin, dir);
+                let never = |_| false;
+                Some(march.locate(
+                    mesh,
+                    self.neighbours,
+                    origin,
+                    dir,
+                    t,
+                    None,
+                    &never,
+                    &mut work,
+                ))
+            }
+            (None, Some(h)) => Some(walk_within(
                 mesh,
                 self.neighbours,
                 h,
@@ -743,13 +765,14 @@ impl<'a> Renderer<'a> {
                 p,
                 MAX_ENTRY_PLANE_STEPS,
                 &mut work,
-            );
-            counters.hex_tests += work.tests;
-            stats.walk_steps += work.plane_steps;
-            if let WalkEnd::Found(c, q) = end {
-                stats.entry_walk_hits += 1;
-                return Some((c, q));
-            }
+            )),
+            (None, None) => None,
+        };
+        counters.hex_tests += work.tests;
+        stats.walk_steps += work.plane_steps;
+        if let Some(WalkEnd::Found(c, q)) = end {
+            stats.entry_walk_hits += 1;
+            return Some((c, q));
         }
         stats.structure_locates += 1;
         self.volume.accel.locate(mesh, p, counters)
@@ -1112,6 +1135,14 @@ impl<'a> Renderer<'a> {
         } else {
             (f64::NEG_INFINITY, None)
         };
+        // Passes over the samples before `until` (and the ray's end) as empty space.
+        let skip_until = |k: &mut u64, stats: &mut RenderStats, until: f64| {
+            while sample_t(*k) < until.min(t_out) {
+                stats.samples += 1;
+                stats.space_skips += 1;
+                *k += 1;
+            }
+        };
         let mut k = 0u64;
         'samples: loop {
             let t = sample_t(k);
@@ -1174,14 +1205,7 @@ impl<'a> Renderer<'a> {
                     }
                     None if t < outside_until => {
                         // Known to be outside the mesh up to a possible boundary crossing.
-                        while sample_t(k) < outside_until {
-                            if sample_t(k) >= t_out {
-                                break 'samples;
-                            }
-                            stats.samples += 1;
-                            stats.space_skips += 1;
-                            k += 1;
-                        }
+                        skip_until(&mut k, stats, outside_until);
                         continue 'samples;
                     }
                     None => {
@@ -1200,25 +1224,14 @@ impl<'a> Renderer<'a> {
                         };
                         let Some((te, tx)) = span else {
                             close_at_exit(&mut acc, t, &mut counters, stats);
-                            while sample_t(k) < t_out {
-                                stats.samples += 1;
-                                stats.space_skips += 1;
-                                k += 1;
-                            }
+                            skip_until(&mut k, stats, t_out);
                             break 'samples;
                         };
                         bound_until = tx;
                         if te > t {
                             prev_in = false;
                             close_at_exit(&mut acc, t, &mut counters, stats);
-                            while sample_t(k) < te {
-                                if sample_t(k) >= t_out {
-                                    break 'samples;
-                                }
-                                stats.samples += 1;
-                                stats.space_skips += 1;
-                                k += 1;
-                            }
+                            skip_until(&mut k, stats, te);
                             continue 'samples;
                         }
                         stats.samples += 1;
@@ -1229,42 +1242,19 @@ impl<'a> Renderer<'a> {
                             close_at_exit(&mut acc, t, &mut counters, stats);
                             continue 'samples;
                         }
-                        match surface_cell.take() {
-                            // The cell of the boundary face the ray may enter through: march
-                            // from it along the ray (the structure where the march fails).
-                            Some(c) => {
-                                march.move_to(mesh, c, origin, dir);
-                                let mut work = WalkWork::default();
-                                let end = march.locate(
-                                    mesh,
-                                    self.neighbours,
-                                    origin,
-                                    dir,
-                                    t,
-                                    None,
-                                    &|_| false,
-                                    &mut work,
-                                );
-                                counters.hex_tests += work.tests;
-                                stats.walk_steps += work.plane_steps;
-                                match end {
-                                    WalkEnd::Found(n, q) => {
-                                        stats.entry_walk_hits += 1;
-                                        Some((n, q))
-                                    }
-                                    _ => {
-                                        stats.structure_locates += 1;
-                                        vol.accel.locate(mesh, p, &mut counters)
-                                    }
-                                }
-                            }
-                            // The previous ray's first cell is a hint for this ray's first
-                            // entry only: later, it lies far behind.
-                            None => {
-                                let h = if first_cell.is_none() { *hint } else { None };
-                                self.locate_entry(p, h, &mut counters, stats)
-                            }
-                        }
+                        // The previous ray's first cell is a hint for this ray's first
+                        // entry only: later, it lies far behind.
+                        let h = if first_cell.is_none() { *hint } else { None };
+                        self.locate_entry(
+                            origin,
+                            dir,
+                            t,
+                            surface_cell.take(),
+                            h,
+                            &mut march,
+                            &mut counters,
+                            stats,
+                        )
                     }
                 }
             };

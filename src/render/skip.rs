@@ -24,7 +24,6 @@ use glam::DVec3;
 use crate::accel::bvh::ray::slab;
 use crate::accel::bvh::{BoxF32, Bvh, BvhBounds, SectorF32};
 use crate::accel::{Accel, Coordinates, Counters, Structure};
-use crate::geometry::bounds::Aabb;
 use crate::geometry::cylindrical::CylFrame;
 
 /// A ray in the structure's frame, ready for its bounds.
@@ -246,7 +245,7 @@ impl<'a> Skipper<'a> {
                 let ray = LocalRay::Boxes {
                     o: origin - b.frame().anchor,
                     d: dir,
-                    pad: root_pad_box(b),
+                    pad: b.query_pad(),
                 };
                 first_hit(b, ray, &[], t0, t1, counters)
             }
@@ -279,15 +278,6 @@ impl<'a> Skipper<'a> {
             _ => true,
         }
     }
-}
-
-fn root_pad_box(b: &Bvh<Aabb>) -> f64 {
-    b.nodes.first().map_or(0.0, |n| {
-        let e = (0..3)
-            .map(|a| (n.bounds.max[a] - n.bounds.min[a]) as f64)
-            .fold(0.0, f64::max);
-        1e-9 * e
-    })
 }
 
 fn sector_ray<B: BvhBounds<Compact = SectorF32>>(
@@ -334,8 +324,9 @@ impl Enter for SectorF32 {
     }
 }
 
-/// Closest-hit traversal: the smallest entry `t ∈ [t0, t1]` into a leaf piece's bound, with
-/// that piece's exit. `trig` holds the nodes' arcs (empty if not known).
+/// Closest-hit traversal ([`Bvh::closest_hit`]): the smallest entry `t ∈ [t0, t1]` into a
+/// leaf piece's bound, with that piece's exit. `trig` holds the nodes' arcs (empty if not
+/// known).
 fn first_hit<B: BvhBounds>(
     bvh: &Bvh<B>,
     ray: LocalRay,
@@ -347,72 +338,13 @@ fn first_hit<B: BvhBounds>(
 where
     B::Compact: Enter,
 {
-    const DEPTH: usize = crate::accel::bvh::MAX_DEPTH;
-    let root = bvh.nodes.first()?;
-    root.bounds.enter(&ray, trig.first(), t0, t1)?;
-    let mut best = f64::INFINITY;
-    let mut best_exit = f64::INFINITY;
-    let mut hi = t1;
-    let mut stack = [(0u32, 0.0f64); DEPTH];
-    stack[0] = (0, t0);
-    let mut top = 1usize;
-    while top > 0 {
-        top -= 1;
-        let (at, entry) = stack[top];
-        if entry > hi {
-            continue;
-        }
-        let Some(node) = bvh.nodes.get(at as usize) else {
-            continue;
-        };
-        if node.count == 0 {
-            counters.internal_visits += 1;
-            let (l, r) = (at + 1, node.index);
-            let el = bvh
-                .nodes
-                .get(l as usize)
-                .and_then(|n| n.bounds.enter(&ray, trig.get(l as usize), t0, hi))
-                .map(|s| s.0);
-            let er = bvh
-                .nodes
-                .get(r as usize)
-                .and_then(|n| n.bounds.enter(&ray, trig.get(r as usize), t0, hi))
-                .map(|s| s.0);
-            // Nearer child on top.
-            let mut push = |n: u32, e: f64| {
-                if top < DEPTH {
-                    stack[top] = (n, e);
-                    top += 1;
-                }
-            };
-            match (el, er) {
-                (Some(a), Some(b)) if a <= b => {
-                    push(r, b);
-                    push(l, a);
-                }
-                (Some(a), Some(b)) => {
-                    push(l, a);
-                    push(r, b);
-                }
-                (Some(a), None) => push(l, a),
-                (None, Some(b)) => push(r, b),
-                (None, None) => {}
-            }
-        } else {
-            counters.leaf_visits += 1;
-            let first = node.index as usize;
-            let end = first + node.count as usize;
-            for piece in bvh.refs.get(first..end).unwrap_or(&[]) {
-                // Against the whole interval, for the piece's own exit.
-                if let Some((e, x)) = piece.bounds.enter(&ray, None, t0, t1) {
-                    if e < best {
-                        best = e;
-                        best_exit = x;
-                        hi = e;
-                    }
-                }
-            }
-        }
-    }
-    best.is_finite().then_some((best, best_exit))
+    bvh.closest_hit(
+        t0,
+        t1,
+        counters,
+        |i, b, hi| b.enter(&ray, trig.get(i), t0, hi).map(|s| s.0),
+        // Against the whole interval, for the piece's own exit.
+        |b, _, _| b.enter(&ray, None, t0, t1),
+    )
+    .map(|(e, x, _)| (e, x))
 }

@@ -52,13 +52,18 @@ struct Slab {
 }
 
 impl Slab {
-    /// The slab of a face; the whole space where its normal vanishes.
+    /// The slab of a face: along its normal, the cross product of its diagonals.
     fn of(corners: &[DVec3; 4]) -> Slab {
         let a = corners[0];
         let rel = corners.map(|c| c - a);
-        let n = (rel[2] - rel[0]).cross(rel[3] - rel[1]);
-        let size = rel.iter().map(|r| r.length()).fold(0.0, f64::max);
-        let len = n.length();
+        Slab::along(corners, (rel[2] - rel[0]).cross(rel[3] - rel[1]))
+    }
+
+    /// The slab between the extreme projections of a face's corners on `m`, padded by
+    /// `1e-9` of the face's size; the whole space where `m` vanishes.
+    fn along(corners: &[DVec3; 4], m: DVec3) -> Slab {
+        let a = corners[0];
+        let len = m.length();
         if !(len > 0.0 && len.is_finite()) {
             return Slab {
                 a,
@@ -67,19 +72,28 @@ impl Slab {
                 hi: f64::INFINITY,
             };
         }
-        let (mut lo, mut hi) = (0.0f64, 0.0f64);
-        for r in &rel[1..] {
-            let v = n.dot(*r);
+        let (mut lo, mut hi, mut size) = (0.0f64, 0.0f64, 0.0f64);
+        for k in &corners[1..] {
+            let r = *k - a;
+            let v = m.dot(r);
             lo = lo.min(v);
             hi = hi.max(v);
+            size = size.max(r.length());
         }
         let pad = SLAB_PAD * size * len;
         Slab {
             a,
-            n,
+            n: m,
             lo: lo - pad,
             hi: hi + pad,
         }
+    }
+
+    /// Whether `p` lies within `r` of the slab.
+    fn holds(&self, p: DVec3, r: f64) -> bool {
+        let v = self.n.dot(p - self.a);
+        let pad = r * self.n.length();
+        v >= self.lo - pad && v <= self.hi + pad
     }
 
     /// The ray's interval in the slab, `None` where it misses.
@@ -162,7 +176,6 @@ impl BoundarySurface {
     /// `[t0, t)`. Node visits are counted in `counters`.
     pub fn next_crossing(
         &self,
-
         origin: DVec3,
         dir: DVec3,
         t0: f64,
@@ -177,9 +190,7 @@ impl BoundarySurface {
             })
             .and_then(|(t, _, i)| self.faces.get(i as usize).map(|&(c, _)| (t, c)))
     }
-}
 
-impl BoundarySurface {
     /// Whether a boundary face other than face `face` of `cell` may lie within `r` of `p`:
     /// one whose box, slab (see the module documentation) and four edge slabs (between the
     /// corners' extreme projections on each edge crossed with the normal), all padded by `r`,
@@ -193,31 +204,15 @@ impl BoundarySurface {
             if c == cell && f as usize == face {
                 return false;
             }
-            let corners = face_corners(mesh, c, f);
-            let a = corners[0];
-            let n = (corners[2] - a).cross(corners[3] - corners[1]);
-            let len = n.length();
-            if !(len > 0.0 && len.is_finite()) {
-                return true;
-            }
-            let size = corners
-                .iter()
-                .map(|k| (*k - a).length())
-                .fold(0.0, f64::max);
             // Within r of the hull of the corners along the normal and across each edge
             // (the slabs between the corners' extreme projections hold the hull).
-            let within = |m: DVec3| {
-                let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-                for k in &corners {
-                    let v = m.dot(*k - a);
-                    lo = lo.min(v);
-                    hi = hi.max(v);
-                }
-                let pad = (r + SLAB_PAD * size) * m.length();
-                let v = m.dot(p - a);
-                v >= lo - pad && v <= hi + pad
-            };
-            within(n) && (0..4).all(|e| within((corners[(e + 1) % 4] - corners[e]).cross(n)))
+            let corners = face_corners(mesh, c, f);
+            let normal = &self.slabs[i as usize];
+            normal.holds(p, r)
+                && (0..4).all(|e| {
+                    let m = (corners[(e + 1) % 4] - corners[e]).cross(normal.n);
+                    Slab::along(&corners, m).holds(p, r)
+                })
         })
     }
 }

@@ -3,7 +3,8 @@
 
 use glam::DVec3;
 
-use super::{Bvh, MAX_DEPTH};
+use super::{BoxF32, Bvh};
+use crate::accel::Counters;
 use crate::geometry::bounds::Aabb;
 
 impl Bvh<Aabb> {
@@ -26,46 +27,13 @@ impl Bvh<Aabb> {
     /// assert!(!bvh.any_near(q, 0.25, |c| c == 4));
     /// assert!(bvh.any_near(q, 0.35, |c| c == 4));
     /// ```
-    pub fn any_near(&self, q: DVec3, r: f64, mut accept: impl FnMut(u32) -> bool) -> bool {
-        let Some(root) = self.nodes.first() else {
-            return false;
-        };
+    pub fn any_near(&self, q: DVec3, r: f64, accept: impl FnMut(u32) -> bool) -> bool {
         let q = q - self.frame.anchor;
-        let extent = (0..3)
-            .map(|a| (root.bounds.max[a] - root.bounds.min[a]) as f64)
-            .fold(0.0, f64::max);
-        let pad = r + 1e-9 * extent;
-        let holds = |min: [f32; 3], max: [f32; 3]| {
-            (0..3).all(|a| q[a] >= min[a] as f64 - pad && q[a] <= max[a] as f64 + pad)
+        let pad = r + self.query_pad();
+        let holds = |b: &BoxF32| {
+            (0..3).all(|a| q[a] >= b.min[a] as f64 - pad && q[a] <= b.max[a] as f64 + pad)
         };
-        let mut stack = [0u32; MAX_DEPTH];
-        let mut top = 1usize;
-        while top > 0 {
-            top -= 1;
-            let at = stack[top];
-            let Some(node) = self.nodes.get(at as usize) else {
-                continue;
-            };
-            if !holds(node.bounds.min, node.bounds.max) {
-                continue;
-            }
-            if node.count == 0 {
-                // Children: the next node (left) and `index` (right).
-                if top + 2 <= MAX_DEPTH {
-                    stack[top] = node.index;
-                    stack[top + 1] = at + 1;
-                    top += 2;
-                }
-            } else {
-                let first = node.index as usize;
-                let end = first + node.count as usize;
-                for piece in self.refs.get(first..end).unwrap_or(&[]) {
-                    if holds(piece.bounds.min, piece.bounds.max) && accept(piece.cell) {
-                        return true;
-                    }
-                }
-            }
-        }
-        false
+        self.find_where(holds, &mut Counters::default(), accept)
+            .is_some()
     }
 }

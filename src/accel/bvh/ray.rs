@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::{Bvh, MAX_DEPTH};
+use super::{BoxF32, Bvh, BvhBounds, MAX_DEPTH};
 use crate::accel::Counters;
 use crate::geometry::bounds::Aabb;
 
@@ -44,7 +44,86 @@ fn box_span(
     (lo <= hi).then_some((lo, hi))
 }
 
+impl<B: BvhBounds> Bvh<B> {
+    /// Closest-hit traversal along a ray, the bounds tests left to closures: a node is
+    /// entered at `enter_node(index, bounds, hi)` (the ray's entry into it on `[t0, hi]`,
+    /// `hi` the best entry so far), nearest child first; a leaf's pieces are offered to
+    /// `hit(bounds, cell, hi)`, which gives the ray's `(entry, exit)` of the piece. Returns the
+    /// piece with the smallest entry, as `(entry, exit, cell)`. Node visits are counted.
+    pub(crate) fn closest_hit(
+        &self,
+        t0: f64,
+        t1: f64,
+        counters: &mut Counters,
+        mut enter_node: impl FnMut(usize, &B::Compact, f64) -> Option<f64>,
+        mut hit: impl FnMut(&B::Compact, u32, f64) -> Option<(f64, f64)>,
+    ) -> Option<(f64, f64, u32)> {
+        let root = self.nodes.first()?;
+        enter_node(0, &root.bounds, t1)?;
+        let mut best: Option<(f64, f64, u32)> = None;
+        let mut hi = t1;
+        let mut stack = [(0u32, t0); MAX_DEPTH];
+        let mut top = 1usize;
+        while top > 0 {
+            top -= 1;
+            let (at, entry) = stack[top];
+            if entry > hi {
+                continue;
+            }
+            let Some(node) = self.nodes.get(at as usize) else {
+                continue;
+            };
+            if node.count == 0 {
+                counters.internal_visits += 1;
+                let mut child = |n: u32| {
+                    self.nodes
+                        .get(n as usize)
+                        .and_then(|c| enter_node(n as usize, &c.bounds, hi))
+                };
+                let (l, r) = (at + 1, node.index);
+                let (el, er) = (child(l), child(r));
+                // The nearer child goes on top.
+                let mut order = [(l, el), (r, er)];
+                if matches!((el, er), (Some(a), Some(b)) if a <= b) {
+                    order.swap(0, 1);
+                }
+                for (n, e) in order {
+                    if let Some(e) = e {
+                        if top < MAX_DEPTH {
+                            stack[top] = (n, e);
+                            top += 1;
+                        }
+                    }
+                }
+            } else {
+                counters.leaf_visits += 1;
+                let first = node.index as usize;
+                let end = first + node.count as usize;
+                for piece in self.refs.get(first..end).unwrap_or(&[]) {
+                    if let Some((e, x)) = hit(&piece.bounds, piece.cell, hi) {
+                        if e <= hi && best.map_or(true, |b| e < b.0) {
+                            best = Some((e, x, piece.cell));
+                            hi = e;
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
 impl Bvh<Aabb> {
+    /// The padding of every stored box in queries: `1e-9` of the root's largest extent.
+    pub(crate) fn query_pad(&self) -> f64 {
+        self.nodes.first().map_or(0.0, |root| {
+            let e = (0..3)
+                .map(|a| (root.bounds.max[a] - root.bounds.min[a]) as f64)
+                .fold(0.0, f64::max);
+            1e-9 * e
+        })
+    }
+
     /// The first piece along the ray `origin + t dir` on `[t0, t1]`: among the pieces whose
     /// (padded) boxes the ray meets, `hit(cell, lo, hi)` — given the piece's cell and the
     /// ray's interval in its box — says where the ray meets the piece itself (`None`: not
@@ -82,69 +161,15 @@ impl Bvh<Aabb> {
         counters: &mut Counters,
         mut hit: impl FnMut(u32, f64, f64) -> Option<(f64, f64)>,
     ) -> Option<(f64, f64, u32)> {
-        let root = self.nodes.first()?;
         let o = origin - self.frame.anchor;
-        let pad = {
-            let e = (0..3)
-                .map(|a| (root.bounds.max[a] - root.bounds.min[a]) as f64)
-                .fold(0.0, f64::max);
-            1e-9 * e
-        };
-        box_span(o, dir, pad, root.bounds.min, root.bounds.max, t0, t1)?;
-        let mut best: Option<(f64, f64, u32)> = None;
-        let mut hi = t1;
-        let mut stack = [(0u32, t0); MAX_DEPTH];
-        let mut top = 1usize;
-        while top > 0 {
-            top -= 1;
-            let (at, entry) = stack[top];
-            if entry > hi {
-                continue;
-            }
-            let Some(node) = self.nodes.get(at as usize) else {
-                continue;
-            };
-            if node.count == 0 {
-                counters.internal_visits += 1;
-                let child = |n: u32| {
-                    self.nodes.get(n as usize).and_then(|c| {
-                        box_span(o, dir, pad, c.bounds.min, c.bounds.max, t0, hi).map(|s| s.0)
-                    })
-                };
-                let (l, r) = (at + 1, node.index);
-                let (el, er) = (child(l), child(r));
-                // The nearer child goes on top.
-                let mut order = [(l, el), (r, er)];
-                if matches!((el, er), (Some(a), Some(b)) if a <= b) {
-                    order.swap(0, 1);
-                }
-                for (n, e) in order {
-                    if let Some(e) = e {
-                        if top < MAX_DEPTH {
-                            stack[top] = (n, e);
-                            top += 1;
-                        }
-                    }
-                }
-            } else {
-                counters.leaf_visits += 1;
-                let first = node.index as usize;
-                let end = first + node.count as usize;
-                for piece in self.refs.get(first..end).unwrap_or(&[]) {
-                    let Some((lo, x)) =
-                        box_span(o, dir, pad, piece.bounds.min, piece.bounds.max, t0, hi)
-                    else {
-                        continue;
-                    };
-                    if let Some((e, x)) = hit(piece.cell, lo, x) {
-                        if e <= hi && best.map_or(true, |b| e < b.0) {
-                            best = Some((e, x, piece.cell));
-                            hi = e;
-                        }
-                    }
-                }
-            }
-        }
-        best
+        let pad = self.query_pad();
+        let span = |b: &BoxF32, hi: f64| box_span(o, dir, pad, b.min, b.max, t0, hi);
+        self.closest_hit(
+            t0,
+            t1,
+            counters,
+            |_, b, hi| span(b, hi).map(|s| s.0),
+            |b, cell, hi| span(b, hi).and_then(|(lo, x)| hit(cell, lo, x)),
+        )
     }
 }

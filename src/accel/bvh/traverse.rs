@@ -20,12 +20,25 @@ impl<B: BvhBounds> Bvh<B> {
         &self,
         q: DVec3,
         counters: &mut Counters,
+        accept: impl FnMut(u32) -> bool,
+    ) -> Option<u32> {
+        let q = q - self.frame.anchor;
+        self.find_where(|b| B::compact_contains(b, q), counters, accept)
+    }
+
+    /// The traversal of [`Bvh::find`] for any test of stored bounds: the cells of the leaf
+    /// pieces whose bounds pass `holds` (within nodes that pass it) are offered to `accept`
+    /// until it returns `true`. Nodes visited are counted in `counters`.
+    #[inline]
+    pub(crate) fn find_where(
+        &self,
+        holds: impl Fn(&B::Compact) -> bool,
+        counters: &mut Counters,
         mut accept: impl FnMut(u32) -> bool,
     ) -> Option<u32> {
         if self.nodes.is_empty() {
             return None;
         }
-        let q = q - self.frame.anchor;
         let mut stack = [0u32; MAX_DEPTH];
         let mut top = 1usize;
         while top > 0 {
@@ -34,7 +47,7 @@ impl<B: BvhBounds> Bvh<B> {
             let Some(node) = self.nodes.get(at as usize) else {
                 continue;
             };
-            let inside = B::compact_contains(&node.bounds, q);
+            let inside = holds(&node.bounds);
             if node.count == 0 {
                 counters.internal_visits += 1;
                 if inside && top + 2 <= MAX_DEPTH {
@@ -49,7 +62,7 @@ impl<B: BvhBounds> Bvh<B> {
                     let first = node.index as usize;
                     let end = first + node.count as usize;
                     for r in self.refs.get(first..end).unwrap_or(&[]) {
-                        if B::compact_contains(&r.bounds, q) && accept(r.cell) {
+                        if holds(&r.bounds) && accept(r.cell) {
                             return Some(r.cell);
                         }
                     }
