@@ -141,10 +141,9 @@ fn last_error() -> String {
         .into_owned()
 }
 
-/// `cylvol_mesh_new` on the arrays as f64 points and i64 indices.
-fn new_mesh(a: &Arrays) -> (CylvolStatus, *mut CylvolMesh) {
-    let mut out = 0x10 as *mut CylvolMesh;
-    let s = unsafe {
+/// `cylvol_mesh_new` on the arrays as f64 points and i64 indices, writing to `out`.
+fn new_mesh_into(a: &Arrays, out: *mut *mut CylvolMesh) -> CylvolStatus {
+    unsafe {
         cylvol_mesh_new(
             a.points.as_ptr().cast(),
             CylvolValueType::F64.into(),
@@ -155,9 +154,15 @@ fn new_mesh(a: &Arrays) -> (CylvolStatus, *mut CylvolMesh) {
             a.conn.len(),
             a.types.as_ptr(),
             a.n_cells(),
-            &mut out,
+            out,
         )
-    };
+    }
+}
+
+/// [`new_mesh_into`] a fresh handle, which must be NULL after a failure.
+fn new_mesh(a: &Arrays) -> (CylvolStatus, *mut CylvolMesh) {
+    let mut out = 0x10 as *mut CylvolMesh;
+    let s = new_mesh_into(a, &mut out);
     if s != S::Ok {
         assert!(out.is_null(), "*out must be NULL after a failure");
     }
@@ -439,21 +444,7 @@ fn mesh_new_reports_every_bad_input() {
     assert_eq!(call(&good, &|_, t, _| *t = 2), S::InvalidArgument);
     assert!(last_error().contains("points_type = 2"), "{}", last_error());
     assert_eq!(call(&good, &|_, _, t| *t = -1), S::InvalidArgument);
-    let s = unsafe {
-        cylvol_mesh_new(
-            good.points.as_ptr().cast(),
-            CylvolValueType::F64.into(),
-            good.n_points(),
-            good.offsets.as_ptr().cast(),
-            good.conn.as_ptr().cast(),
-            CylvolIndexType::I64.into(),
-            good.conn.len(),
-            good.types.as_ptr(),
-            good.n_cells(),
-            null_mut(),
-        )
-    };
-    assert_eq!(s, S::NullPointer);
+    assert_eq!(new_mesh_into(&good, null_mut()), S::NullPointer);
 
     let mut nan = good.clone();
     nan.points[7] = f64::NAN;
