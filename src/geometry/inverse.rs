@@ -8,7 +8,10 @@
 //!    `r = x(p) − target`; where `J` is singular (collapsed edges and apexes) the step is the
 //!    Levenberg–Marquardt one, `(JᵀJ + μI) Δp = −Jᵀ r`. A backtracking line search halves the
 //!    step until `|r|` decreases. Iterates stay in the search box `[−1, 2]³` (the cell extended
-//!    by its own size on every side).
+//!    by its own size on every side). The first time a step meets that box, the target is
+//!    checked against the convex hull of the corners (as in 3): outside it, the answer is
+//!    [`InverseFailure::NotFound`] at once. Such a target lies far outside a thin cell, its
+//!    preimage beyond the box, where the clamped iterates would only creep along the box.
 //! 3. **Fallback.** If Newton does not converge, or converges outside the cell across a fold of
 //!    the map (where a root inside the cell may hide), the cell's parameter cube is subdivided
 //!    recursively; a sub-cube is rejected when the box of its eight mapped corners (which holds
@@ -35,7 +38,7 @@
 use glam::{DMat3, DVec3};
 use std::ops::AddAssign;
 
-use super::trilinear::{relative_corners, Monomials};
+use super::trilinear::{corner_jacobian_determinants, relative_corners, Monomials};
 
 /// Newton stops once the physical residual is at most this times the cell size.
 pub const STOP_TOLERANCE: f64 = 1e-14;
@@ -235,6 +238,9 @@ struct NewtonEnd {
     param: DVec3,
     residual: f64,
     jacobian: DMat3,
+    /// Newton stopped where an iterate met the search box, the target being outside the
+    /// convex hull of the corners: no root in the cell.
+    beyond_hull: bool,
 }
 
 fn in_cube(p: DVec3, lo: f64, hi: f64) -> bool {
@@ -324,15 +330,21 @@ impl Problem<'_> {
         hull_separates(&self.cell.rel, self.cell.size, self.target)
     }
 
-    /// Damped Newton from `start`, iterates clamped to `[lo, hi]³`.
+    /// Damped Newton from `start`, iterates clamped to `[lo, hi]³`. With `hull_exit`, the
+    /// first time a step meets the search box the target is checked against the convex hull
+    /// of the corners, and Newton stops if it lies outside ([`NewtonEnd::beyond_hull`]):
+    /// such a target, far outside a thin cell, has its preimage beyond the search box, where
+    /// the clamped iterates would creep along the box for many steps to no end.
     fn newton(
         &self,
         start: DVec3,
         lo: f64,
         hi: f64,
         max_iter: u32,
+        hull_exit: bool,
         stats: &mut InverseStats,
     ) -> NewtonEnd {
+        let mut hull_unchecked = hull_exit;
         let mut p = start.clamp(DVec3::splat(lo), DVec3::splat(hi));
         let (x, mut j) = self.cell.poly.map_and_jacobian(p);
         stats.map_evaluations += 1;
@@ -347,7 +359,19 @@ impl Problem<'_> {
             let mut t = 1.0;
             let mut accepted = false;
             for _ in 0..=MAX_HALVINGS {
-                let q = (p + d * t).clamp(DVec3::splat(lo), DVec3::splat(hi));
+                let free = p + d * t;
+                let q = free.clamp(DVec3::splat(lo), DVec3::splat(hi));
+                if hull_unchecked && q != free {
+                    hull_unchecked = false;
+                    if self.outside_hull() {
+                        return NewtonEnd {
+                            param: p,
+                            residual: rn,
+                            jacobian: j,
+                            beyond_hull: true,
+                        };
+                    }
+                }
                 let (xq, jq) = self.cell.poly.map_and_jacobian(q);
                 stats.map_evaluations += 1;
                 let rq = xq - self.target;
@@ -374,6 +398,7 @@ impl Problem<'_> {
             param: p,
             residual: rn,
             jacobian: j,
+            beyond_hull: false,
         }
     }
 
@@ -409,6 +434,7 @@ impl Problem<'_> {
                 -SEARCH_MARGIN,
                 1.0 + SEARCH_MARGIN,
                 SUB_NEWTON_ITERATIONS,
+                false,
                 stats,
             );
             if end.residual <= self.accept && in_cube(end.param, lo0, 1.0 + INSIDE_SLACK) {
@@ -500,21 +526,31 @@ fn solve(
         -SEARCH_MARGIN,
         1.0 + SEARCH_MARGIN,
         MAX_NEWTON_ITERATIONS,
+        true,
         stats,
     );
     // A degenerate (flat) cell has a singular Jacobian everywhere; checking it only when Newton
     // ends somewhere singular (or fails) keeps the check off the common path.
     if end.residual > prob.accept || super::trilinear::is_singular(&end.jacobian) {
-        let max_det = super::trilinear::CORNER_PARAMETERS
+        // At a corner the Jacobian's columns are the cell's edges from it.
+        let centre = prob
+            .cell
+            .poly
+            .map_and_jacobian(DVec3::splat(0.5))
+            .1
+            .determinant()
+            .abs();
+        stats.map_evaluations += 1;
+        let max_det = corner_jacobian_determinants(&prob.cell.rel)
             .into_iter()
-            .map(DVec3::from_array)
-            .chain(std::iter::once(DVec3::splat(0.5)))
-            .map(|p| prob.cell.poly.map_and_jacobian(p).1.determinant().abs())
-            .fold(0.0, f64::max);
-        stats.map_evaluations += 9;
+            .map(f64::abs)
+            .fold(centre, f64::max);
         if max_det <= DEGENERATE_TOLERANCE * size * size * size {
             return Err(InverseFailure::Degenerate);
         }
+    }
+    if end.beyond_hull {
+        return Err(InverseFailure::NotFound);
     }
     let mut outside_root = None;
     if end.residual <= prob.accept {
@@ -662,6 +698,27 @@ mod tests {
         let p = DVec3::new(0.3, 0.6, 0.5);
         let q = invert(&c, map(&c, p), None).param().expect("inside");
         assert!((q - p).length() < 1e-9);
+    }
+
+    #[test]
+    fn far_outside_a_thin_cell_stops_at_the_search_box() {
+        // A slab 100 times thinner than wide, and targets half its width beyond its thin
+        // faces: their preimages lie some 50 cell thicknesses out, far past the search box
+        // [−1, 2]³. The hull settles them as soon as a Newton step meets the box, without
+        // the clamped iterates creeping along it (about thirty evaluations of the map).
+        let thin = CORNER_PARAMETERS.map(|p| DVec3::new(p[0], p[1], 0.01 * p[2]));
+        for z in [0.5, -0.5] {
+            let inv = invert(&thin, DVec3::new(0.4, 0.6, z), None);
+            assert_eq!(inv.outcome, Err(InverseFailure::NotFound), "{z}");
+            assert!(inv.stats.map_evaluations <= 4, "{z}: {:?}", inv.stats);
+            assert_eq!(inv.stats.fallbacks, 0);
+        }
+        // Just beyond the thin face, and inside, Newton still converges as before.
+        let near = invert(&thin, DVec3::new(0.4, 0.6, 0.0105), None);
+        let q = near.param().expect("an outside root");
+        assert!((q.z - 1.05).abs() < 1e-9, "{q}");
+        let inside = invert(&thin, DVec3::new(0.4, 0.6, 0.005), None);
+        assert!((inside.param().unwrap() - DVec3::new(0.4, 0.6, 0.5)).length() < 1e-12);
     }
 
     #[test]
