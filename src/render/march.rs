@@ -50,6 +50,19 @@ pub const MAX_MARCH_STEPS: u32 = 64;
 /// ```
 #[inline]
 pub fn exit_face(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(usize, f64)> {
+    exit_face_except(corners, o, d, usize::MAX)
+}
+
+/// [`exit_face`] with the face `entry` (0–5; any other value for none) left out: the face
+/// the ray entered the cell through, whose plane it crosses inwards (or, grazing it, at no
+/// distance, which would send the march back where it came from).
+#[inline]
+pub fn exit_face_except(
+    corners: &[DVec3; 8],
+    o: DVec3,
+    d: DVec3,
+    entry: usize,
+) -> Option<(usize, f64)> {
     let x0 = corners[0];
     let dd = d.length_squared();
     if !(dd > 0.0 && dd.is_finite()) {
@@ -63,6 +76,9 @@ pub fn exit_face(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(usize, f64
     // The smallest num/den over faces with den > 0, compared without dividing.
     let mut best: Option<(usize, f32, f32)> = None;
     for (f, slots) in FACES.iter().enumerate() {
+        if f == entry {
+            continue;
+        }
         let [a, b, c, e] = slots.map(|s| rel[s]);
         let mut n = (c - a).cross(e - b);
         let mid = (a + b + c + e) * 0.25;
@@ -90,6 +106,8 @@ pub fn exit_face(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(usize, f64
 #[derive(Clone, Debug)]
 pub struct March {
     cell: u32,
+    /// The current cell's corners (gathered once per cell crossed).
+    corners: [DVec3; 8],
     /// The exit face and its `t`; `None` when the cell has no exit by its planes.
     exit: Option<(usize, f64)>,
     solver: Solver,
@@ -131,6 +149,7 @@ impl March {
     pub fn new() -> March {
         March {
             cell: u32::MAX,
+            corners: [DVec3::ZERO; 8],
             exit: None,
             solver: Solver {
                 id: u32::MAX,
@@ -142,9 +161,15 @@ impl March {
     /// Moves the march to `cell` (in place: the prepared cell, if any, stays until a sample
     /// is tested in another cell).
     pub fn move_to(&mut self, mesh: &Mesh, cell: u32, o: DVec3, d: DVec3) {
+        self.enter(mesh, cell, usize::MAX, o, d);
+    }
+
+    /// Moves the march to `cell`, entered through its face `entry` (none if not 0–5).
+    fn enter(&mut self, mesh: &Mesh, cell: u32, entry: usize, o: DVec3, d: DVec3) {
         self.cell = cell;
         self.exit = if (cell as usize) < mesh.cell_count() {
-            exit_face(&mesh.cell_corners(cell as usize), o, d)
+            self.corners = mesh.cell_corners(cell as usize);
+            exit_face_except(&self.corners, o, d, entry)
         } else {
             None
         };
@@ -191,27 +216,31 @@ impl March {
             }
             steps += 1;
             work.plane_steps += 1;
-            self.move_to(mesh, n, o, d);
+            let entry = neighbours
+                .neighbours(n)
+                .iter()
+                .position(|&m| m == self.cell)
+                .unwrap_or(usize::MAX);
+            self.enter(mesh, n, entry, o, d);
         }
         if self.cell as usize >= n_cells {
             return WalkEnd::GaveUp;
         }
-        if no_parameters(self.cell) && certainly_inside(&mesh.cell_corners(self.cell as usize), p) {
+        if no_parameters(self.cell) && certainly_inside(&self.corners, p) {
             work.certified += 1;
             return WalkEnd::Certified(self.cell);
         }
         let start_guess = guess.filter(|g| g.0 == self.cell).map(|g| g.1);
         work.tests += 1;
         if self.solver.id != self.cell {
-            let corners = mesh.cell_corners(self.cell as usize);
             self.solver.id = self.cell;
-            self.solver.ready = self.solver.cell.prepare(&corners).is_ok();
-            self.solver.reject = reject_box(&corners);
+            self.solver.ready = self.solver.cell.prepare(&self.corners).is_ok();
+            self.solver.reject = reject_box(&self.corners);
         }
         let tested = if self.solver.ready {
             self.solver.test(p, start_guess)
         } else {
-            test_cell(&mesh.cell_corners(self.cell as usize), p, start_guess)
+            test_cell(&self.corners, p, start_guess)
         };
         match tested {
             Ok(q) => WalkEnd::Found(self.cell, q),
@@ -293,6 +322,28 @@ mod tests {
             exit_face(&cube, centre, DVec3::new(f64::NAN, 0.0, 1.0)),
             None
         );
+    }
+
+    #[test]
+    fn the_entry_face_is_left_out() {
+        let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+        let o = DVec3::new(0.5, 0.5, 0.5);
+        // Heading out through u = 1 (face 1): leaving that face out leaves no exit ahead, and
+        // leaving out a face the ray does not head out of changes nothing.
+        assert_eq!(exit_face(&cube, o, DVec3::X).unwrap().0, 1);
+        assert_eq!(exit_face_except(&cube, o, DVec3::X, 1), None);
+        assert_eq!(
+            exit_face_except(&cube, o, DVec3::X, 0),
+            exit_face(&cube, o, DVec3::X)
+        );
+        // A ray grazing the face it came in by (its plane crossed at no distance ahead) goes
+        // on to the face it really leaves by.
+        let o = DVec3::new(0.0, 0.5, 0.5);
+        let d = DVec3::new(1e-9, 1.0, 0.0);
+        assert_eq!(exit_face(&cube, o, -d).unwrap().0, 0);
+        let (f, t) = exit_face_except(&cube, o, -d, 0).unwrap();
+        assert_eq!(f, 2);
+        assert!((t - 0.5).abs() < 1e-6, "{t}");
     }
 
     #[test]
