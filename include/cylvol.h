@@ -406,7 +406,9 @@ typedef struct CylvolRenderParams {
 } CylvolRenderParams;
 
 /**
- * The work of the last render of a volume.
+ * The work of the last render of a volume: the counters of the Rust API's `RenderStats`,
+ * field for field, with the wall time. Fields are only ever added at the end; compile against
+ * the header of the library you link.
  */
 typedef struct CylvolRenderStats {
   /**
@@ -445,6 +447,49 @@ typedef struct CylvolRenderStats {
    * Rays stopped by early termination.
    */
   uint64_t early_terminations;
+  /**
+   * Samples skipped because their cell is transparent (fast path).
+   */
+  uint64_t samples_skipped;
+  /**
+   * Of those, samples placed in their cell by its face planes alone, with no inverse map
+   * (fast path).
+   */
+  uint64_t plane_certified;
+  /**
+   * Samples found in the previous sample's cell (fast path).
+   */
+  uint64_t previous_cell_hits;
+  /**
+   * Samples found in a face neighbour of the previous sample's cell (fast path).
+   */
+  uint64_t neighbour_hits;
+  /**
+   * Cells stepped across by face planes, without an inverse map (fast path).
+   */
+  uint64_t walk_steps;
+  /**
+   * Samples passed over as empty space without point location (fast path).
+   */
+  uint64_t space_skips;
+  /**
+   * Samples located through the structure from scratch (fast path).
+   */
+  uint64_t structure_locates;
+  /**
+   * Samples with no previous cell found by a walk from the previous ray's first cell.
+   */
+  uint64_t entry_walk_hits;
+  /**
+   * Containment tests made to find where rays cross the mesh boundary (also counted in
+   * `hex_tests`).
+   */
+  uint64_t boundary_refinements;
+  /**
+   * Nodes of the boundary surface's BVH visited to skip the space outside the mesh (fast
+   * path).
+   */
+  uint64_t surface_visits;
 } CylvolRenderStats;
 
 #ifdef __cplusplus

@@ -10,7 +10,7 @@ use cylvol::axis::Axis;
 use cylvol::ffi::*;
 use cylvol::mesh::{cells_from_vtk, OffsetStyle};
 use cylvol::render::{
-    Camera, RenderOptions, Renderer, TransferFunction, Volume, DEFAULT_TABLE_SIZE,
+    Camera, RenderOptions, RenderStats, Renderer, TransferFunction, Volume, DEFAULT_TABLE_SIZE,
 };
 use cylvol::{DataArray, Mesh, MeshParts};
 use glam::DVec3;
@@ -1053,7 +1053,7 @@ fn rust_image(
     w: u32,
     h: u32,
     tweak: impl Fn(&mut RenderOptions),
-) -> Vec<f32> {
+) -> (Vec<f32>, RenderStats) {
     let cells = cells_from_vtk(
         &a.conn,
         &a.offsets,
@@ -1089,8 +1089,8 @@ fn rust_image(
     let renderer = Renderer::new(&volume, &tables.function(), &options)
         .unwrap()
         .with_neighbours(&neighbours);
-    let (image, _) = renderer.render(camera, None).unwrap();
-    image.rgba.iter().flatten().copied().collect()
+    let (image, stats) = renderer.render(camera, None).unwrap();
+    (image.rgba.iter().flatten().copied().collect(), stats)
 }
 
 #[test]
@@ -1115,6 +1115,7 @@ fn renders_equal_the_rust_api_and_agree_across_formats_types_and_row_orders() {
     assert!(stats.samples > 0 && stats.samples_located > 0 && stats.hex_tests > 0);
     assert!(stats.internal_visits + stats.leaf_visits > 0 && stats.seconds > 0.0);
     assert_eq!(stats.gradient_evaluations, 0, "no shading, no gradients");
+    let first_stats = stats;
     assert_eq!(
         unsafe { cylvol_volume_render_stats(v, null_mut()) },
         S::NullPointer
@@ -1127,8 +1128,17 @@ fn renders_equal_the_rust_api_and_agree_across_formats_types_and_row_orders() {
         35.0,
     )
     .unwrap();
-    let reference = rust_image(&a, field(&a), &tables, &camera, w, h, |_| {});
+    let (reference, reference_stats) = rust_image(&a, field(&a), &tables, &camera, w, h, |_| {});
     assert_eq!(out.f32, reference);
+    // And its counters, every one of them.
+    assert_eq!(
+        first_stats,
+        CylvolRenderStats {
+            seconds: first_stats.seconds,
+            ..CylvolRenderStats::from((0.0, reference_stats))
+        }
+    );
+    assert!(reference_stats.walk_steps > 0 && reference_stats.surface_visits > 0);
     assert!(out.f32.chunks(4).any(|p| p[3] > 0.05), "something is seen");
     assert!(
         out.f32.chunks(4).any(|p| p[3] == 0.0),
@@ -1525,7 +1535,7 @@ fn nearest_interpolation_and_gradient_opacity_match_the_rust_api() {
     let nearest = render_f32(v, &c, &tables.c(), &p, None);
     assert_eq!(nearest.status, S::Ok, "{}", last_error());
     assert_ne!(nearest.f32, linear.f32);
-    let reference = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
+    let (reference, _) = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
         o.interpolation = cylvol::render::Interpolation::Nearest
     });
     assert_eq!(nearest.f32, reference);
@@ -1544,7 +1554,7 @@ fn nearest_interpolation_and_gradient_opacity_match_the_rust_api() {
         stats.gradient_evaluations > 0,
         "gradient opacity needs gradients"
     );
-    let reference = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
+    let (reference, _) = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
         o.gradient_opacity = Some(
             cylvol::render::GradientOpacity::new(&[(0.0, 0.0), (1.5, 0.25), (3.0, 1.0)]).unwrap(),
         )

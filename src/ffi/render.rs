@@ -96,7 +96,9 @@ impl Default for CylvolRenderParams {
     }
 }
 
-/// The work of the last render of a volume.
+/// The work of the last render of a volume: the counters of the Rust API's `RenderStats`,
+/// field for field, with the wall time. Fields are only ever added at the end; compile against
+/// the header of the library you link.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CylvolRenderStats {
@@ -118,6 +120,29 @@ pub struct CylvolRenderStats {
     pub gradient_evaluations: u64,
     /// Rays stopped by early termination.
     pub early_terminations: u64,
+    /// Samples skipped because their cell is transparent (fast path).
+    pub samples_skipped: u64,
+    /// Of those, samples placed in their cell by its face planes alone, with no inverse map
+    /// (fast path).
+    pub plane_certified: u64,
+    /// Samples found in the previous sample's cell (fast path).
+    pub previous_cell_hits: u64,
+    /// Samples found in a face neighbour of the previous sample's cell (fast path).
+    pub neighbour_hits: u64,
+    /// Cells stepped across by face planes, without an inverse map (fast path).
+    pub walk_steps: u64,
+    /// Samples passed over as empty space without point location (fast path).
+    pub space_skips: u64,
+    /// Samples located through the structure from scratch (fast path).
+    pub structure_locates: u64,
+    /// Samples with no previous cell found by a walk from the previous ray's first cell.
+    pub entry_walk_hits: u64,
+    /// Containment tests made to find where rays cross the mesh boundary (also counted in
+    /// `hex_tests`).
+    pub boundary_refinements: u64,
+    /// Nodes of the boundary surface's BVH visited to skip the space outside the mesh (fast
+    /// path).
+    pub surface_visits: u64,
 }
 
 impl From<(f64, RenderStats)> for CylvolRenderStats {
@@ -132,6 +157,16 @@ impl From<(f64, RenderStats)> for CylvolRenderStats {
             leaf_visits: s.leaf_visits,
             gradient_evaluations: s.gradient_evaluations,
             early_terminations: s.early_terminations,
+            samples_skipped: s.samples_skipped,
+            plane_certified: s.plane_certified,
+            previous_cell_hits: s.previous_cell_hits,
+            neighbour_hits: s.neighbour_hits,
+            walk_steps: s.walk_steps,
+            space_skips: s.space_skips,
+            structure_locates: s.structure_locates,
+            entry_walk_hits: s.entry_walk_hits,
+            boundary_refinements: s.boundary_refinements,
+            surface_visits: s.surface_visits,
         }
     }
 }

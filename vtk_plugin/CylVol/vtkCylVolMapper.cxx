@@ -203,6 +203,7 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->LastRays = this->LastSamples = this->LastSamplesLocated = this->LastHexTests = 0;
   this->LastInternalVisits = this->LastLeafVisits = 0;
   this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
+  this->LastSamplesSkipped = this->LastPlaneCertified = this->LastWalkSteps = 0;
   this->LastImageSize[0] = this->LastImageSize[1] = 0;
   this->BuildCount = 0;
   this->ScalarUpdateCount = 0;
@@ -335,6 +336,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastRays = this->LastSamples = this->LastSamplesLocated = this->LastHexTests = 0;
   this->LastInternalVisits = this->LastLeafVisits = 0;
   this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
+  this->LastSamplesSkipped = this->LastPlaneCertified = this->LastWalkSteps = 0;
   this->LastRaySeconds = 0.0;
 
   // ---- the input ---------------------------------------------------------------------
@@ -797,6 +799,9 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       this->LastLeafVisits += rs.leaf_visits;
       this->LastGradientEvaluations += rs.gradient_evaluations;
       this->LastEarlyTerminations += rs.early_terminations;
+      this->LastSamplesSkipped += rs.samples_skipped;
+      this->LastPlaneCertified += rs.plane_certified;
+      this->LastWalkSteps += rs.walk_steps;
     }
     this->UpdateProgress(static_cast<double>(b + 1) / bands);
   }
@@ -875,4 +880,7 @@ void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastRenderSeconds: " << this->LastRenderSeconds << "\n";
   os << indent << "LastSamples: " << this->LastSamples << "\n";
   os << indent << "LastHexTests: " << this->LastHexTests << "\n";
+  os << indent << "LastSamplesSkipped: " << this->LastSamplesSkipped << "\n";
+  os << indent << "LastPlaneCertified: " << this->LastPlaneCertified << "\n";
+  os << indent << "LastWalkSteps: " << this->LastWalkSteps << "\n";
 }

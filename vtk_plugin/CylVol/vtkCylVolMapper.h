@@ -195,8 +195,10 @@ public:
    * Statistics of the last render: wall time of Render() (seconds, build included when it
    * built), cylvol's own render time, rays, samples, samples located through the
    * structure, hexahedron containment tests, structure node visits, gradient evaluations
-   * (zero unless shading or a gradient opacity asks for them), rays stopped early, and the
-   * image size.
+   * (zero unless shading or a gradient opacity asks for them), rays stopped early, the
+   * image size, and the fast path's own work: samples skipped in transparent cells, those of
+   * them placed by their cell's face planes alone (no inverse map), and cells crossed by face
+   * planes.
    */
   vtkGetMacro(LastRenderSeconds, double);
   vtkGetMacro(LastRaySeconds, double);
@@ -209,6 +211,9 @@ public:
   vtkGetMacro(LastGradientEvaluations, vtkTypeUInt64);
   vtkGetMacro(LastEarlyTerminations, vtkTypeUInt64);
   vtkGetVector2Macro(LastImageSize, int);
+  vtkGetMacro(LastSamplesSkipped, vtkTypeUInt64);
+  vtkGetMacro(LastPlaneCertified, vtkTypeUInt64);
+  vtkGetMacro(LastWalkSteps, vtkTypeUInt64);
   ///@}
 
   ///@{
@@ -279,6 +284,9 @@ protected:
   vtkTypeUInt64 LastLeafVisits;
   vtkTypeUInt64 LastGradientEvaluations;
   vtkTypeUInt64 LastEarlyTerminations;
+  vtkTypeUInt64 LastSamplesSkipped;
+  vtkTypeUInt64 LastPlaneCertified;
+  vtkTypeUInt64 LastWalkSteps;
   int LastImageSize[2];
   int BuildCount;
   int ScalarUpdateCount;

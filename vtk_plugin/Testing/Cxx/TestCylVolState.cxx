@@ -87,6 +87,26 @@ int TestCylVolState(int, char*[])
   Expect(mapper->GetLastImageSize()[0] == 160 && mapper->GetLastImageSize()[1] == 160, "image 160x160");
   Expect(Lit(first) > 1000, "the first frame shows the volume");
   Expect(mapper->GetLastGradientEvaluations() == 0, "no gradients without shading or gradient opacity");
+  Expect(mapper->GetLastWalkSteps() > 0, "the fast path crosses cells by face planes");
+  const vtkTypeUInt64 skippedFirst = mapper->GetLastSamplesSkipped();
+
+  // Transparent cells: the lower half of the range is skipped, partly by face planes alone.
+  {
+    vtkNew<vtkPiecewiseFunction> upper;
+    upper->AddPoint(d.Range[0], 0.0);
+    upper->AddPoint(0.5 * (d.Range[0] + d.Range[1]), 0.0);
+    upper->AddPoint(d.Range[1], 1.0);
+    vtkPiecewiseFunction* kept = volume->GetProperty()->GetScalarOpacity();
+    kept->Register(nullptr);
+    volume->GetProperty()->SetScalarOpacity(upper);
+    win->Render();
+    const vtkTypeUInt64 skipped = mapper->GetLastSamplesSkipped();
+    Expect(skipped > skippedFirst && skipped <= mapper->GetLastSamplesLocated(),
+      "samples in the cells made transparent are skipped");
+    Expect(mapper->GetLastPlaneCertified() <= skipped, "face planes place only skipped samples");
+    volume->GetProperty()->SetScalarOpacity(kept);
+    kept->UnRegister(nullptr);
+  }
 
   // Gradient opacity: only when enabled and not the default constant 1.
   vtkVolumeProperty* property = volume->GetProperty();
