@@ -187,6 +187,9 @@ def worker(args):
         out["step"] = mapper.GetLastSampleDistance()
         out["samples"] = mapper.GetLastSamples()
         out["hex_tests"] = mapper.GetLastHexTests()
+        # The last frame: cylvol's own ray casting, and the mapper's whole Render().
+        out["last_ray_s"] = mapper.GetLastRaySeconds()
+        out["last_render_s"] = mapper.GetLastRenderSeconds()
     # Back to the first frame's view for the image comparison.
     if args.frames % 2 == 1:
         cam.Azimuth(-1.0)
@@ -327,9 +330,10 @@ def main():
             if name == "vtk":
                 extra = ", tetrahedralize %s (%d tets)" % (fmt_s(r["prepare_s"]), r.get("tetrahedra", 0))
             else:
-                extra = ", step %.4g, build %s, structure %s, %.1f MB" % (
+                extra = ", step %.4g, build %s, structure %s, %.1f MB, last frame's rays %s of %s" % (
                     r.get("step", 0.0), fmt_s(r.get("build_s")), r.get("structure"),
-                    r.get("structure_bytes", 0) / 1e6)
+                    r.get("structure_bytes", 0) / 1e6, fmt_s(r.get("last_ray_s")),
+                    fmt_s(r.get("last_render_s")))
             print("  %-12s %d cells: load %s%s, first frame %s, steady %s (frames %s), peak RSS %.0f MB"
                   % (name, r["cells"], fmt_s(r["load_s"]), extra, fmt_s(r["first_frame_s"]),
                      fmt_s(r["steady_s"]), ", ".join("%.3f" % x for x in r["steady_frames_s"]),
