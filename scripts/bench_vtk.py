@@ -13,8 +13,9 @@ Usage (Debian's python3-vtk9 and the build tree's cylvol package):
     cargo build --release && bash vtk_plugin/run_tests.sh      # or just build vtk_plugin
     /usr/bin/python3 scripts/bench_vtk.py                      # mixer and rotor:200000
     /usr/bin/python3 scripts/bench_vtk.py mixer rotor:2100000 --size 512 --frames 3
-Datasets: mixer, hexa, comb, post (from ../shared/data) or rotor[:CELLS] (generated with
-`cylvol gen pump-rotor:CELLS`). --json prints the results as JSON as well.
+Datasets: mixer, hexa, comb, post (from ../shared/data), mixer:N or hexa:N (that mesh with every
+hexahedron cut into N x N x N by `cylvol gen FILE --refine N`; mixer:4 is the 2.15 M-cell mixer of
+MISSION.md's reference measurement) or rotor[:CELLS] (generated with `cylvol gen pump-rotor:CELLS`). --json prints the results as JSON as well.
 """
 import argparse
 import json
@@ -52,6 +53,11 @@ def load(spec, workdir):
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
     name = spec.split(":")[0]
+    if name in ("mixer", "hexa") and ":" in spec:
+        r = vtkXMLUnstructuredGridReader()
+        r.SetFileName(refined_file(spec, workdir))
+        r.Update()
+        return r.GetOutput(), ("p" if name == "mixer" else "scalars")
     if name in ("mixer", "hexa"):
         r = vtkUnstructuredGridReader()
         r.SetFileName(os.path.join(DATA, name + ".vtk"))
@@ -74,6 +80,11 @@ def load(spec, workdir):
         r.Update()
         return r.GetOutput(), "pressure"
     raise SystemExit("unknown dataset " + spec)
+
+
+def refined_file(spec, workdir):
+    name, n = spec.split(":")
+    return os.path.join(workdir, "%s-refined-%s.vtu" % (name, n))
 
 
 def rotor_file(spec, workdir):
@@ -307,6 +318,13 @@ def main():
                 cells = dataset.split(":")[1] if ":" in dataset else "2100000"
                 print("generating pump-rotor:%s ..." % cells, file=sys.stderr, flush=True)
                 subprocess.run([CYLVOL, "gen", "pump-rotor:" + cells, "-o", path], check=True)
+        if dataset.split(":")[0] in ("mixer", "hexa") and ":" in dataset:
+            path = refined_file(dataset, workdir)
+            if not os.path.exists(path):
+                name, n = dataset.split(":")
+                print("refining %s by %s ..." % (name, n), file=sys.stderr, flush=True)
+                subprocess.run([CYLVOL, "gen", os.path.join(DATA, name + ".vtk"), "--refine", n,
+                                "-o", path], check=True)
         runs = {}
         factors = [float(f) for f in args.relative_steps.split(",") if f]
         jobs = []

@@ -162,6 +162,45 @@ fn gen_writes_files_that_read_back_with_the_same_mesh() {
 }
 
 #[test]
+fn gen_refines_a_mesh_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mixer2.vtu");
+    let mixer = data("mixer.vtk");
+    let out = cylvol(&[
+        "gen",
+        mixer.to_str().unwrap(),
+        "--refine",
+        "2",
+        "-o",
+        path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (coarse, fine) = (info(mixer.to_str().unwrap()), info(path.to_str().unwrap()));
+    assert_eq!(fine["cells"], 8 * coarse["cells"].as_u64().unwrap());
+    assert_eq!(fine["cell_types"]["hexahedron"], fine["cells"]);
+    // The original points are kept and the new ones blend them: the same range and box.
+    for key in ["scalars", "active_scalar", "scalar_range"] {
+        assert_eq!(fine[key], coarse[key], "{key}");
+    }
+    for (a, b) in fine["bounds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(coarse["bounds"].as_array().unwrap())
+    {
+        let (a, b) = (a.as_f64().unwrap(), b.as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{a} vs {b}");
+    }
+    let bad = cylvol(&["gen", "pump-rotor:2000", "--refine", "0", "-o", "x.vtu"]);
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("refinement 0 is not in 1..=16"));
+}
+
+#[test]
 fn errors_go_to_standard_error_with_a_non_zero_exit() {
     let cases: [(&[&str], &str); 4] = [
         (&["info", "no/such/file.vtk"], "no such file"),

@@ -1,4 +1,7 @@
-//! `cylvol gen NAME[:CELLS] -o FILE`: writes a synthetic dataset as legacy VTK or VTU.
+//! `cylvol gen INPUT [--refine N] -o FILE`: writes a synthetic dataset, or any mesh it can
+//! read, as legacy VTK or VTU, optionally with every hexahedron cut into `N × N × N`
+//! ([`cylvol::Mesh::refined`]), e.g. the OpenFOAM mixer refined to the 2.15 M cells of the
+//! reference measurement.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -10,29 +13,47 @@ use cylvol::Error;
 /// Arguments of `cylvol gen`.
 #[derive(clap::Args, Debug)]
 pub struct GenArgs {
-    /// Dataset NAME[:CELLS]: pump-inlet, pump-rotor or pump-diffuser.
+    /// Dataset NAME[:CELLS] (pump-inlet, pump-rotor or pump-diffuser) or a mesh file (.vtk,
+    /// .vtu, PLOT3D *xyz.bin).
     spec: String,
     /// Output file: .vtk (legacy binary) or .vtu.
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
+    /// Cut every hexahedron into N × N × N (1 to 16; hexahedral meshes only): the same
+    /// geometry and fields with N³ times the cells.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    refine: u32,
 }
 
 pub fn run(args: &GenArgs) -> Result<(), Error> {
-    let Input::Synthetic(dataset, cells) = Input::parse(&args.spec)? else {
-        return Err(Error::Invalid(format!(
-            "'{}' is not a dataset name (pump-inlet, pump-rotor, pump-diffuser, optionally :CELLS)",
-            args.spec
-        )));
-    };
+    let input = Input::parse(&args.spec)?;
     let started = Instant::now();
-    let mesh = cylvol::datasets::generate(dataset, cells)?;
+    let mesh = input.load(&Default::default())?;
+    let verb = match input {
+        Input::Synthetic(..) => "generated",
+        Input::File(_) => "read",
+    };
     log(format_args!(
-        "generated {}: {} cells, {} points in {:.2} s",
-        dataset.name(),
+        "{verb} {}: {} cells, {} points in {:.2} s",
+        input.label(),
         mesh.cell_count(),
         mesh.point_count(),
         started.elapsed().as_secs_f64()
     ));
+    let mesh = if args.refine == 1 {
+        mesh
+    } else {
+        let started = Instant::now();
+        let fine = mesh.refined(args.refine)?;
+        log(format_args!(
+            "refined by {}: {} cells, {} points in {:.2} s",
+            args.refine,
+            fine.cell_count(),
+            fine.point_count(),
+            started.elapsed().as_secs_f64()
+        ));
+        fine
+    };
     let started = Instant::now();
     cylvol::io::write_file(&mesh, &args.output)?;
     log(format_args!(

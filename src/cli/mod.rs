@@ -33,7 +33,7 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Error against a converged reference, and time, as the sample step shrinks.
     Accuracy(accuracy::AccuracyArgs),
-    /// Write a synthetic dataset (pump-inlet, pump-rotor, pump-diffuser) to a .vtk or .vtu file.
+    /// Write a synthetic dataset or a mesh file, optionally refined (--refine N), to .vtk or .vtu.
     Gen(gen::GenArgs),
     /// The main job on the built-in default dataset.
     Demo(demo::DemoArgs),
