@@ -5,6 +5,7 @@
 use std::collections::HashMap;
 
 use cylvol::datasets::{generate, layout, parse_spec, Dataset, Layout, MAX_CELLS, MIN_CELLS};
+use cylvol::mesh::topology::EDGES;
 use cylvol::{Error, Mesh};
 use glam::{DVec2, DVec3};
 
@@ -15,21 +16,6 @@ const HEX_FACES: [[usize; 4]; 6] = [
     [3, 0, 4, 7],
     [0, 3, 2, 1],
     [4, 5, 6, 7],
-];
-
-const HEX_EDGES: [[usize; 2]; 12] = [
-    [0, 1],
-    [1, 2],
-    [2, 3],
-    [3, 0],
-    [4, 5],
-    [5, 6],
-    [6, 7],
-    [7, 4],
-    [0, 4],
-    [1, 5],
-    [2, 6],
-    [3, 7],
 ];
 
 fn radius(p: DVec3) -> f64 {
@@ -495,7 +481,7 @@ fn largest_edge_jump(mesh: &Mesh) -> f64 {
     let jump = mesh
         .cells()
         .iter()
-        .flat_map(|c| HEX_EDGES.map(|[a, b]| (p[c[a] as usize] - p[c[b] as usize]).abs()))
+        .flat_map(|c| EDGES.map(|[a, b]| (p[c[a] as usize] - p[c[b] as usize]).abs()))
         .fold(0.0, f64::max);
     jump / (hi - lo)
 }

@@ -4,14 +4,17 @@
 //! arrays follow their parents, a refined volume renders the original's picture, and bad
 //! requests get clear errors.
 
+mod common;
+
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::datasets::{generate, Dataset};
+use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::geometry::trilinear::{map, weights};
-use cylvol::mesh::topology::FaceNeighbors;
+use cylvol::mesh::topology::{FaceNeighbors, EDGES, FACES};
 use cylvol::mesh::MAX_REFINEMENT;
 use cylvol::render::boundary::BISECTIONS;
 use cylvol::render::{face_neighbours, Camera, RenderOptions, Renderer, TransferFunction, Volume};
-use cylvol::{CellKind, DataArray, Error, Mesh, MeshParts};
+use cylvol::{CellKind, DataArray, Error, Mesh};
 use glam::DVec3;
 use proptest::prelude::*;
 use std::sync::OnceLock;
@@ -100,24 +103,8 @@ fn refinement_is_conforming_and_counts_add_up() {
         // Points: the original ones, n − 1 on each edge, (n − 1)² in each face, (n − 1)³ in
         // each cell, with edges and faces shared.
         let m = (n - 1) as usize;
-        let edges = distinct(
-            &mesh,
-            &[
-                [0, 1],
-                [1, 2],
-                [2, 3],
-                [3, 0],
-                [4, 5],
-                [5, 6],
-                [6, 7],
-                [7, 4],
-                [0, 4],
-                [1, 5],
-                [2, 6],
-                [3, 7],
-            ],
-        );
-        let face_count = distinct(&mesh, &cylvol::mesh::topology::FACES);
+        let edges = distinct(&mesh, &EDGES);
+        let face_count = distinct(&mesh, &FACES);
         assert_eq!(
             fine.point_count(),
             mesh.point_count() + edges * m + face_count * m * m + mesh.cell_count() * m * m * m,
@@ -213,22 +200,9 @@ fn bad_requests_get_clear_errors() {
             other => panic!("{n}: {other:?}"),
         }
     }
-    // A wedge (a hexahedron with a collapsed edge) cannot be cut into hexahedra.
-    let points = vec![
-        DVec3::ZERO,
-        DVec3::X,
-        DVec3::Y,
-        DVec3::Z,
-        DVec3::X + DVec3::Z,
-        DVec3::Y + DVec3::Z,
-    ];
-    let wedge = Mesh::from_parts(MeshParts {
-        points,
-        cells: vec![[0, 1, 2, 2, 3, 4, 5, 5]],
-        kinds: vec![CellKind::Wedge],
-        ..MeshParts::default()
-    })
-    .unwrap();
+    // Wedges (hexahedra with a collapsed edge) cannot be cut into hexahedra.
+    let frame = CylFrame::new(DVec3::ZERO, DVec3::Z).unwrap();
+    let wedge = common::o_grid_with_axis_wedges(&frame, 1.0, 8, 2, 2);
     match wedge.refined(2) {
         Err(Error::Invalid(m)) => assert!(m.contains("wedge") && m.contains("hexahedral"), "{m}"),
         other => panic!("{other:?}"),

@@ -87,6 +87,7 @@ use rayon::prelude::*;
 
 use super::optimize::{solve4, symmetric_eigen};
 use super::Axis;
+use crate::mesh::topology::EDGES;
 use crate::Mesh;
 
 /// The least gain (inliers ÷ inliers at infinity) of a clear axis.
@@ -111,22 +112,6 @@ const SIGMA_MERIDIONAL: f64 = 1e-3;
 const SIGMA_CIRCUMFERENTIAL: f64 = 5e-2;
 
 const METHOD: &str = "robust rotational edge fit (polar scan + IRLS Levenberg-Marquardt)";
-
-/// The twelve edges of a VTK hexahedron.
-const EDGES: [[usize; 2]; 12] = [
-    [0, 1],
-    [3, 2],
-    [4, 5],
-    [7, 6],
-    [0, 3],
-    [1, 2],
-    [4, 7],
-    [5, 6],
-    [0, 4],
-    [1, 5],
-    [2, 6],
-    [3, 7],
-];
 
 const LN_LOW: f64 = -std::f64::consts::LN_2;
 const LN_HIGH: f64 = 9.210340371976184; // ln 1e4

@@ -95,6 +95,23 @@ pub const FACES: [[usize; 4]; 6] = [
     [4, 5, 6, 7],
 ];
 
+/// The twelve edges of a hexahedron as pairs of its slots (0–7, VTK order), by parametric
+/// direction: the four along `u`, the four along `v`, then the four along `w`.
+pub const EDGES: [[usize; 2]; 12] = [
+    [0, 1],
+    [3, 2],
+    [4, 5],
+    [7, 6],
+    [0, 3],
+    [1, 2],
+    [4, 7],
+    [5, 6],
+    [0, 4],
+    [1, 5],
+    [2, 6],
+    [3, 7],
+];
+
 /// The four hexahedron slots (0–7, VTK order) of face `face` (0–5, VTK's face order:
 /// u = 0, u = 1, v = 0, v = 1, w = 0, w = 1). Faces beyond 5 wrap around (`face % 6`).
 ///
