@@ -184,6 +184,27 @@ fn set_scalars(m: *mut CylvolMesh, values: &[f64], assoc: CylvolAssociation) -> 
     }
 }
 
+/// `cylvol_volume_set_scalars` with one-component `f64` values named `name`.
+fn volume_set_scalars(
+    v: *mut CylvolVolume,
+    name: *const std::ffi::c_char,
+    values: &[f64],
+    assoc: CylvolAssociation,
+) -> CylvolStatus {
+    unsafe {
+        cylvol_volume_set_scalars(
+            v,
+            name,
+            assoc.into(),
+            values.as_ptr().cast(),
+            CylvolValueType::F64.into(),
+            values.len(),
+            1,
+            0,
+        )
+    }
+}
+
 /// A point scalar varying over the mesh.
 fn field(a: &Arrays) -> Vec<f64> {
     a.points
@@ -1271,18 +1292,7 @@ fn volume_set_scalars_changes_the_picture_without_a_rebuild() {
     let p = params(16, 16);
     let first = render_f32(v, &c, &tables.c(), &p, None);
     let other: Vec<f64> = a.points.chunks(3).map(|q| 3.5 * q[2]).collect();
-    let s = unsafe {
-        cylvol_volume_set_scalars(
-            v,
-            c"z".as_ptr(),
-            CylvolAssociation::POINT_DATA.into(),
-            other.as_ptr().cast(),
-            CylvolValueType::F64.into(),
-            other.len(),
-            1,
-            0,
-        )
-    };
+    let s = volume_set_scalars(v, c"z".as_ptr(), &other, CylvolAssociation::POINT_DATA);
     assert_eq!(s, S::Ok);
     unsafe { cylvol_volume_build_stats(v, &mut after) };
     assert_eq!(before, after, "no rebuild");
@@ -1293,18 +1303,7 @@ fn volume_set_scalars_changes_the_picture_without_a_rebuild() {
     let fresh = new_volume(m, &cart_bvh_params());
     assert_eq!(render_f32(fresh, &c, &tables.c(), &p, None).f32, second.f32);
     // Errors on the volume are kept in it.
-    let s = unsafe {
-        cylvol_volume_set_scalars(
-            v,
-            null(),
-            CylvolAssociation::CELL_DATA.into(),
-            other.as_ptr().cast(),
-            CylvolValueType::F64.into(),
-            other.len(),
-            1,
-            0,
-        )
-    };
+    let s = volume_set_scalars(v, null(), &other, CylvolAssociation::CELL_DATA);
     assert_eq!(s, S::LengthMismatch);
     let detail = unsafe { CStr::from_ptr(cylvol_volume_last_error(v)) };
     assert!(detail
