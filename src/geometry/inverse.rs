@@ -532,7 +532,8 @@ fn solve(
     // A degenerate (flat) cell has a singular Jacobian everywhere; checking it only when Newton
     // ends somewhere singular (or fails) keeps the check off the common path.
     if end.residual > prob.accept || super::trilinear::is_singular(&end.jacobian) {
-        // At a corner the Jacobian's columns are the cell's edges from it.
+        // The largest |det J| at the centre and at the corners (where J's columns are the
+        // cell's edges from the corner: no evaluation of the map needed).
         let centre = prob
             .cell
             .poly

@@ -56,6 +56,17 @@ pub fn exit_face(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(usize, f64
 /// [`exit_face`] with the face `entry` (0–5; any other value for none) left out: the face
 /// the ray entered the cell through, whose plane it crosses inwards (or, grazing it, at no
 /// distance, which would send the march back where it came from).
+///
+/// ```
+/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
+/// use cylvol::render::march::{exit_face, exit_face_except};
+/// use glam::DVec3;
+/// let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+/// // Entered through u = 0 (face 0) on the plane itself, heading along the face:
+/// let (o, d) = (DVec3::new(0.0, 0.5, 0.5), DVec3::new(-1e-9, 1.0, 0.0));
+/// assert_eq!(exit_face(&cube, o, d).unwrap().0, 0);
+/// assert_eq!(exit_face_except(&cube, o, d, 0).unwrap().0, 3); // v = 1
+/// ```
 #[inline]
 pub fn exit_face_except(
     corners: &[DVec3; 8],
