@@ -3,12 +3,14 @@
 //! conservative cylindrical bounds; periodic θ intervals; clean failures.
 
 use cylvol::geometry::containment::{
-    certainly_inside, contains, locate_in_cell, CONTAINMENT_TOLERANCE,
+    certainly_inside, contains, locate_in_cell, param_inside, CONTAINMENT_TOLERANCE,
 };
 use cylvol::geometry::cylindrical::{
     cylindrical_bounds, normalize_angle, straddle_sectors, CylFrame, ThetaInterval,
 };
-use cylvol::geometry::inverse::{invert, InverseFailure, ACCEPT_TOLERANCE};
+use cylvol::geometry::inverse::{
+    invert, InverseFailure, Inversion, PreparedCell, ACCEPT_TOLERANCE, LOCATE_STEP,
+};
 use cylvol::geometry::trilinear::{corner_jacobian_determinants, jacobian, map, CORNER_PARAMETERS};
 use cylvol::CellKind;
 use glam::{DMat3, DQuat, DVec3};
@@ -138,6 +140,31 @@ proptest! {
         prop_assert!((sol.param - p).abs().max_element() <= bound,
             "param {} vs {}, bound {bound:e}, stats {:?}", sol.param, p, inv.stats);
         prop_assert!(sol.residual <= ACCEPT_TOLERANCE * size(&c));
+    }
+
+    /// `PreparedCell::locate` (Newton stopped early where the containment is settled) decides
+    /// containment exactly as `invert` does, on distorted, twisted, needle-thin and far cells and
+    /// points inside, near and beyond the faces; its coordinates are within a few `LOCATE_STEP`
+    /// of `invert`'s, and it never evaluates the map more often.
+    #[test]
+    fn locate_decides_as_invert_does(
+        s in shape(0.2, 1.2, 1000.0, 0.8),
+        q in prop::array::uniform3(-0.3f64..=1.3),
+        guess in prop::option::of(param()),
+    ) {
+        let c = hex(&s);
+        prop_assume!(valid(&c));
+        let prepared = PreparedCell::new(&c).unwrap();
+        let x = map(&c, DVec3::from_array(q));
+        let (full, early) = (prepared.invert(x, guess), prepared.locate(x, guess));
+        let inside = |i: &Inversion| i.param().is_some_and(param_inside);
+        prop_assert_eq!(inside(&full), inside(&early), "{:?} vs {:?}", full, early);
+        if let (Some(a), Some(b)) = (full.param(), early.param()) {
+            let rep = 4.0 * f64::EPSILON * x.abs().max_element();
+            let bound = 4.0 * LOCATE_STEP + rep * inv_norm(jacobian(&c, a));
+            prop_assert!((a - b).abs().max_element() <= bound, "{a} vs {b}, bound {bound:e}");
+        }
+        prop_assert!(early.stats.map_evaluations <= full.stats.map_evaluations);
     }
 
     /// Collapsed cells (wedge, pyramid, tetrahedron): the parameter is not unique on the

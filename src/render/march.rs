@@ -141,7 +141,7 @@ impl Solver {
         if !self.reject.contains(p) {
             return Err(None);
         }
-        match self.cell.invert(p, guess).param() {
+        match self.cell.locate(p, guess).param() {
             Some(q) if param_inside(q) => Ok(q),
             other => Err(other),
         }
