@@ -31,6 +31,8 @@ REPO = os.path.dirname(HERE)
 DATA = os.path.join(os.path.dirname(REPO), "shared", "data")
 BUILD = os.path.join(REPO, "build", "vtk_plugin")
 CYLVOL = os.path.join(REPO, "target", "release", "cylvol")
+# vtkCylVolMapper's StructureType values.
+STRUCTURES = {"auto": 0, "cart-grid": 1, "cyl-grid": 2, "cart-bvh": 3, "cyl-bvh": 4}
 
 
 def default_pythonpath():
@@ -157,6 +159,7 @@ def worker(args):
         mapper = cylvol.vtkCylVolMapper()
         mapper.SetInputData(grid)
         mapper.SetRelativeSampleDistance(args.relative_step)
+        mapper.SetStructure(STRUCTURES[args.structure])
     out["prepare_s"] = time.perf_counter() - t
     mapper.SetScalarModeToUsePointFieldData()
     mapper.SelectScalarArray(scalar)
@@ -255,7 +258,8 @@ def run_worker(mapper, dataset, args, workdir, png, relative_step=1.0, frames=No
         env["PYTHONPATH"] = args.pythonpath + (":" + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     cmd = [sys.executable, os.path.abspath(__file__), "--worker", mapper, "--dataset", dataset,
            "--size", str(args.size), "--frames", str(args.frames if frames is None else frames),
-           "--workdir", workdir, "--png", png, "--relative-step", str(relative_step)]
+           "--workdir", workdir, "--png", png, "--relative-step", str(relative_step),
+           "--structure", args.structure]
     t = time.perf_counter()
     try:
         proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -298,6 +302,8 @@ def main():
     p.add_argument("--workdir", help=argparse.SUPPRESS)
     p.add_argument("--png", help=argparse.SUPPRESS)
     p.add_argument("--relative-step", type=float, default=1.0, help=argparse.SUPPRESS)
+    p.add_argument("--structure", choices=sorted(STRUCTURES), default="auto",
+                   help="cylvol's structure (the mapper's SetStructure), default auto")
     args = p.parse_args()
     if not os.environ.get("DISPLAY") and not os.environ.get("CYLVOL_BENCH_NO_XVFB"):
         # VTK's render windows need an X server: run under xvfb-run (Mesa, off screen).
