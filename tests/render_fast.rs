@@ -254,11 +254,22 @@ fn annulus_with_hole() -> Mesh {
     sector(&frame(), [0.5, 1.0], [-PI, PI], 1.0, [4, 48, 4], true)
 }
 
-/// Options for casting single rays at `step`, never terminated early.
-fn one_ray(step: f64) -> RenderOptions {
-    let mut options = RenderOptions::new(1, 1, step);
-    options.early_termination = 2.0;
-    options
+/// For every structure over `mesh`: its volume, the annulus tests' transfer function, and
+/// options for casting single rays at `step`, never terminated early.
+fn each_single_ray_volume(
+    mesh: &Mesh,
+    step: f64,
+    mut f: impl FnMut(StructureKind, &Volume, &TransferFunction, &RenderOptions),
+) {
+    for kind in StructureKind::ALL {
+        let accel = Accel::build(mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
+        let volume = Volume::new(mesh, &accel).expect("volume");
+        let [lo, hi] = volume.scalar_range();
+        let tf = TransferFunction::default_for_range(lo, hi, 0.6, 0.2);
+        let mut options = RenderOptions::new(1, 1, step);
+        options.early_termination = 2.0;
+        f(kind, &volume, &tf, &options);
+    }
 }
 
 /// Rays across the hole of an annulus: samples in the hole lie outside every piece of the
@@ -268,13 +279,8 @@ fn empty_space_is_skipped_across_the_hub_hole() {
     let mesh = annulus_with_hole();
     let neighbours = common::closed_neighbours(&mesh);
     let step = 0.01;
-    for kind in StructureKind::ALL {
-        let accel = Accel::build(&mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
-        let volume = Volume::new(&mesh, &accel).expect("volume");
-        let [lo, hi] = volume.scalar_range();
-        let tf = TransferFunction::default_for_range(lo, hi, 0.6, 0.2);
-        let options = one_ray(step);
-        let renderer = Renderer::new(&volume, &tf, &options)
+    each_single_ray_volume(&mesh, step, |kind, volume, tf, options| {
+        let renderer = Renderer::new(volume, tf, options)
             .expect("renderer")
             .with_neighbours(&neighbours);
         // Along x through the axis at mid height: the hole is r < 0.5.
@@ -297,7 +303,7 @@ fn empty_space_is_skipped_across_the_hub_hole() {
             s.space_skips + s.samples_located <= s.samples,
             "{kind}: {s:?}"
         );
-    }
+    });
 }
 
 /// Rays across the hole of an annulus, from outside the mesh: with the boundary surface the
@@ -312,14 +318,9 @@ fn the_boundary_surface_skips_outside_samples_without_location() {
     let step = 0.01;
     // Cells tested with and without the surface, over every ray and structure.
     let mut totals = [0u64; 2];
-    for kind in StructureKind::ALL {
-        let accel = Accel::build(&mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
-        let volume = Volume::new(&mesh, &accel).expect("volume");
-        let [lo, hi] = volume.scalar_range();
-        let tf = TransferFunction::default_for_range(lo, hi, 0.6, 0.2);
-        let options = one_ray(step);
+    each_single_ray_volume(&mesh, step, |kind, volume, tf, options| {
         let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| {
-            let renderer = Renderer::new(&volume, &tf, &options)
+            let renderer = Renderer::new(volume, tf, options)
                 .expect("renderer")
                 .with_neighbours(n);
             let mut s = RenderStats::default();
@@ -357,6 +358,6 @@ fn the_boundary_surface_skips_outside_samples_without_location() {
             totals[0] += ws.hex_tests;
             totals[1] += ns.hex_tests;
         }
-    }
+    });
     assert!(totals[0] < totals[1], "{totals:?}");
 }

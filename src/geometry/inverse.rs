@@ -370,21 +370,23 @@ impl Problem<'_> {
         hull_separates(&self.cell.rel, self.cell.size, self.target)
     }
 
-    /// Damped Newton from `start`, iterates clamped to `[lo, hi]³`. With `hull_exit`, the
-    /// first time a step meets the search box the target is checked against the convex hull
-    /// of the corners, and Newton stops if it lies outside ([`NewtonEnd::beyond_hull`]):
-    /// such a target, far outside a thin cell, has its preimage beyond the search box, where
-    /// the clamped iterates would creep along the box for many steps to no end.
+    /// Damped Newton from `start`, iterates clamped to `[lo, hi]³`. The `main` search (over
+    /// the whole cell, not a sub-cell of the fallback) may end early in two ways. The first
+    /// time a step meets the search box the target is checked against the convex hull of the
+    /// corners, and Newton stops if it lies outside ([`NewtonEnd::beyond_hull`]): such a
+    /// target, far outside a thin cell, has its preimage beyond the search box, where the
+    /// clamped iterates would creep along the box for many steps to no end. And for
+    /// [`PreparedCell::locate`] it stops once the containment is settled.
     fn newton(
         &self,
         start: DVec3,
         lo: f64,
         hi: f64,
         max_iter: u32,
-        hull_exit: bool,
+        main: bool,
         stats: &mut InverseStats,
     ) -> NewtonEnd {
-        let mut hull_unchecked = hull_exit;
+        let mut hull_unchecked = main;
         let mut p = start.clamp(DVec3::splat(lo), DVec3::splat(hi));
         let (x, mut j) = self.cell.poly.map_and_jacobian(p);
         stats.map_evaluations += 1;
@@ -399,7 +401,7 @@ impl Problem<'_> {
             // the step that would refine the coordinates (the size of their error) is tiny,
             // and they lie inside the cell by far more than it.
             if self.early
-                && hull_exit
+                && main
                 && rn <= self.accept
                 && d.abs().max_element() <= LOCATE_STEP
                 && in_cube(p, LOCATE_MARGIN, 1.0 - LOCATE_MARGIN)

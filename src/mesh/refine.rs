@@ -117,58 +117,98 @@ fn face_node(q: [u32; 4], n: u32, s: u32, t: u32) -> (Key, Blend) {
     (Key::Face(c, s, t), blend)
 }
 
-/// The key and blend of node `g` (each coordinate in `0..=n`) of a hexahedron with point ids
-/// `ids`, or `None` for the key of a node inside the cell (which no other cell reaches).
-fn cell_node(ids: &[u32; 8], n: u32, g: [u32; 3]) -> (Option<Key>, Blend) {
-    let on = g.map(|x| x == 0 || x == n);
-    // The cell corner at parametric corner (u, v, w), each 0 or 1.
-    let corner = |c: [u32; 3]| -> u32 {
-        let k = CORNER_PARAMETERS
-            .iter()
-            .position(|p| p.map(|x| x as u32) == c)
-            .expect("a corner of the unit cube");
-        ids[k]
-    };
-    let unit = |x: u32| u32::from(x == n);
-    match on.iter().filter(|&&b| b).count() {
-        3 => {
-            let id = corner(g.map(unit));
-            (Some(Key::Corner(id)), Blend::of(&[(id, 1.0)]))
+/// Where node `g` (each coordinate in `0..=n`) of a hexahedron's `n × n × n` grid lies, by the
+/// hexahedron's slots (0–7, VTK order): the same for every cell, so worked out once.
+#[derive(Clone, Copy, Debug)]
+enum Node {
+    /// At the corner in this slot.
+    Corner(usize),
+    /// Step `k` (of `n`) along the edge from slot `lo` to slot `hi`.
+    Edge { lo: usize, hi: usize, k: u32 },
+    /// Node `(s, t)` of the face whose corners, at `(0, 0)`, `(n, 0)`, `(n, n)` and `(0, n)` of
+    /// its grid, are in slots `q`.
+    Face { q: [usize; 4], s: u32, t: u32 },
+    /// Inside the cell, with these trilinear weights of the eight corners.
+    Interior([f64; 8]),
+}
+
+impl Node {
+    fn at(n: u32, g: [u32; 3]) -> Node {
+        let on = g.map(|x| x == 0 || x == n);
+        // The slot of the corner at parametric corner (u, v, w), each 0 or 1.
+        let slot = |c: [u32; 3]| -> usize {
+            CORNER_PARAMETERS
+                .iter()
+                .position(|p| p.map(|x| x as u32) == c)
+                .expect("a corner of the unit cube")
+        };
+        let unit = |x: u32| u32::from(x == n);
+        match on.iter().filter(|&&b| b).count() {
+            3 => Node::Corner(slot(g.map(unit))),
+            2 => {
+                let free = on.iter().position(|&b| !b).expect("one free axis");
+                let mut lo = g.map(unit);
+                let mut hi = lo;
+                lo[free] = 0;
+                hi[free] = 1;
+                Node::Edge {
+                    lo: slot(lo),
+                    hi: slot(hi),
+                    k: g[free],
+                }
+            }
+            1 => {
+                let fixed = on.iter().position(|&b| b).expect("one fixed axis");
+                let (sa, ta) = match fixed {
+                    0 => (1, 2),
+                    1 => (0, 2),
+                    _ => (0, 1),
+                };
+                let at = |s: u32, t: u32| {
+                    let mut c = [0u32; 3];
+                    c[fixed] = unit(g[fixed]);
+                    c[sa] = s;
+                    c[ta] = t;
+                    slot(c)
+                };
+                Node::Face {
+                    q: [at(0, 0), at(1, 0), at(1, 1), at(0, 1)],
+                    s: g[sa],
+                    t: g[ta],
+                }
+            }
+            _ => Node::Interior(weights(
+                DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64) / n as f64,
+            )),
         }
-        2 => {
-            let free = on.iter().position(|&b| !b).expect("one free axis");
-            let mut lo = g.map(unit);
-            let mut hi = lo;
-            lo[free] = 0;
-            hi[free] = 1;
-            let (a, b, k) = (corner(lo), corner(hi), g[free]);
-            let (a, b, k) = if a <= b { (a, b, k) } else { (b, a, n - k) };
-            let f = k as f64 / n as f64;
-            (Some(Key::Edge(a, b, k)), Blend::of(&[(a, 1.0 - f), (b, f)]))
-        }
-        1 => {
-            let fixed = on.iter().position(|&b| b).expect("one fixed axis");
-            let (sa, ta) = match fixed {
-                0 => (1, 2),
-                1 => (0, 2),
-                _ => (0, 1),
-            };
-            let at = |s: u32, t: u32| {
-                let mut c = [0u32; 3];
-                c[fixed] = unit(g[fixed]);
-                c[sa] = s;
-                c[ta] = t;
-                corner(c)
-            };
-            let q = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)];
-            let (key, blend) = face_node(q, n, g[sa], g[ta]);
-            (Some(key), blend)
-        }
-        _ => {
-            let p = DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64) / n as f64;
-            let w = weights(p);
-            let pairs: Vec<(u32, f64)> = (0..8).map(|k| (ids[k], w[k])).collect();
-            (None, Blend::of(&pairs))
+    }
+
+    /// The node in the hexahedron with point ids `ids`: its key, or `None` inside the cell
+    /// (which no other cell reaches), and its blend.
+    fn in_cell(&self, ids: &[u32; 8], n: u32) -> (Option<Key>, Blend) {
+        match *self {
+            Node::Corner(slot) => {
+                let id = ids[slot];
+                (Some(Key::Corner(id)), Blend::of(&[(id, 1.0)]))
+            }
+            Node::Edge { lo, hi, k } => {
+                let (a, b) = (ids[lo], ids[hi]);
+                let (a, b, k) = if a <= b { (a, b, k) } else { (b, a, n - k) };
+                let f = k as f64 / n as f64;
+                (Some(Key::Edge(a, b, k)), Blend::of(&[(a, 1.0 - f), (b, f)]))
+            }
+            Node::Face { q, s, t } => {
+                let (key, blend) = face_node(q.map(|k| ids[k]), n, s, t);
+                (Some(key), blend)
+            }
+            Node::Interior(weights) => (
+                None,
+                Blend {
+                    ids: *ids,
+                    weights,
+                    len: 8,
+                },
+            ),
         }
     }
 }
@@ -212,19 +252,24 @@ impl Mesh {
         let mut index: HashMap<Key, u32> = HashMap::new();
         let mut blends: Vec<Blend> = Vec::new();
         let mut cells: Vec<[u32; 8]> = Vec::with_capacity(children as usize);
-        let mut grid = vec![0u32; side * side * side];
-        for ids in &self.cells {
-            for (slot, node) in grid.iter_mut().enumerate() {
+        let nodes: Vec<Node> = (0..side * side * side)
+            .map(|slot| {
                 let g = [
                     (slot % side) as u32,
                     ((slot / side) % side) as u32,
                     (slot / (side * side)) as u32,
                 ];
-                let (key, blend) = cell_node(ids, n, g);
+                Node::at(n, g)
+            })
+            .collect();
+        let mut grid = vec![0u32; nodes.len()];
+        for ids in &self.cells {
+            for (node, spot) in nodes.iter().zip(grid.iter_mut()) {
+                let (key, blend) = node.in_cell(ids, n);
                 let next = u32::try_from(blends.len()).map_err(|_| {
                     Error::Invalid("the refined mesh would have more than 2^32 points".into())
                 })?;
-                *node = match key {
+                *spot = match key {
                     Some(key) => *index.entry(key).or_insert_with(|| {
                         blends.push(blend);
                         next
