@@ -5,6 +5,7 @@
 //! - [`inverse`]: the inverse map (damped Newton with a subdivision fallback, verified, with
 //!   cost statistics);
 //! - [`containment`]: point-in-cell tests with a tolerance that leaves no crack on shared faces;
+//! - [`patch`]: bilinear patches (a cell's faces) and how many times a segment crosses one;
 //! - [`bounds`]: Cartesian axis-aligned boxes and the exact box of a cell;
 //! - [`cylindrical`]: a cylindrical frame about the machine axis, periodic θ intervals,
 //!   sector bounds with their true volume and area, and conservative cylindrical bounds of a
@@ -14,6 +15,7 @@ pub mod bounds;
 pub mod containment;
 pub mod cylindrical;
 pub mod inverse;
+pub mod patch;
 pub mod trilinear;
 
 pub use bounds::{cell_bounds, Aabb};
