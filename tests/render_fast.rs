@@ -361,3 +361,94 @@ fn the_boundary_surface_skips_outside_samples_without_location() {
     });
     assert!(totals[0] < totals[1], "{totals:?}");
 }
+
+/// Rays leaving the annulus (into the hole, out of its far side), away from cell edges:
+/// with the boundary surface, each sample past an exit is proved outside by parity (the
+/// segment from the last sample inside crosses one boundary face, once, and no other), with
+/// no structure look-up at all; without it, the structure is asked at each exit. The pixel
+/// is the same either way.
+#[test]
+fn exits_from_the_mesh_are_proved_outside_without_the_structure() {
+    let mesh = annulus_with_hole();
+    let topology = common::closed_neighbours(&mesh);
+    let step = 0.01;
+    each_single_ray_volume(&mesh, step, |kind, volume, tf, options| {
+        let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| {
+            let renderer = Renderer::new(volume, tf, options)
+                .expect("renderer")
+                .with_neighbours(n);
+            let mut s = RenderStats::default();
+            let r = renderer.cast(o, d, f64::INFINITY, &mut s);
+            (r, s)
+        };
+        let faces: &FaceNeighbors = &topology;
+        for (o, d) in [
+            (DVec3::new(-2.0, 0.013, 0.41), DVec3::X),
+            (
+                DVec3::new(-2.0, -1.5, 0.37),
+                DVec3::new(1.0, 0.8, 0.05).normalize(),
+            ),
+            (
+                DVec3::new(0.1, -3.0, 0.9),
+                DVec3::new(0.05, 1.0, -0.2).normalize(),
+            ),
+        ] {
+            let (with, ws) = cast(&topology, o, d);
+            let (without, ns) = cast(faces, o, d);
+            eprintln!("{kind}: with the surface {ws:?}\n  without {ns:?}");
+            assert_eq!(ws.structure_locates, 0, "{kind}: {ws:?}");
+            assert!(ns.structure_locates >= 2, "{kind}: {ns:?}");
+            assert_eq!(ws.samples_located, ns.samples_located, "{kind}");
+            for c in 0..4 {
+                assert!((with.rgba[c] - without.rgba[c]).abs() <= 1e-9, "{kind}");
+            }
+        }
+    });
+}
+
+/// A full ring whose seam is not welded: the two coincident faces of the seam have no
+/// neighbour, so both are in the boundary surface. A ray crossing the seam leaves the cell
+/// on one side by a face without a neighbour, but the segment to the next sample crosses the
+/// other seam face too, so the exit is not proved by parity: the sample is found in the cell
+/// across the seam, and the pixel is the welded ring's and the paper path's.
+#[test]
+fn an_unwelded_seam_is_not_taken_for_the_mesh_boundary() {
+    use cylvol::render::Topology;
+    let mesh = sector(&frame(), [0.5, 1.0], [-PI, PI], 1.0, [4, 48, 4], false);
+    let unwelded = Topology::new(&mesh, FaceNeighbors::build(&mesh));
+    let welded = common::closed_neighbours(&mesh);
+    assert!(
+        unwelded.surface().face_count() > welded.surface().face_count(),
+        "the seam's faces are in the unwelded ring's surface"
+    );
+    each_single_ray_volume(&mesh, 0.01, |kind, volume, tf, options| {
+        let cast = |n: &dyn Neighbours, path: RenderPath, o: DVec3, d: DVec3| {
+            let mut options = *options;
+            options.path = path;
+            let renderer = Renderer::new(volume, tf, &options)
+                .expect("renderer")
+                .with_neighbours(n);
+            let mut s = RenderStats::default();
+            (renderer.cast(o, d, f64::INFINITY, &mut s), s)
+        };
+        // Across the seam (θ = ±π: y = 0, x < 0), square to it and slanted.
+        for (o, d) in [
+            (DVec3::new(-0.77, -2.0, 0.41), DVec3::Y),
+            (
+                DVec3::new(-0.62, -1.0, 0.13),
+                DVec3::new(-0.1, 1.0, 0.3).normalize(),
+            ),
+        ] {
+            let (seam, ss) = cast(&unwelded, RenderPath::Fast, o, d);
+            let (ring, rs) = cast(&welded, RenderPath::Fast, o, d);
+            let (paper, _) = cast(&welded, RenderPath::Paper, o, d);
+            eprintln!("{kind}: unwelded {ss:?}\n  welded {rs:?}");
+            assert!(seam.rgba[3] > 0.1, "{kind}: the ray crosses the ring");
+            assert_eq!(ss.samples_located, rs.samples_located, "{kind}");
+            for c in 0..4 {
+                assert!((seam.rgba[c] - ring.rgba[c]).abs() <= 1e-9, "{kind}");
+                assert!((seam.rgba[c] - paper.rgba[c]).abs() <= 1e-6, "{kind}");
+            }
+        }
+    });
+}

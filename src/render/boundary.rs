@@ -19,9 +19,12 @@
 //! that has a neighbour, up to [`super::raycast::MAX_BOUNDARY_WALK`] cells, until a cell
 //! holds it — or it lies beyond faces without a neighbour only, i.e. beyond the mesh's
 //! boundary, and is outside with no structure look-up. The structure decides where the local
-//! search cannot (no neighbours, a degenerate face of a collapsed cell, the budget spent), and
-//! confirms an "outside" for the points that do not lie between two samples (the ray's start
-//! and end, the look-ahead at early termination).
+//! search cannot (no neighbours, a degenerate face of a collapsed cell, the budget spent). An
+//! "outside" for a point that does not lie between two samples (the ray's start and end, the
+//! look-ahead at early termination) is confirmed by parity along the ray from the sample
+//! inside where the boundary surface allows it (see the fast path in [`super::raycast`]), by
+//! the structure otherwise; so is a point the local search leaves beyond the plane of a
+//! boundary face with no parameters (far beyond a thin cell).
 
 use glam::DVec3;
 

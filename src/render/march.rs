@@ -191,6 +191,11 @@ impl March {
         self.cell
     }
 
+    /// The face (0–5) by whose plane the ray leaves the current cell, if any.
+    pub fn exit_face(&self) -> Option<usize> {
+        self.exit.map(|(f, _)| f)
+    }
+
     /// Locates the sample `p = o + t d` (`t` not before the march's previous sample): marches
     /// across exit faces to the cell the ray is in at `t` by the planes, and tests it (Newton
     /// warm-started at `guess` when the cell is `guess`'s). Where the test fails, the walk

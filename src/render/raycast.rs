@@ -52,8 +52,13 @@
 //!   has just entered the mesh. Space outside the mesh is skipped: with a boundary surface
 //!   ([`Neighbours::surface`], see [`super::surface`]), from every point known to be outside
 //!   up to where the ray may first cross a boundary face; without one, by the structure's
-//!   bounds ([`super::skip`]). Boundary crossings start from where the march leaves the mesh
-//!   by face planes. A sample whose cell's scalar range the transfer function maps to zero
+//!   bounds ([`super::skip`]). Where the march leaves the mesh by the plane of a face
+//!   without a neighbour, the next sample is proved outside by parity where it can be: the
+//!   segment from the last sample inside crosses that face exactly once (a robust count of a
+//!   line's crossings of a bilinear patch, [`crate::geometry::patch`]) and no other boundary
+//!   face (the surface's bound, then the same count), so no cell is tested and the structure
+//!   is not asked; the same proof confirms the boundary searches' "outside" at the ray's
+//!   ends. Boundary crossings start from where the march leaves the mesh by face planes. A sample whose cell's scalar range the transfer function maps to zero
 //!   opacity everywhere is skipped without interpolation (it would add nothing). The image
 //!   equals the paper path's up to the choice between two cells on a shared face (both valid,
 //!   values equal to the inverse map's tolerance, `~1e-9` relative).
@@ -78,7 +83,7 @@ use super::image::Image;
 use super::march::{boundary_plane_crossing, March};
 use super::shading::Shading;
 use super::skip::{NodeArcs, Skipper};
-use super::surface::BoundarySurface;
+use super::surface::{face_corners, BoundarySurface};
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
 use super::walk::{
     farthest_face, violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS,
@@ -87,6 +92,7 @@ use crate::accel::{Accel, Counters};
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
 use crate::geometry::inverse::invert;
+use crate::geometry::patch::segment_crossings;
 use crate::geometry::trilinear::{index, interpolate, physical_gradient};
 use crate::mesh::topology::FACES;
 use crate::mesh::Association;
@@ -617,15 +623,72 @@ struct Bracket {
     outside_q: Option<DVec3>,
 }
 
+/// The distance from a segment's ends, relative to the cell's size, within which a crossing
+/// of a boundary face does not count for a proof by parity (the fast path in the module documentation).
+pub const PARITY_MARGIN: f64 = 1e-6;
+
 /// Cells a boundary search tests locally before it asks the structure.
 pub const MAX_BOUNDARY_WALK: usize = 6;
+
+/// The part of a ray from a point known to be in the mesh (at `t_inside`) to a point tested
+/// (at `t`), for confirming that the point is outside (see [`Renderer::proven_outside`]).
+#[derive(Clone, Copy, Debug)]
+struct Segment {
+    origin: DVec3,
+    dir: DVec3,
+    t_inside: f64,
+    t: f64,
+    /// The cell the inside end was located in.
+    inside_cell: u32,
+}
+
+impl Segment {
+    /// The ends' `t`, in increasing order.
+    fn range(&self) -> (f64, f64) {
+        (self.t_inside.min(self.t), self.t_inside.max(self.t))
+    }
+}
+
+/// A proof by parity under way ([`Renderer::proven_outside`]): the boundary surface, and the
+/// segment with the margin from its ends within which a crossing does not count.
+struct Parity<'r> {
+    surface: &'r BoundarySurface,
+    mesh: &'r Mesh,
+    seg: Segment,
+    margin: f64,
+}
+
+impl Parity<'_> {
+    /// How many times the segment crosses the boundary face `(cell, face)`, where that is
+    /// told robustly ([`segment_crossings`]).
+    fn crossings(&self, (cell, face): (u32, u8)) -> Option<u32> {
+        let (lo, hi) = self.seg.range();
+        let patch = face_corners(self.mesh, cell, face);
+        segment_crossings(&patch, self.seg.origin, self.seg.dir, lo, hi, self.margin)
+    }
+}
+
+/// Where the fast path's sample past an exit from the mesh by the face planes is
+/// ([`Renderer::exit_locate`]).
+enum Exit {
+    /// In this cell, at these parameters.
+    Inside(u32, DVec3),
+    /// Outside the mesh, proved, until the next possible boundary crossing: its `t` and the
+    /// cell of its face (none: the ray's end).
+    Outside((f64, Option<u32>)),
+    /// The structure must say.
+    Undecided,
+}
 
 /// A local boundary search's answer.
 enum Local {
     /// In this cell, at these parameters.
     Inside(u32, DVec3),
-    /// Beyond boundary faces only.
-    Outside,
+    /// Beyond boundary faces only, farthest beyond this one (`(cell, face)`).
+    Outside((u32, u8)),
+    /// No parameters, beyond the plane of this boundary face (`(cell, face)`): outside where
+    /// that is proved ([`Renderer::proven_outside`]), else the structure must say.
+    Beyond((u32, u8)),
     /// The structure must say.
     Undecided,
 }
@@ -778,26 +841,137 @@ impl<'a> Renderer<'a> {
         self.volume.accel.locate(mesh, p, counters)
     }
 
-    /// For a boundary search: the cell holding `p` if it lies in the mesh. `cell` (with
-    /// `guess` to warm-start Newton) is tested first. With complete face neighbours the search
-    /// then goes on locally: across the face `p` lies farthest beyond (by `cell`'s parametric
-    /// coordinates) that has a neighbour, until a cell holds `p` or `p` lies beyond boundary
-    /// faces only — outside, with no structure look-up; where `confirm` is set (a point not
-    /// between two known samples), that answer is confirmed by the structure. Without
-    /// neighbours, or where the local search is undecided (a degenerate face, a budget of
-    /// [`MAX_BOUNDARY_WALK`] cells, an inverse that fails), the structure answers. Every test is
-    /// counted in `hex_tests` and `boundary_refinements`.
+    /// For a boundary search: the cell holding the point at `seg.t` if it lies in the mesh,
+    /// where `seg.t_inside` is in `cell` at about `guess` (which warm-starts Newton). `cell` is
+    /// tested first. With complete face neighbours the search then goes on locally: across the
+    /// face the point lies farthest beyond (by `cell`'s parametric coordinates) that has a
+    /// neighbour, until a cell holds it or it lies beyond boundary faces only. That answer,
+    /// outside, is then confirmed: by the boundary surface where it proves it (see
+    /// [`Renderer::proven_outside`]), else by the structure. Without neighbours, or where the
+    /// local search is undecided (a degenerate face, a budget of [`MAX_BOUNDARY_WALK`] cells,
+    /// an inverse that fails), the structure answers. Every test is counted in `hex_tests` and
+    /// `boundary_refinements`.
     fn boundary_locate(
         &self,
-        p: DVec3,
+        seg: Segment,
         cell: u32,
         guess: DVec3,
-        confirm: bool,
         counters: &mut Counters,
         stats: &mut RenderStats,
     ) -> Option<(u32, DVec3)> {
         let mut in_start = None;
-        self.boundary_locate_from(p, cell, guess, confirm, &mut in_start, counters, stats)
+        self.boundary_locate_from(seg, cell, guess, true, &mut in_start, counters, stats)
+    }
+
+    /// Whether the point at `seg.t` is outside the mesh, proved by parity from the point at
+    /// `seg.t_inside`, which is in it. Along the segment between them the ray passes between
+    /// the mesh and the space outside only where it crosses a boundary face. It is proved
+    /// where the segment crosses the boundary face `face` (`(cell, face)`) exactly once,
+    /// transversally, away from the face's edges and from both ends
+    /// ([`crate::geometry::patch::segment_crossings`], with a margin of [`PARITY_MARGIN`] of
+    /// the size of `seg.inside_cell`, far above the containment tolerance by which the inside
+    /// end may lie outside it), and may cross no other: by the boundary surface's
+    /// conservative bound ([`BoundarySurface::may_cross_other`]), then for the faces that
+    /// bound leaves, by their count of crossings (zero, told robustly). Fast path only (the
+    /// paper path asks the structure); the surface's node visits are counted in
+    /// `surface_visits`.
+    fn proven_outside(&self, seg: Segment, face: (u32, u8), stats: &mut RenderStats) -> bool {
+        let Some(parity) = self.parity(seg, face) else {
+            return false;
+        };
+        let mut c = Counters::default();
+        let (lo, hi) = seg.range();
+        let crosses =
+            parity
+                .surface
+                .may_cross_other(seg.origin, seg.dir, lo, hi, face, &mut c, |f| {
+                    parity.crossings(f) != Some(0)
+                });
+        stats.surface_visits += c.internal_visits + c.leaf_visits;
+        !crosses
+    }
+
+    /// [`Renderer::proven_outside`] for a segment ahead of its inside end, with the next
+    /// boundary crossing from `seg.t` on (up to `t_end`) found in the same traversal of the
+    /// surface ([`BoundarySurface::sole_crossing_then_next`]): `Some` of that crossing's `t`
+    /// and face's cell (`t_end` and `None` where there is none) where the point is proved
+    /// outside.
+    fn proven_outside_until(
+        &self,
+        seg: Segment,
+        face: (u32, u8),
+        t_end: f64,
+        stats: &mut RenderStats,
+    ) -> Option<(f64, Option<u32>)> {
+        if seg.t <= seg.t_inside {
+            return None;
+        }
+        let parity = self.parity(seg, face)?;
+        let mut c = Counters::default();
+        let next = parity.surface.sole_crossing_then_next(
+            seg.origin,
+            seg.dir,
+            seg.t_inside,
+            seg.t,
+            t_end,
+            face,
+            &mut c,
+            |f| parity.crossings(f) != Some(0),
+        );
+        stats.surface_visits += c.internal_visits + c.leaf_visits;
+        next.map(|n| n.map_or((t_end, None), |(t, cell)| (t, Some(cell))))
+    }
+
+    /// The common part of the proofs by parity: where `face` is crossed exactly once by the
+    /// segment (and the path is the fast one, with a boundary surface), what the rest of the
+    /// proof needs.
+    fn parity(&self, seg: Segment, face: (u32, u8)) -> Option<Parity<'_>> {
+        if self.options.path != RenderPath::Fast {
+            return None;
+        }
+        let surface = self.neighbours.surface()?;
+        let mesh = self.volume.mesh;
+        let n = mesh.cell_count();
+        if seg.inside_cell as usize >= n || face.0 as usize >= n || face.1 >= 6 {
+            return None;
+        }
+        let margin =
+            PARITY_MARGIN * cell_bounds(&mesh.cell_corners(seg.inside_cell as usize)).diagonal();
+        let parity = Parity {
+            surface,
+            mesh,
+            seg,
+            margin,
+        };
+        (parity.crossings(face) == Some(1)).then_some(parity)
+    }
+
+    /// The fast path's location of the sample at `seg.t` where the march from the sample at
+    /// `seg.t_inside` left the mesh by the plane of the boundary face `face` (`(cell, face)`):
+    /// outside where that is proved by parity ([`Renderer::proven_outside_until`], no cell
+    /// tested), with the next boundary crossing up to `t_end`; else a local boundary search
+    /// from the cell (with `guess`, about the parameters there of the sample before) whose
+    /// answer outside must be proved the same way.
+    fn exit_locate(
+        &self,
+        seg: Segment,
+        face: (u32, u8),
+        guess: DVec3,
+        t_end: f64,
+        counters: &mut Counters,
+        stats: &mut RenderStats,
+    ) -> Exit {
+        if let Some(next) = self.proven_outside_until(seg, face, t_end, stats) {
+            return Exit::Outside(next);
+        }
+        let p = seg.origin + seg.dir * seg.t;
+        match self.local_boundary_locate(p, face.0, guess, &mut None, counters) {
+            Local::Inside(c, q) => Exit::Inside(c, q),
+            Local::Outside(f) | Local::Beyond(f) if f != face => self
+                .proven_outside_until(seg, f, t_end, stats)
+                .map_or(Exit::Undecided, Exit::Outside),
+            _ => Exit::Undecided,
+        }
     }
 
     /// [`Renderer::boundary_locate`], also giving the parametric coordinates of `p` in `cell`
@@ -805,7 +979,7 @@ impl<'a> Renderer<'a> {
     #[allow(clippy::too_many_arguments)]
     fn boundary_locate_from(
         &self,
-        p: DVec3,
+        seg: Segment,
         cell: u32,
         guess: DVec3,
         confirm: bool,
@@ -815,10 +989,14 @@ impl<'a> Renderer<'a> {
     ) -> Option<(u32, DVec3)> {
         let mesh = self.volume.mesh;
         let before = counters.hex_tests;
+        let p = seg.origin + seg.dir * seg.t;
         let found = match self.local_boundary_locate(p, cell, guess, in_start, counters) {
             Local::Inside(c, q) => Some((c, q)),
-            Local::Outside if !confirm => None,
-            Local::Outside | Local::Undecided => self.volume.accel.locate(mesh, p, counters),
+            Local::Outside(_) if !confirm => None,
+            Local::Outside(face) | Local::Beyond(face) if self.proven_outside(seg, face, stats) => {
+                None
+            }
+            _ => self.volume.accel.locate(mesh, p, counters),
         };
         stats.boundary_refinements += counters.hex_tests - before;
         found
@@ -869,7 +1047,11 @@ impl<'a> Renderer<'a> {
                     guess = None;
                     continue;
                 }
-                return Local::Undecided;
+                return if dist > 0.0 && n == u32::MAX {
+                    Local::Beyond((c, f as u8))
+                } else {
+                    Local::Undecided
+                };
             };
             if slot == 0 {
                 *in_start = Some(q);
@@ -879,6 +1061,7 @@ impl<'a> Renderer<'a> {
             }
             let nb = self.neighbours.neighbours(c);
             let mut next: Option<(f64, u32)> = None;
+            let mut beyond: Option<(f64, u8)> = None;
             for (f, &n) in nb.iter().enumerate() {
                 let v = face_violation(q, f);
                 if v <= CONTAINMENT_TOLERANCE {
@@ -892,6 +1075,9 @@ impl<'a> Renderer<'a> {
                     let distinct = 1 + pts.windows(2).filter(|w| w[0] != w[1]).count();
                     if distinct < 3 {
                         return Local::Undecided;
+                    }
+                    if beyond.map_or(true, |(bv, _)| v > bv) {
+                        beyond = Some((v, f as u8));
                     }
                     continue;
                 }
@@ -914,10 +1100,9 @@ impl<'a> Renderer<'a> {
                             && face_violation(q, f) > CONTAINMENT_TOLERANCE
                             && visited.contains(&n)
                     });
-                    return if beyond_visited {
-                        Local::Undecided
-                    } else {
-                        Local::Outside
+                    return match beyond {
+                        Some((_, f)) if !beyond_visited => Local::Outside((c, f)),
+                        _ => Local::Undecided,
                     };
                 }
             }
@@ -943,8 +1128,15 @@ impl<'a> Renderer<'a> {
             None => b.inside.1,
         };
         let mut in_start = None;
+        let seg = Segment {
+            origin,
+            dir,
+            t_inside: b.t_inside,
+            t,
+            inside_cell: b.inside.0,
+        };
         match self.boundary_locate_from(
-            origin + dir * t,
+            seg,
             b.inside.0,
             guess,
             false,
@@ -1094,6 +1286,10 @@ impl<'a> Renderer<'a> {
         let mut prev_in = false;
         // The fast path's last located cell and parameters; `None` outside the mesh.
         let mut prev: Option<(u32, DVec3)> = None;
+        // The ray parameter of the sample `prev` holds.
+        let mut prev_t = f64::NAN;
+        // Where a sample past an exit was proved outside: the next possible boundary crossing.
+        let mut outside_next: Option<(f64, Option<u32>)> = None;
         // The fast path's march along the ray through `prev`'s cell.
         let mut march = March::new();
         let mut first_cell: Option<u32> = None;
@@ -1190,7 +1386,41 @@ impl<'a> Renderer<'a> {
                             };
                             walked = Some(Some((n, q)));
                         }
-                        WalkEnd::Boundary => prev = None,
+                        WalkEnd::Boundary => {
+                            // Left the mesh by the planes: settled locally where the
+                            // boundary surface proves the sample outside.
+                            prev = None;
+                            let seg = Segment {
+                                origin,
+                                dir,
+                                t_inside: prev_t,
+                                t,
+                                inside_cell: c,
+                            };
+                            let guess = if march.cell() == c {
+                                q
+                            } else {
+                                DVec3::splat(0.5)
+                            };
+                            if let Some(face) = march.exit_face() {
+                                let face = (march.cell(), face as u8);
+                                match self.exit_locate(
+                                    seg,
+                                    face,
+                                    guess,
+                                    t_out,
+                                    &mut counters,
+                                    stats,
+                                ) {
+                                    Exit::Inside(c, q) => walked = Some(Some((c, q))),
+                                    Exit::Outside(next) => {
+                                        walked = Some(None);
+                                        outside_next = Some(next);
+                                    }
+                                    Exit::Undecided => {}
+                                }
+                            }
+                        }
                         WalkEnd::GaveUp => {
                             stats.structure_locates += 1;
                             walked = Some(vol.accel.locate(mesh, p, &mut counters));
@@ -1260,6 +1490,7 @@ impl<'a> Renderer<'a> {
             };
             if fast {
                 prev = found;
+                prev_t = t;
                 // The march follows `prev` (and is not used while there is none).
                 if let Some((c, _)) = found {
                     if march.cell() != c {
@@ -1271,7 +1502,9 @@ impl<'a> Renderer<'a> {
                 prev_in = false;
                 close_at_exit(&mut acc, t, &mut counters, stats);
                 // Located nowhere: outside the mesh, exactly.
-                (outside_until, surface_cell) = next_surface_crossing(t);
+                (outside_until, surface_cell) = outside_next
+                    .take()
+                    .unwrap_or_else(|| next_surface_crossing(t));
                 continue;
             };
             // The previous composited sample (if any) keeps its full end: this one is inside.
@@ -1332,10 +1565,15 @@ impl<'a> Renderer<'a> {
                 let outside = k >= 2
                     || self
                         .boundary_locate(
-                            origin + dir * t_prev,
+                            Segment {
+                                origin,
+                                dir,
+                                t_inside: t,
+                                t: t_prev,
+                                inside_cell: cell,
+                            },
                             cell,
                             raw_param,
-                            true,
                             &mut counters,
                             stats,
                         )
@@ -1369,9 +1607,15 @@ impl<'a> Renderer<'a> {
                 // Before stopping, see whether the ray leaves the mesh before the next sample.
                 if let Some(l) = acc.last.take() {
                     let t_next = sample_t(k).min(t_out);
-                    let p_next = origin + dir * t_next;
+                    let seg = Segment {
+                        origin,
+                        dir,
+                        t_inside: t,
+                        t: t_next,
+                        inside_cell: cell,
+                    };
                     if self
-                        .boundary_locate(p_next, cell, raw_param, true, &mut counters, stats)
+                        .boundary_locate(seg, cell, raw_param, &mut counters, stats)
                         .is_none()
                     {
                         let e =
@@ -1387,10 +1631,16 @@ impl<'a> Renderer<'a> {
         }
         // The ray's end: where it is outside the mesh, the last sample ends at the crossing.
         if let Some(l) = acc.last.take() {
-            let p_end = origin + dir * t_out;
+            let seg = Segment {
+                origin,
+                dir,
+                t_inside: l.t,
+                t: t_out,
+                inside_cell: l.inside.0,
+            };
             if t_out.is_finite()
                 && self
-                    .boundary_locate(p_end, l.inside.0, l.inside.1, true, &mut counters, stats)
+                    .boundary_locate(seg, l.inside.0, l.inside.1, &mut counters, stats)
                     .is_none()
             {
                 let e = self.crossing(origin, dir, t_out, l.t, l.inside, &mut counters, stats);

@@ -182,13 +182,140 @@ impl BoundarySurface {
         t1: f64,
         counters: &mut Counters,
     ) -> Option<(f64, u32)> {
-        self.bvh
-            .first_along(origin, dir, t0, t1, counters, |i, lo, hi| {
+        self.first_crossing(origin, dir, t0, t1, &mut |_| true, counters)
+            .map(|(t, (c, _))| (t, c))
+    }
+
+    /// Whether the ray `origin + t dir` may cross a boundary face other than `face` (its
+    /// `(cell, face)`) for some `t` between `ta` and `tb` (in either order): `false` means it
+    /// crosses no other. Each other face whose conservative bound (as in
+    /// [`BoundarySurface::next_crossing`]) the segment meets is put to `may_cross` (given its
+    /// `(cell, face)`), which refines the bound — an exact count of crossings, say — and says
+    /// `true` where the segment may cross it. Node visits are counted in `counters`.
+    ///
+    /// ```
+    /// use cylvol::accel::Counters;
+    /// use cylvol::datasets::{generate, Dataset};
+    /// use cylvol::mesh::topology::FaceNeighbors;
+    /// use cylvol::render::surface::BoundarySurface;
+    /// use glam::DVec3;
+    /// let mesh = generate(Dataset::PumpInlet, 2000).unwrap();
+    /// let faces = FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+    /// let surface = BoundarySurface::new(&mesh, &faces);
+    /// // A ray from far off towards the mesh's centre crosses some boundary face; the first it
+    /// // may cross is not the only one on the way through.
+    /// let b = cylvol::geometry::bounds::Aabb::from_points(mesh.points());
+    /// let (o, d) = (b.center() - DVec3::X * 10.0 * b.diagonal(), DVec3::X);
+    /// let mut counters = Counters::default();
+    /// let (t, cell) = surface.next_crossing(o, d, 0.0, 1e9, &mut counters).unwrap();
+    /// let face = *surface.faces().iter().find(|f| f.0 == cell).unwrap();
+    /// assert!(surface.may_cross_other(o, d, 0.0, 1e9, face, &mut counters, |_| true));
+    /// // Before the first crossing there is none; where the refinement says so, none at all.
+    /// assert!(!surface.may_cross_other(o, d, 0.0, 0.5 * t, face, &mut counters, |_| true));
+    /// assert!(!surface.may_cross_other(o, d, 0.0, 1e9, face, &mut counters, |_| false));
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn may_cross_other(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        ta: f64,
+        tb: f64,
+        face: (u32, u8),
+        counters: &mut Counters,
+        mut may_cross: impl FnMut((u32, u8)) -> bool,
+    ) -> bool {
+        let mut refine = |f: (u32, u8)| f != face && may_cross(f);
+        self.first_crossing(origin, dir, ta.min(tb), ta.max(tb), &mut refine, counters)
+            .is_some()
+    }
+
+    /// For a ray in the mesh at `t_from` that crosses the boundary face `face` (its
+    /// `(cell, face)`) before `t`: whether it may cross another one on `[t_from, t]`, as
+    /// [`BoundarySurface::may_cross_other`] tells with `may_cross`, and if not, where it may
+    /// next cross the boundary from `t` on (up to `t_end`), as
+    /// [`BoundarySurface::next_crossing`] from `t` tells (`face` included: a line may cross a
+    /// bilinear face twice) — in one traversal. `None` where it may cross another face before
+    /// `t`; else `Some` of the next crossing (`None` inside it where there is none).
+    ///
+    /// ```
+    /// use cylvol::accel::Counters;
+    /// use cylvol::datasets::{generate, Dataset};
+    /// use cylvol::mesh::topology::FaceNeighbors;
+    /// use cylvol::render::surface::BoundarySurface;
+    /// use glam::DVec3;
+    /// let mesh = generate(Dataset::PumpInlet, 2000).unwrap();
+    /// let faces = FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+    /// let surface = BoundarySurface::new(&mesh, &faces);
+    /// let b = cylvol::geometry::bounds::Aabb::from_points(mesh.points());
+    /// let (o, d) = (b.center() - DVec3::X * 10.0 * b.diagonal(), DVec3::X);
+    /// let mut c = Counters::default();
+    /// let (t, cell) = surface.next_crossing(o, d, 0.0, 1e9, &mut c).unwrap();
+    /// let face = *surface.faces().iter().find(|f| f.0 == cell).unwrap();
+    /// // With no other face counted as crossed, the next crossing from a point is the one
+    /// // next_crossing gives.
+    /// let from = 0.5 * t;
+    /// let next = surface.sole_crossing_then_next(o, d, 0.0, from, 1e9, face, &mut c, |_| false);
+    /// assert_eq!(next, Some(surface.next_crossing(o, d, from, 1e9, &mut c)));
+    /// // With every face that may be crossed counted as crossed, no answer past the first.
+    /// let after = 0.5 * (t + 1e9);
+    /// assert_eq!(surface.sole_crossing_then_next(o, d, 0.0, after, 1e9, face, &mut c, |_| true), None);
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn sole_crossing_then_next(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t_from: f64,
+        t: f64,
+        t_end: f64,
+        face: (u32, u8),
+        counters: &mut Counters,
+        mut may_cross: impl FnMut((u32, u8)) -> bool,
+    ) -> Option<Option<(f64, u32)>> {
+        let mut other = false;
+        let hit = self
+            .bvh
+            .first_along(origin, dir, t_from, t_end, counters, |i, lo, hi| {
+                let f = *self.faces.get(i as usize)?;
                 let (s, e) = self.slabs.get(i as usize)?.span(origin, dir)?;
                 let (lo, hi) = (lo.max(s), hi.min(e));
-                (lo <= hi).then_some((lo, hi))
+                if lo > hi {
+                    return None;
+                }
+                if lo < t && f != face && may_cross(f) {
+                    // Settled: the closest hit is now before `t`, which ends the traversal.
+                    other = true;
+                    return Some((lo, hi));
+                }
+                (hi >= t).then_some((lo.max(t), hi))
+            });
+        if other {
+            return None;
+        }
+        Some(hit.and_then(|(t, _, i)| self.faces.get(i as usize).map(|&(c, _)| (t, c))))
+    }
+
+    /// The first `t ∈ [t0, t1]` at which the ray may cross a boundary face for which
+    /// `keep` holds (asked only of faces whose bound the ray meets there), with that face's
+    /// `(cell, face)`.
+    fn first_crossing(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        keep: &mut dyn FnMut((u32, u8)) -> bool,
+        counters: &mut Counters,
+    ) -> Option<(f64, (u32, u8))> {
+        self.bvh
+            .first_along(origin, dir, t0, t1, counters, |i, lo, hi| {
+                let face = *self.faces.get(i as usize)?;
+                let (s, e) = self.slabs.get(i as usize)?.span(origin, dir)?;
+                let (lo, hi) = (lo.max(s), hi.min(e));
+                (lo <= hi && keep(face)).then_some((lo, hi))
             })
-            .and_then(|(t, _, i)| self.faces.get(i as usize).map(|&(c, _)| (t, c)))
+            .and_then(|(t, _, i)| self.faces.get(i as usize).map(|&f| (t, f)))
     }
 
     /// Whether a boundary face other than face `face` of `cell` may lie within `r` of `p`:
@@ -218,7 +345,7 @@ impl BoundarySurface {
 }
 
 /// The four corners of face `f` of cell `c`.
-fn face_corners(mesh: &Mesh, c: u32, f: u8) -> [DVec3; 4] {
+pub(crate) fn face_corners(mesh: &Mesh, c: u32, f: u8) -> [DVec3; 4] {
     let ids = mesh.cells()[c as usize];
     FACES[f as usize].map(|k| mesh.points()[ids[k] as usize])
 }
