@@ -214,8 +214,8 @@ impl Node {
 }
 
 impl Mesh {
-    /// This mesh with every hexahedron cut into `n × n × n` children (see the
-    /// [module documentation](self)): `n³` times the cells, the same geometry, the point arrays
+    /// This mesh with every hexahedron cut into `n × n × n` children (see the module
+    /// documentation of `mesh::refine`): `n³` times the cells, the same geometry, the point arrays
     /// interpolated and the cell arrays copied, the same active scalar. `n = 1` gives a copy.
     ///
     /// Errors: `n` outside `1..=`[`MAX_REFINEMENT`], a cell that is not a hexahedron

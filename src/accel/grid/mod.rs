@@ -2,7 +2,7 @@
 //! 2011), in Cartesian `(x, y, z)` or cylindrical `(r, θ, h)` coordinates.
 //!
 //! # Structure
-//! The grid indexes boxes ([`Pieces<Aabb>`]) given in its own coordinates — for a cylindrical
+//! The grid indexes boxes ([`Pieces<Aabb>`](crate::accel::space::Pieces)) given in its own coordinates — for a cylindrical
 //! grid the `(r, θ, h)` boxes of [`super::space::linear_boxes`], θ in `[−π, π]`. The domain is
 //! the union of the boxes. The top level splits it into `R_x × R_y × R_z` cells by the density
 //! rule ([`GridParams::top_density`]); every non-empty top cell is split again, with its own

@@ -29,7 +29,7 @@
 //! [`Error::Mesh`]. No count in a file makes the reader allocate more than the file can hold.
 //!
 //! # Writing
-//! [`write`] writes a BINARY `UNSTRUCTURED_GRID` with `double` points, the classic `CELLS` layout
+//! [`write()`] writes a BINARY `UNSTRUCTURED_GRID` with `double` points, the classic `CELLS` layout
 //! (VTK 5.1's when ids do not fit 32 bits), `CELL_TYPES`, then `CELL_DATA` and `POINT_DATA`:
 //! in each, arrays keep their order; the first 1-component array is written as `SCALARS … double`
 //! with `LOOKUP_TABLE default`, the first 3-component one as `VECTORS`, and every other array as
