@@ -451,7 +451,14 @@ proptest! {
             .iter()
             .filter(|(p, t)| in_patch(*p) && *t > t0 && *t < t1)
             .count() as u32;
-        let got = segment_crossings(&corners, o, d, t0, t1, 0.0);
+        let crossings = segment_crossings(&corners, o, d, t0, t1, 0.0);
+        // Each crossing is one of the two points, to the precision the points are given with
+        // (their coordinates are rounded 10⁶ from the origin).
+        let tol = 1e-8 + 1e4 * f64::EPSILON * DVec3::from_array(offset).length() / scale;
+        for &t in crossings.iter().flat_map(|c| c.ts()) {
+            prop_assert!((t - 1.0).abs() < tol || (t - 2.0).abs() < tol, "{} {}", t, tol);
+        }
+        let got = crossings.map(|c| c.count());
         let clear = |p: [f64; 2]| p.iter().all(|&v| v.abs() > 0.01 && (v - 1.0).abs() > 0.01);
         if clear(a) && clear(b) {
             prop_assert_eq!(got, Some(expected));

@@ -19,8 +19,35 @@ use glam::DVec3;
 /// call inside or outside.
 pub const EDGE_BAND: f64 = 1e-6;
 
-/// The number of times the segment `o + t d`, `t ∈ (t0, t1)`, crosses the bilinear patch with
-/// corners `corners` (cyclic order), or `None` where that cannot be told robustly (see the
+/// Where a segment crosses a patch: the crossings' `t`, in increasing order (at most two).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Crossings {
+    ts: [f64; 2],
+    n: usize,
+}
+
+impl Crossings {
+    /// How many times the segment crosses the patch.
+    pub fn count(&self) -> u32 {
+        self.n as u32
+    }
+
+    /// The crossings' `t`, in increasing order.
+    pub fn ts(&self) -> &[f64] {
+        &self.ts[..self.n]
+    }
+
+    fn push(&mut self, t: f64) {
+        self.ts[self.n] = t;
+        self.n += 1;
+        if self.n == 2 && self.ts[1] < self.ts[0] {
+            self.ts.swap(0, 1);
+        }
+    }
+}
+
+/// Where the segment `o + t d`, `t ∈ (t0, t1)`, crosses the bilinear patch with corners
+/// `corners` (cyclic order), or `None` where that cannot be told robustly (see the
 /// module documentation): a crossing within [`EDGE_BAND`] of the patch's edges, or one whose
 /// distance from either end of the segment, along the patch's normal there, is at most
 /// `margin`, is not told.
@@ -35,8 +62,10 @@ pub const EDGE_BAND: f64 = 1e-6;
 ///     DVec3::new(0.0, 1.0, 1.0),
 /// ];
 /// let (o, d) = (DVec3::new(0.3, 0.6, 0.0), DVec3::Z);
-/// assert_eq!(segment_crossings(&square, o, d, 0.0, 2.0, 0.0), Some(1));
-/// assert_eq!(segment_crossings(&square, o, d, 1.5, 2.0, 0.0), Some(0));
+/// let crossings = segment_crossings(&square, o, d, 0.0, 2.0, 0.0).unwrap();
+/// assert_eq!(crossings.count(), 1);
+/// assert!((crossings.ts()[0] - 1.0).abs() < 1e-12);
+/// assert_eq!(segment_crossings(&square, o, d, 1.5, 2.0, 0.0).unwrap().count(), 0);
 /// // Through an edge, or within the margin of an end: undecided.
 /// assert_eq!(segment_crossings(&square, DVec3::new(1.0, 0.6, 0.0), d, 0.0, 2.0, 0.0), None);
 /// assert_eq!(segment_crossings(&square, o, d, 0.0, 1.05, 0.1), None);
@@ -48,7 +77,7 @@ pub fn segment_crossings(
     t0: f64,
     t1: f64,
     margin: f64,
-) -> Option<u32> {
+) -> Option<Crossings> {
     let dd = d.length_squared();
     if !(dd > 0.0 && dd.is_finite() && t0.is_finite() && t1.is_finite() && t0 <= t1) {
         return None;
@@ -101,7 +130,7 @@ pub fn segment_crossings(
     let in_band = |x: f64| x.abs() <= EDGE_BAND || (x - 1.0).abs() <= EDGE_BAND;
     let t_pad = 1e-9 * ((t1 - t0).abs() + size / dd.sqrt());
     let len = dd.sqrt();
-    let mut count = 0;
+    let mut found = Crossings::default();
     for s in roots.into_iter().flatten() {
         if !s.is_finite() {
             return None;
@@ -145,10 +174,10 @@ pub fn segment_crossings(
             return None;
         }
         if t > t0 && t < t1 {
-            count += 1;
+            found.push(t);
         }
     }
-    Some(count)
+    Some(found)
 }
 
 #[cfg(test)]
@@ -171,20 +200,20 @@ mod tests {
         let (x, y) = (at(&TWISTED, 0.2, 0.3), at(&TWISTED, 0.8, 0.6));
         let d = y - x;
         assert_eq!(
-            segment_crossings(&TWISTED, x - d, d, 0.0, 3.0, 0.0),
+            segment_crossings(&TWISTED, x - d, d, 0.0, 3.0, 0.0).map(|c| c.count()),
             Some(2)
         );
         // Each end of the segment between them counts one.
         assert_eq!(
-            segment_crossings(&TWISTED, x - d, d, 0.0, 1.5, 0.0),
+            segment_crossings(&TWISTED, x - d, d, 0.0, 1.5, 0.0).map(|c| c.count()),
             Some(1)
         );
         assert_eq!(
-            segment_crossings(&TWISTED, x - d, d, 1.5, 3.0, 0.0),
+            segment_crossings(&TWISTED, x - d, d, 1.5, 3.0, 0.0).map(|c| c.count()),
             Some(1)
         );
         assert_eq!(
-            segment_crossings(&TWISTED, x - d, d, 1.2, 1.8, 0.0),
+            segment_crossings(&TWISTED, x - d, d, 1.2, 1.8, 0.0).map(|c| c.count()),
             Some(0)
         );
         // A segment ending on a crossing is undecided.
@@ -197,14 +226,14 @@ mod tests {
         let (x, y) = (at(&TWISTED, 1.4, 0.3), at(&TWISTED, -0.5, 0.6));
         let d = y - x;
         assert_eq!(
-            segment_crossings(&TWISTED, x - d, d, 0.0, 3.0, 0.0),
+            segment_crossings(&TWISTED, x - d, d, 0.0, 3.0, 0.0).map(|c| c.count()),
             Some(0)
         );
         // One inside, one outside: one crossing.
         let (x, y) = (at(&TWISTED, 0.4, 0.3), at(&TWISTED, -0.5, 0.6));
         let d = y - x;
         assert_eq!(
-            segment_crossings(&TWISTED, x - d, d, 0.0, 3.0, 0.0),
+            segment_crossings(&TWISTED, x - d, d, 0.0, 3.0, 0.0).map(|c| c.count()),
             Some(1)
         );
     }
@@ -237,11 +266,11 @@ mod tests {
         let o = x - d * 1e3;
         let len = (y - x).length();
         assert_eq!(
-            segment_crossings(&small, o, d, 0.0, 1e3 + 2.0 * len, 1e-9),
+            segment_crossings(&small, o, d, 0.0, 1e3 + 2.0 * len, 1e-9).map(|c| c.count()),
             Some(2)
         );
         assert_eq!(
-            segment_crossings(&small, o, d, 0.0, 1e3 + 0.5 * len, 1e-9),
+            segment_crossings(&small, o, d, 0.0, 1e3 + 0.5 * len, 1e-9).map(|c| c.count()),
             Some(1)
         );
     }
