@@ -16,6 +16,7 @@ use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::Axis;
 use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::io::structured::hexahedra;
+use cylvol::render::boundary::BISECTIONS;
 use cylvol::render::{
     Camera, Image, RenderOptions, RenderPath, RenderStats, Renderer, Shading, TransferFunction,
     Volume,
@@ -575,6 +576,11 @@ fn face_neighbours(mesh: &Mesh) -> Vec<[u32; 6]> {
         .collect()
 }
 
+/// With complete face neighbours the fast path finds where a ray enters and leaves the mesh
+/// exactly (walking the faces it crosses, `render::march::boundary_face_crossing`); without
+/// them, by bisection to within `step / 2^(BISECTIONS + 1)` of it. The same samples are
+/// located, so the images differ by at most the opacity of two such slivers (entry and exit:
+/// the O-grid is convex) of the most opaque medium.
 #[test]
 fn face_neighbours_change_the_work_not_the_image() {
     let case = o_grid();
@@ -599,7 +605,16 @@ fn face_neighbours_change_the_work_not_the_image() {
         .expect("renderer")
         .with_neighbours(&lookup);
     let (b, sb) = with.render(&camera, None).expect("render");
-    assert!(a.max_abs_difference(&b) <= 1e-6);
+    let [lo, hi] = volume.scalar_range();
+    let densest = (0..=1000)
+        .map(|k| plain.table().lookup(lo + (hi - lo) * k as f64 / 1000.0)[3])
+        .fold(0.0f64, f64::max);
+    let bound = 2.0 * (1.0 - (1.0 - densest).powf(0.5f64.powi(BISECTIONS as i32 + 1)));
+    let diff = f64::from(a.max_abs_difference(&b));
+    eprintln!("differs by {diff}, bound {bound}");
+    assert!(diff <= bound, "{diff} > {bound}");
+    assert_eq!(sa.samples, sb.samples);
+    assert_eq!(sa.samples_located, sb.samples_located);
     assert_eq!(sa.neighbour_hits, 0);
     assert!(sb.neighbour_hits > 0 && sb.previous_cell_hits > 0);
     assert!(

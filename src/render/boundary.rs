@@ -4,13 +4,21 @@
 //! A sample at `t_k` stands for `[t_k − step/2, t_k + step/2]`. Where its neighbour sample
 //! (before or after) lies outside the mesh, the ray crossed the mesh boundary between the two;
 //! the sample then stands for its segment cut at (or extended to) that crossing, so that the
-//! in-mesh length of the ray is counted exactly rather than to a step. The crossing is found by
-//! [`BISECTIONS`] bisection steps on exact mesh containment, then refined once by linear
-//! interpolation of the violated parametric
-//! coordinate of the cell at the inside end of the bracket (exact for a planar boundary face
-//! crossed in that cell up to the curvature of the trilinear map over the bracket). Where the
-//! refinement does not land inside the bracket, the bracket's midpoint is taken: the crossing
-//! is then off by at most `step / 2^(BISECTIONS + 1)`.
+//! in-mesh length of the ray is counted exactly rather than to a step.
+//!
+//! # Finding the crossing
+//! With complete face neighbours the crossing is found exactly: from the inside sample's cell
+//! the ray is followed across the faces it crosses — each a bilinear patch, the trilinear
+//! map's own face, whose crossing by a line is the root of a quadratic
+//! ([`crate::geometry::patch::segment_crossings`]) — until it crosses one without a neighbour
+//! ([`super::march::boundary_face_crossing`]). On the fast path, where the sample past an
+//! exit is proved outside by parity, the crossing of the exit face is already in hand. Where
+//! the walk cannot tell (a crossing within `1e-6` of a face's edge, a grazing ray) or without
+//! neighbours, the crossing is found by [`BISECTIONS`] bisection steps on exact mesh
+//! containment, then refined once by linear interpolation of the violated parametric
+//! coordinate of the cell at the inside end of the bracket. Where the refinement does not land
+//! inside the bracket, the bracket's midpoint is taken: the crossing is then off by at most
+//! `step / 2^(BISECTIONS + 1)`.
 //!
 //! # Containment without the structure
 //! Each bisection point is tested in the cell of the inside end of the bracket first. With

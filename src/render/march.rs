@@ -24,6 +24,7 @@ use super::walk::{test_cell, walk, WalkEnd, WalkWork};
 use crate::geometry::bounds::Aabb;
 use crate::geometry::containment::{certainly_inside, param_inside, reject_box};
 use crate::geometry::inverse::PreparedCell;
+use crate::geometry::patch::segment_crossings;
 use crate::mesh::topology::FACES;
 use crate::Mesh;
 
@@ -311,6 +312,93 @@ pub fn boundary_plane_crossing(
     None
 }
 
+/// Where the ray `o + t d` leaves the mesh, exactly, walking from `cell` (which holds the ray
+/// at `t_from`) towards `t_to` (backwards along the ray when `t_to < t_from`): in each cell,
+/// the first crossing of one of its faces (bilinear patches, the trilinear map's own faces,
+/// [`segment_crossings`]) after the point the ray entered it by, the face it entered by left
+/// out. Across a face with a neighbour the walk goes on; the first face without one is where
+/// the ray leaves the mesh. Faces of fewer than three distinct points (no area) are never
+/// crossed. `None` where a crossing cannot be told robustly (near a face's edge or a cell's
+/// corner, a grazing ray), where the ray reaches `t_to` inside the mesh, or after
+/// [`MAX_MARCH_STEPS`] cells. The answer means what it says only where every face without a
+/// neighbour bounds the mesh ([`Neighbours::complete`]).
+///
+/// ```
+/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
+/// use cylvol::render::march::boundary_face_crossing;
+/// use cylvol::{CellKind, Mesh, MeshParts};
+/// use glam::DVec3;
+/// // One unit cube: from its centre along a slanted ray, out through x = 1 at t = 0.5.
+/// let mesh = Mesh::from_parts(MeshParts {
+///     points: CORNER_PARAMETERS.map(DVec3::from_array).to_vec(),
+///     cells: vec![[0, 1, 2, 3, 4, 5, 6, 7]],
+///     kinds: vec![CellKind::Hexahedron],
+///     ..Default::default()
+/// })
+/// .unwrap();
+/// let none = |_: u32| [u32::MAX; 6];
+/// let (o, d) = (DVec3::splat(0.5), DVec3::new(1.0, 0.3, -0.2));
+/// let t = boundary_face_crossing(&mesh, &none, 0, o, d, 0.0, 2.0).unwrap();
+/// assert!((t - 0.5).abs() < 1e-12);
+/// // Backwards, out through x = 0; not before t_to.
+/// let t = boundary_face_crossing(&mesh, &none, 0, o, d, 0.0, -2.0).unwrap();
+/// assert!((t + 0.5).abs() < 1e-12);
+/// assert_eq!(boundary_face_crossing(&mesh, &none, 0, o, d, 0.0, 0.4), None);
+/// ```
+pub fn boundary_face_crossing(
+    mesh: &Mesh,
+    neighbours: &dyn Neighbours,
+    cell: u32,
+    o: DVec3,
+    d: DVec3,
+    t_from: f64,
+    t_to: f64,
+) -> Option<f64> {
+    // Along s = ±t, so that the walk always goes towards larger s.
+    let (dir, sign) = if t_to >= t_from { (d, 1.0) } else { (-d, -1.0) };
+    let s_to = sign * t_to;
+    let (mut c, mut s_from, mut entry) = (cell, sign * t_from, usize::MAX);
+    let cells = mesh.cells();
+    for _ in 0..MAX_MARCH_STEPS {
+        let ids = *cells.get(c as usize)?;
+        let corners = mesh.cell_corners(c as usize);
+        let mut first: Option<(f64, usize)> = None;
+        for (f, slots) in FACES.iter().enumerate() {
+            if f == entry {
+                continue;
+            }
+            let mut pts = slots.map(|k| ids[k]);
+            pts.sort_unstable();
+            if 1 + pts.windows(2).filter(|w| w[0] != w[1]).count() < 3 {
+                continue;
+            }
+            let crossings =
+                segment_crossings(&slots.map(|k| corners[k]), o, dir, s_from, s_to, 0.0)?;
+            if let Some(&s) = crossings.ts().first() {
+                if first.map_or(true, |(b, _)| s < b) {
+                    first = Some((s, f));
+                }
+            }
+        }
+        let (s, f) = first?;
+        let n = neighbours.neighbours(c)[f];
+        if n == u32::MAX {
+            return Some(sign * s);
+        }
+        if n as usize >= cells.len() || n == c {
+            return None;
+        }
+        entry = neighbours
+            .neighbours(n)
+            .iter()
+            .position(|&m| m == c)
+            .unwrap_or(usize::MAX);
+        c = n;
+        s_from = s;
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -405,6 +493,58 @@ mod tests {
                 None
             );
         }
+    }
+
+    #[test]
+    fn exact_boundary_crossing_lies_on_a_twisted_end_face() {
+        use crate::geometry::inverse::invert;
+        use crate::mesh::{CellKind, Mesh, MeshParts};
+        // Three cubes along x; the far end face (x = 3) twisted: one corner pushed out by 0.4.
+        let mut points = Vec::new();
+        for i in 0..4 {
+            for (y, z) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+                let x = if i == 3 && (y, z) == (1.0, 1.0) {
+                    3.4
+                } else {
+                    i as f64
+                };
+                points.push(DVec3::new(x, y, z));
+            }
+        }
+        let cells: Vec<[u32; 8]> = (0..3u32)
+            .map(|i| {
+                let a = 4 * i;
+                let b = a + 4;
+                [a, b, b + 1, a + 1, a + 3, b + 3, b + 2, a + 2]
+            })
+            .collect();
+        let mesh = Mesh::from_parts(MeshParts {
+            points,
+            kinds: vec![CellKind::Hexahedron; cells.len()],
+            cells,
+            ..Default::default()
+        })
+        .unwrap();
+        let nb = |c: u32| -> [u32; 6] {
+            let left = if c == 0 { u32::MAX } else { c - 1 };
+            let right = if c == 2 { u32::MAX } else { c + 1 };
+            [left, right, u32::MAX, u32::MAX, u32::MAX, u32::MAX]
+        };
+        let o = DVec3::new(0.5, 0.3, 0.4);
+        let d = DVec3::new(1.0, 0.17, 0.11).normalize();
+        let t = boundary_face_crossing(&mesh, &nb, 0, o, d, 0.0, 10.0).unwrap();
+        // On the last cell's face u = 1, inside its edges: the trilinear map's own face.
+        let q = invert(&mesh.cell_corners(2), o + d * t, None)
+            .param()
+            .unwrap();
+        assert!((q.x - 1.0).abs() < 1e-12, "{q}");
+        assert!(q.y > 0.0 && q.y < 1.0 && q.z > 0.0 && q.z < 1.0, "{q}");
+        // The planes' estimate is off the twisted face; the exact crossing is not.
+        let planes = boundary_plane_crossing(&mesh, &nb, 0, o, d, 0.0, 10.0).unwrap();
+        assert!((planes - t).abs() > 1e-3, "{planes} vs {t}");
+        // Backwards from the last cell, out through x = 0.
+        let back = boundary_face_crossing(&mesh, &nb, 2, o, d, 2.5, -10.0).unwrap();
+        assert!((o + d * back).x.abs() < 1e-12, "{back}");
     }
 
     #[test]

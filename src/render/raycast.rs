@@ -11,7 +11,8 @@
 //! # Boundary-aware segments
 //! Where a located sample follows an unlocated one (or the ray's start), or an unlocated one
 //! follows it (or the ray's end), the ray crossed the mesh boundary in between: the crossing
-//! is found by bisection on exact mesh containment and refined once (see
+//! is found exactly where the face neighbours are complete (following the ray across cell
+//! faces), else by bisection on exact mesh containment refined once (see
 //! [`super::boundary`]), and the boundary sample stands for the in-mesh part of the ray from
 //! the crossing to the middle between it and its located neighbour — its own segment cut at
 //! the crossing, or extended to it over the outside neighbour's segment. Its opacity is that
@@ -57,11 +58,14 @@
 //!   segment from the last sample inside crosses that face exactly once (a robust count of a
 //!   line's crossings of a bilinear patch, [`crate::geometry::patch`]) and no other boundary
 //!   face (the surface's bound, then the same count), so no cell is tested and the structure
-//!   is not asked; the same proof confirms the boundary searches' "outside" at the ray's
-//!   ends. Boundary crossings start from where the march leaves the mesh by face planes. A sample whose cell's scalar range the transfer function maps to zero
-//!   opacity everywhere is skipped without interpolation (it would add nothing). The image
-//!   equals the paper path's up to the choice between two cells on a shared face (both valid,
-//!   values equal to the inverse map's tolerance, `~1e-9` relative).
+//!   is not asked, and the exit's crossing is that face's; the same proof confirms the
+//!   boundary searches' "outside" at the ray's ends. A sample whose cell's scalar range the
+//!   transfer function maps to zero opacity everywhere is skipped without interpolation (it
+//!   would add nothing). With the same neighbours, the image equals the paper path's up to the
+//!   choice between two cells on a shared face (both valid, values equal to the inverse map's
+//!   tolerance, `~1e-9` relative); the paper path without neighbours (as the CLI runs it)
+//!   finds boundary crossings by bisection, to within `step / 2^(BISECTIONS + 1)` of the
+//!   exact ones.
 //!
 //! Both count their work in [`RenderStats`].
 //!
@@ -80,7 +84,7 @@ use serde::Serialize;
 use super::boundary::{face_violation, interpolate_crossing, partial_opacity, BISECTIONS};
 use super::camera::{Camera, RayGenerator, RaySource};
 use super::image::Image;
-use super::march::{boundary_plane_crossing, March};
+use super::march::{boundary_face_crossing, boundary_plane_crossing, March};
 use super::shading::Shading;
 use super::skip::{NodeArcs, Skipper};
 use super::surface::{face_corners, BoundarySurface};
@@ -92,7 +96,7 @@ use crate::accel::{Accel, Counters};
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
 use crate::geometry::inverse::invert;
-use crate::geometry::patch::segment_crossings;
+use crate::geometry::patch::{segment_crossings, Crossings};
 use crate::geometry::trilinear::{index, interpolate, physical_gradient};
 use crate::mesh::topology::FACES;
 use crate::mesh::Association;
@@ -650,22 +654,34 @@ impl Segment {
 }
 
 /// A proof by parity under way ([`Renderer::proven_outside`]): the boundary surface, and the
-/// segment with the margin from its ends within which a crossing does not count.
+/// segment with the margin from its ends within which a crossing does not count, and where
+/// it crosses the face it leaves the mesh by.
 struct Parity<'r> {
     surface: &'r BoundarySurface,
     mesh: &'r Mesh,
     seg: Segment,
     margin: f64,
+    crossing: f64,
 }
 
 impl Parity<'_> {
-    /// How many times the segment crosses the boundary face `(cell, face)`, where that is
-    /// told robustly ([`segment_crossings`]).
-    fn crossings(&self, (cell, face): (u32, u8)) -> Option<u32> {
+    /// Where the segment crosses the boundary face `(cell, face)`, where that is told
+    /// robustly ([`segment_crossings`]).
+    fn crossings(&self, (cell, face): (u32, u8)) -> Option<Crossings> {
         let (lo, hi) = self.seg.range();
         let patch = face_corners(self.mesh, cell, face);
         segment_crossings(&patch, self.seg.origin, self.seg.dir, lo, hi, self.margin)
     }
+}
+
+/// A sample past an exit from the mesh proved outside ([`Renderer::proven_outside_until`]).
+#[derive(Clone, Copy, Debug)]
+struct ProvedExit {
+    /// Where the ray crosses the boundary face it leaves by (exactly: the bilinear face).
+    crossing: f64,
+    /// The next possible boundary crossing: its `t` and the cell of its face (none: the
+    /// ray's end).
+    next: (f64, Option<u32>),
 }
 
 /// Where the fast path's sample past an exit from the mesh by the face planes is
@@ -673,9 +689,8 @@ impl Parity<'_> {
 enum Exit {
     /// In this cell, at these parameters.
     Inside(u32, DVec3),
-    /// Outside the mesh, proved, until the next possible boundary crossing: its `t` and the
-    /// cell of its face (none: the ray's end).
-    Outside((f64, Option<u32>)),
+    /// Outside the mesh, proved.
+    Outside(ProvedExit),
     /// The structure must say.
     Undecided,
 }
@@ -885,16 +900,16 @@ impl<'a> Renderer<'a> {
             parity
                 .surface
                 .may_cross_other(seg.origin, seg.dir, lo, hi, face, &mut c, |f| {
-                    parity.crossings(f) != Some(0)
+                    parity.crossings(f).map_or(true, |c| c.count() > 0)
                 });
         stats.surface_visits += c.internal_visits + c.leaf_visits;
         !crosses
     }
 
-    /// [`Renderer::proven_outside`] for a segment ahead of its inside end, with the next
-    /// boundary crossing from `seg.t` on (up to `t_end`) found in the same traversal of the
-    /// surface ([`BoundarySurface::sole_crossing_then_next`]): `Some` of that crossing's `t`
-    /// and face's cell (`t_end` and `None` where there is none) where the point is proved
+    /// [`Renderer::proven_outside`] for a segment ahead of its inside end, with where it
+    /// crosses `face` (the exit from the mesh, exactly) and the next boundary crossing from
+    /// `seg.t` on (up to `t_end`), found in the same traversal of the surface
+    /// ([`BoundarySurface::sole_crossing_then_next`]). `None` where the point is not proved
     /// outside.
     fn proven_outside_until(
         &self,
@@ -902,7 +917,7 @@ impl<'a> Renderer<'a> {
         face: (u32, u8),
         t_end: f64,
         stats: &mut RenderStats,
-    ) -> Option<(f64, Option<u32>)> {
+    ) -> Option<ProvedExit> {
         if seg.t <= seg.t_inside {
             return None;
         }
@@ -916,10 +931,13 @@ impl<'a> Renderer<'a> {
             t_end,
             face,
             &mut c,
-            |f| parity.crossings(f) != Some(0),
+            |f| parity.crossings(f).map_or(true, |c| c.count() > 0),
         );
         stats.surface_visits += c.internal_visits + c.leaf_visits;
-        next.map(|n| n.map_or((t_end, None), |(t, cell)| (t, Some(cell))))
+        next.map(|n| ProvedExit {
+            crossing: parity.crossing,
+            next: n.map_or((t_end, None), |(t, cell)| (t, Some(cell))),
+        })
     }
 
     /// The common part of the proofs by parity: where `face` is crossed exactly once by the
@@ -937,13 +955,20 @@ impl<'a> Renderer<'a> {
         }
         let margin =
             PARITY_MARGIN * cell_bounds(&mesh.cell_corners(seg.inside_cell as usize)).diagonal();
-        let parity = Parity {
+        let mut parity = Parity {
             surface,
             mesh,
             seg,
             margin,
+            crossing: f64::NAN,
         };
-        (parity.crossings(face) == Some(1)).then_some(parity)
+        match *parity.crossings(face)?.ts() {
+            [t] => {
+                parity.crossing = t;
+                Some(parity)
+            }
+            _ => None,
+        }
     }
 
     /// The fast path's location of the sample at `seg.t` where the march from the sample at
@@ -1181,6 +1206,19 @@ impl<'a> Renderer<'a> {
         counters: &mut Counters,
         stats: &mut RenderStats,
     ) -> f64 {
+        if self.neighbours.complete() {
+            if let Some(t) = boundary_face_crossing(
+                self.volume.mesh,
+                self.neighbours,
+                inside.0,
+                origin,
+                dir,
+                t_inside,
+                t_outside,
+            ) {
+                return t;
+            }
+        }
         let final_width = (t_outside - t_inside).abs() / f64::from(1u32 << BISECTIONS);
         let mut b = Bracket {
             t_outside,
@@ -1288,8 +1326,8 @@ impl<'a> Renderer<'a> {
         let mut prev: Option<(u32, DVec3)> = None;
         // The ray parameter of the sample `prev` holds.
         let mut prev_t = f64::NAN;
-        // Where a sample past an exit was proved outside: the next possible boundary crossing.
-        let mut outside_next: Option<(f64, Option<u32>)> = None;
+        // Where a sample past an exit was proved outside: the crossing and the next one.
+        let mut proved_exit: Option<ProvedExit> = None;
         // The fast path's march along the ray through `prev`'s cell.
         let mut march = March::new();
         let mut first_cell: Option<u32> = None;
@@ -1298,13 +1336,19 @@ impl<'a> Renderer<'a> {
         let sample_t = |k: u64| t_in + (k as f64 + 0.5) * step;
         // The ray left the mesh before `t_outside`: the last composited sample ends at the
         // crossing (nothing to do without boundary segments, which keep no last sample).
-        let close_at_exit =
-            |acc: &mut Accum, t_outside: f64, counters: &mut Counters, stats: &mut RenderStats| {
-                if let Some(l) = acc.last.take() {
-                    let e = self.crossing(origin, dir, t_outside, l.t, l.inside, counters, stats);
-                    acc.exit(l, e, step, opts.depth_opacity);
-                }
-            };
+        // With the crossing where it is known (an exit proved by parity from `l.t`).
+        let close_at_exit = |acc: &mut Accum,
+                             t_outside: f64,
+                             known: Option<f64>,
+                             counters: &mut Counters,
+                             stats: &mut RenderStats| {
+            if let Some(l) = acc.last.take() {
+                let e = known.unwrap_or_else(|| {
+                    self.crossing(origin, dir, t_outside, l.t, l.inside, counters, stats)
+                });
+                acc.exit(l, e, step, opts.depth_opacity);
+            }
+        };
         // The fast path's skipping over the boundary surface: the ray is outside the mesh
         // before `outside_until` (from the last point known to be outside), and the face it
         // may enter through is in `surface_cell`.
@@ -1413,9 +1457,9 @@ impl<'a> Renderer<'a> {
                                     stats,
                                 ) {
                                     Exit::Inside(c, q) => walked = Some(Some((c, q))),
-                                    Exit::Outside(next) => {
+                                    Exit::Outside(exit) => {
                                         walked = Some(None);
-                                        outside_next = Some(next);
+                                        proved_exit = Some(exit);
                                     }
                                     Exit::Undecided => {}
                                 }
@@ -1453,14 +1497,14 @@ impl<'a> Renderer<'a> {
                             skipper().next_span(origin, dir, t, t_out, &mut counters)
                         };
                         let Some((te, tx)) = span else {
-                            close_at_exit(&mut acc, t, &mut counters, stats);
+                            close_at_exit(&mut acc, t, None, &mut counters, stats);
                             skip_until(&mut k, stats, t_out);
                             break 'samples;
                         };
                         bound_until = tx;
                         if te > t {
                             prev_in = false;
-                            close_at_exit(&mut acc, t, &mut counters, stats);
+                            close_at_exit(&mut acc, t, None, &mut counters, stats);
                             skip_until(&mut k, stats, te);
                             continue 'samples;
                         }
@@ -1469,7 +1513,7 @@ impl<'a> Renderer<'a> {
                         if !Skipper::new(vol.accel).may_hold(p, &mut counters) {
                             stats.space_skips += 1;
                             prev_in = false;
-                            close_at_exit(&mut acc, t, &mut counters, stats);
+                            close_at_exit(&mut acc, t, None, &mut counters, stats);
                             continue 'samples;
                         }
                         // The previous ray's first cell is a hint for this ray's first
@@ -1500,11 +1544,17 @@ impl<'a> Renderer<'a> {
             }
             let Some((cell, param)) = found else {
                 prev_in = false;
-                close_at_exit(&mut acc, t, &mut counters, stats);
                 // Located nowhere: outside the mesh, exactly.
-                (outside_until, surface_cell) = outside_next
-                    .take()
-                    .unwrap_or_else(|| next_surface_crossing(t));
+                let proved = proved_exit.take();
+                close_at_exit(
+                    &mut acc,
+                    t,
+                    proved.map(|p| p.crossing),
+                    &mut counters,
+                    stats,
+                );
+                (outside_until, surface_cell) =
+                    proved.map_or_else(|| next_surface_crossing(t), |p| p.next);
                 continue;
             };
             // The previous composited sample (if any) keeps its full end: this one is inside.
