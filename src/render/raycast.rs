@@ -986,6 +986,15 @@ impl<'a> Renderer<'a> {
         counters: &mut Counters,
         stats: &mut RenderStats,
     ) -> Exit {
+        // The march also stops at a face that is its own cell's neighbour: not a boundary face.
+        let boundary = self
+            .neighbours
+            .neighbours(face.0)
+            .get(face.1 as usize)
+            .is_some_and(|&n| n == u32::MAX);
+        if !boundary {
+            return Exit::Undecided;
+        }
         if let Some(next) = self.proven_outside_until(seg, face, t_end, stats) {
             return Exit::Outside(next);
         }
