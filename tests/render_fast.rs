@@ -24,8 +24,8 @@ use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::io::structured::hexahedra;
 use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::render::{
-    default_step, Camera, Image, Neighbours, RenderOptions, RenderPath, RenderStats, Renderer,
-    TransferFunction, Volume,
+    default_step, Camera, Image, Neighbours, RayResult, RenderOptions, RenderPath, RenderStats,
+    Renderer, TransferFunction, Volume,
 };
 use cylvol::{CellKind, DataArray, Mesh, MeshParts};
 use glam::DVec3;
@@ -272,6 +272,37 @@ fn each_single_ray_volume(
     }
 }
 
+/// One ray cast through `volume` with the neighbours `n`, and its counters.
+fn cast_one(
+    volume: &Volume,
+    tf: &TransferFunction,
+    options: &RenderOptions,
+    n: &dyn Neighbours,
+    o: DVec3,
+    d: DVec3,
+) -> (RayResult, RenderStats) {
+    let renderer = Renderer::new(volume, tf, options)
+        .expect("renderer")
+        .with_neighbours(n);
+    let mut s = RenderStats::default();
+    let r = renderer.cast(o, d, f64::INFINITY, &mut s);
+    (r, s)
+}
+
+/// Two rays slanted across the annulus and its hole, from outside it.
+fn slanted_rays() -> [(DVec3, DVec3); 2] {
+    [
+        (
+            DVec3::new(-2.0, -1.5, 0.37),
+            DVec3::new(1.0, 0.8, 0.05).normalize(),
+        ),
+        (
+            DVec3::new(0.1, -3.0, 0.9),
+            DVec3::new(0.05, 1.0, -0.2).normalize(),
+        ),
+    ]
+}
+
 /// Rays across the hole of an annulus: samples in the hole lie outside every piece of the
 /// BVHs and are passed over without location, and so are the samples in empty grid cells.
 #[test]
@@ -319,26 +350,10 @@ fn the_boundary_surface_skips_outside_samples_without_location() {
     // Cells tested with and without the surface, over every ray and structure.
     let mut totals = [0u64; 2];
     each_single_ray_volume(&mesh, step, |kind, volume, tf, options| {
-        let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| {
-            let renderer = Renderer::new(volume, tf, options)
-                .expect("renderer")
-                .with_neighbours(n);
-            let mut s = RenderStats::default();
-            let r = renderer.cast(o, d, f64::INFINITY, &mut s);
-            (r, s)
-        };
+        let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| cast_one(volume, tf, options, n, o, d);
         let faces: &FaceNeighbors = &topology;
-        for (o, d) in [
-            (DVec3::new(-2.0, 0.003, 0.5), DVec3::X),
-            (
-                DVec3::new(-2.0, -1.5, 0.37),
-                DVec3::new(1.0, 0.8, 0.05).normalize(),
-            ),
-            (
-                DVec3::new(0.1, -3.0, 0.9),
-                DVec3::new(0.05, 1.0, -0.2).normalize(),
-            ),
-        ] {
+        let [a, b] = slanted_rays();
+        for (o, d) in [(DVec3::new(-2.0, 0.003, 0.5), DVec3::X), a, b] {
             let (with, ws) = cast(&topology, o, d);
             let (without, ns) = cast(faces, o, d);
             eprintln!("{kind}: with the surface {ws:?}\n  without {ns:?}");
@@ -373,26 +388,10 @@ fn exits_from_the_mesh_are_proved_outside_without_the_structure() {
     let topology = common::closed_neighbours(&mesh);
     let step = 0.01;
     each_single_ray_volume(&mesh, step, |kind, volume, tf, options| {
-        let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| {
-            let renderer = Renderer::new(volume, tf, options)
-                .expect("renderer")
-                .with_neighbours(n);
-            let mut s = RenderStats::default();
-            let r = renderer.cast(o, d, f64::INFINITY, &mut s);
-            (r, s)
-        };
+        let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| cast_one(volume, tf, options, n, o, d);
         let faces: &FaceNeighbors = &topology;
-        for (o, d) in [
-            (DVec3::new(-2.0, 0.013, 0.41), DVec3::X),
-            (
-                DVec3::new(-2.0, -1.5, 0.37),
-                DVec3::new(1.0, 0.8, 0.05).normalize(),
-            ),
-            (
-                DVec3::new(0.1, -3.0, 0.9),
-                DVec3::new(0.05, 1.0, -0.2).normalize(),
-            ),
-        ] {
+        let [a, b] = slanted_rays();
+        for (o, d) in [(DVec3::new(-2.0, 0.013, 0.41), DVec3::X), a, b] {
             let (with, ws) = cast(&topology, o, d);
             let (without, ns) = cast(faces, o, d);
             eprintln!("{kind}: with the surface {ws:?}\n  without {ns:?}");
@@ -425,11 +424,7 @@ fn an_unwelded_seam_is_not_taken_for_the_mesh_boundary() {
         let cast = |n: &dyn Neighbours, path: RenderPath, o: DVec3, d: DVec3| {
             let mut options = *options;
             options.path = path;
-            let renderer = Renderer::new(volume, tf, &options)
-                .expect("renderer")
-                .with_neighbours(n);
-            let mut s = RenderStats::default();
-            (renderer.cast(o, d, f64::INFINITY, &mut s), s)
+            cast_one(volume, tf, &options, n, o, d)
         };
         // Across the seam (θ = ±π: y = 0, x < 0), square to it and slanted.
         for (o, d) in [

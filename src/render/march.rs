@@ -25,7 +25,7 @@ use crate::geometry::bounds::Aabb;
 use crate::geometry::containment::{certainly_inside, param_inside, reject_box};
 use crate::geometry::inverse::PreparedCell;
 use crate::geometry::patch::segment_crossings;
-use crate::mesh::topology::FACES;
+use crate::mesh::topology::{FaceKey, FACES};
 use crate::Mesh;
 
 /// Cells a march may cross between two samples before it gives up.
@@ -233,11 +233,7 @@ impl March {
             }
             steps += 1;
             work.plane_steps += 1;
-            let entry = neighbours
-                .neighbours(n)
-                .iter()
-                .position(|&m| m == self.cell)
-                .unwrap_or(usize::MAX);
+            let entry = entry_face(neighbours, n, self.cell);
             self.enter(mesh, n, entry, o, d);
         }
         if self.cell as usize >= n_cells {
@@ -272,6 +268,16 @@ impl March {
             }
         }
     }
+}
+
+/// The face (0–5) of cell `n` across which `from` lies, `usize::MAX` if none: the face a ray
+/// crossing from `from` into `n` enters by.
+fn entry_face(neighbours: &dyn Neighbours, n: u32, from: u32) -> usize {
+    neighbours
+        .neighbours(n)
+        .iter()
+        .position(|&m| m == from)
+        .unwrap_or(usize::MAX)
 }
 
 /// Where the ray `o + t d` leaves the mesh by the face planes, marching from `cell` (which
@@ -367,9 +373,7 @@ pub fn boundary_face_crossing(
             if f == entry {
                 continue;
             }
-            let mut pts = slots.map(|k| ids[k]);
-            pts.sort_unstable();
-            if 1 + pts.windows(2).filter(|w| w[0] != w[1]).count() < 3 {
+            if FaceKey::of_cell(&ids, f).is_degenerate() {
                 continue;
             }
             let crossings =
@@ -388,11 +392,7 @@ pub fn boundary_face_crossing(
         if n as usize >= cells.len() || n == c {
             return None;
         }
-        entry = neighbours
-            .neighbours(n)
-            .iter()
-            .position(|&m| m == c)
-            .unwrap_or(usize::MAX);
+        entry = entry_face(neighbours, n, c);
         c = n;
         s_from = s;
     }

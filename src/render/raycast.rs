@@ -98,7 +98,7 @@ use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOL
 use crate::geometry::inverse::invert;
 use crate::geometry::patch::{segment_crossings, Crossings};
 use crate::geometry::trilinear::{index, interpolate, physical_gradient};
-use crate::mesh::topology::FACES;
+use crate::mesh::topology::FaceKey;
 use crate::mesh::Association;
 use crate::{Error, Mesh};
 
@@ -1104,10 +1104,7 @@ impl<'a> Renderer<'a> {
                 if n == u32::MAX {
                     // A boundary face, unless it is degenerate (a collapsed edge or point of a
                     // wedge or pyramid: no area, never a neighbour, the mesh may go on there).
-                    let mut pts = FACES[f].map(|k| ids[k]);
-                    pts.sort_unstable();
-                    let distinct = 1 + pts.windows(2).filter(|w| w[0] != w[1]).count();
-                    if distinct < 3 {
+                    if FaceKey::of_cell(ids, f).is_degenerate() {
                         return Local::Undecided;
                     }
                     if beyond.map_or(true, |(bv, _)| v > bv) {

@@ -25,7 +25,7 @@ use crate::accel::bvh::{build_bvh, Bvh, BvhParams};
 use crate::accel::space::Pieces;
 use crate::accel::Counters;
 use crate::geometry::bounds::Aabb;
-use crate::mesh::topology::FACES;
+use crate::mesh::topology::{FaceKey, FACES};
 use crate::Mesh;
 
 /// Padding of a face's slab, relative to the face's size.
@@ -134,9 +134,7 @@ impl BoundarySurface {
                         if nb[f as usize] != u32::MAX {
                             return false;
                         }
-                        let mut pts = FACES[f as usize].map(|k| ids[k]);
-                        pts.sort_unstable();
-                        1 + pts.windows(2).filter(|w| w[0] != w[1]).count() >= 3
+                        !FaceKey::of_cell(&ids, f as usize).is_degenerate()
                     })
                     .map(move |f| (c, f))
             })
