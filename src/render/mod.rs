@@ -30,6 +30,7 @@ pub mod skip;
 pub mod surface;
 pub mod topology;
 pub mod transfer;
+pub mod transparency;
 pub mod walk;
 
 pub use camera::{

@@ -89,6 +89,7 @@ use super::shading::Shading;
 use super::skip::{NodeArcs, Skipper};
 use super::surface::{face_corners, BoundarySurface};
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
+use super::transparency::TransparentCells;
 use super::walk::{
     farthest_face, violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS,
 };
@@ -615,6 +616,9 @@ pub struct Renderer<'a> {
     /// structure's bounds, made on first use (never with a boundary surface, which skips
     /// instead).
     arcs: std::sync::OnceLock<NodeArcs>,
+    /// The cells the table makes wholly transparent, for the fast path; made before a render's
+    /// rays are cast (or on a single ray's first use).
+    transparent: std::sync::OnceLock<TransparentCells>,
 }
 
 /// A bracket of a boundary crossing: `t_outside` outside the mesh, `t_inside` in cell
@@ -747,6 +751,7 @@ impl<'a> Renderer<'a> {
             neighbours: &NoNeighbours,
             clip_box,
             arcs: std::sync::OnceLock::new(),
+            transparent: std::sync::OnceLock::new(),
         })
     }
 
@@ -764,6 +769,14 @@ impl<'a> Renderer<'a> {
     /// The transfer table in use.
     pub fn table(&self) -> &TransferTable {
         &self.table
+    }
+
+    /// The cells the transfer table makes wholly transparent (made on first use, on the
+    /// calling thread; [`Renderer::render_rays`] makes it in parallel before casting).
+    pub fn transparent_cells(&self) -> &TransparentCells {
+        self.transparent.get_or_init(|| {
+            TransparentCells::new_sequential(&self.volume.field.cell_ranges, &self.table)
+        })
     }
 
     /// The ray's `[t_in, t_out]` within the mesh's (padded) box and `t ≥ 0`, if not empty.
@@ -1313,6 +1326,9 @@ impl<'a> Renderer<'a> {
         let vol = self.volume;
         let mesh = vol.mesh;
         let fast = opts.path == RenderPath::Fast;
+        // Only the fast path skips transparent cells (the paper path samples every one).
+        let transparent = fast.then(|| self.transparent_cells());
+        let is_transparent = |cell: u32| transparent.is_some_and(|m| m.contains(cell));
         let skipper = || {
             Skipper::with_arcs(
                 vol.accel,
@@ -1412,10 +1428,7 @@ impl<'a> Renderer<'a> {
                         dir,
                         t,
                         Some((c, q)),
-                        &|cell| {
-                            let [a, b] = vol.field.cell_ranges[cell as usize];
-                            self.table.transparent_over(a, b)
-                        },
+                        &is_transparent,
                         &mut work,
                     );
                     counters.hex_tests += work.tests;
@@ -1571,12 +1584,10 @@ impl<'a> Renderer<'a> {
             if first_cell.is_none() {
                 first_cell = Some(cell);
             }
-            if fast {
-                let [a, b] = vol.field.cell_ranges[cell as usize];
-                if self.table.transparent_over(a, b) {
-                    stats.samples_skipped += 1;
-                    continue;
-                }
+            // (Only the fast path has a mask: the paper path samples every cell.)
+            if is_transparent(cell) {
+                stats.samples_skipped += 1;
+                continue;
             }
             let param = param.clamp(DVec3::ZERO, DVec3::ONE);
             let (s, values) = match vol.field.association {
@@ -1754,6 +1765,12 @@ impl<'a> Renderer<'a> {
                     d.len()
                 )));
             }
+        }
+        // The fast path's transparency mask, made in parallel here rather than by the first
+        // ray (which would make it alone while the other threads wait).
+        if self.options.path == RenderPath::Fast && self.transparent.get().is_none() {
+            let mask = TransparentCells::new(&self.volume.field.cell_ranges, &self.table);
+            let _ = self.transparent.set(mask);
         }
         let tile = self.options.tile.max(1);
         let (tx, ty) = (w.div_ceil(tile), h.div_ceil(tile));
