@@ -150,6 +150,25 @@ impl Mesh {
         ]
     }
 
+    /// [`Mesh::cell_corners`] written into `out` (one store a corner, where assigning the
+    /// returned array to a field costs a copy of its 192 bytes through a temporary).
+    ///
+    /// ```
+    /// use cylvol::datasets::{generate, Dataset};
+    /// use glam::DVec3;
+    /// let mesh = generate(Dataset::PumpInlet, 2000).unwrap();
+    /// let mut out = [DVec3::ZERO; 8];
+    /// mesh.cell_corners_into(5, &mut out);
+    /// assert_eq!(out, mesh.cell_corners(5));
+    /// ```
+    #[inline]
+    pub fn cell_corners_into(&self, c: usize, out: &mut [DVec3; 8]) {
+        let ids = &self.cells[c];
+        for (o, &i) in out.iter_mut().zip(ids) {
+            *o = self.points[i as usize];
+        }
+    }
+
     /// Number of cells of each kind, in [`CellKind::ALL`] order.
     pub fn kind_counts(&self) -> [(CellKind, usize); 4] {
         let mut counts = [0usize; 4];

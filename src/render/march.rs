@@ -180,7 +180,7 @@ impl March {
     fn enter(&mut self, mesh: &Mesh, cell: u32, entry: usize, o: DVec3, d: DVec3) {
         self.cell = cell;
         self.exit = if (cell as usize) < mesh.cell_count() {
-            self.corners = mesh.cell_corners(cell as usize);
+            mesh.cell_corners_into(cell as usize, &mut self.corners);
             exit_face_except(&self.corners, o, d, entry)
         } else {
             None
