@@ -14,12 +14,16 @@
 
 use std::time::Instant;
 
+#[path = "common/timing.rs"]
+mod timing;
+
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::datasets::{generate, Dataset};
 use cylvol::render::{
     default_step, face_neighbours, Camera, RenderOptions, RenderPath, RenderStats, Renderer,
     TransferFunction, Volume,
 };
+use timing::cpu_seconds;
 
 fn main() {
     let args: Vec<String> = std::env::args()
@@ -134,19 +138,4 @@ fn main() {
             );
         }
     }
-}
-
-/// User and system CPU seconds of this process so far (Linux `/proc/self/stat`; 0 elsewhere).
-fn cpu_seconds() -> f64 {
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return 0.0;
-    };
-    // Fields after the parenthesised command name: state is field 3, utime 14, stime 15.
-    let Some(rest) = stat.rsplit_once(')').map(|(_, r)| r) else {
-        return 0.0;
-    };
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
-    // Clock ticks are 100 a second on Linux.
-    (ticks(11) + ticks(12)) / 100.0
 }

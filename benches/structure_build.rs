@@ -12,7 +12,9 @@
 
 use std::fmt::{self, Write};
 use std::hash::Hasher;
-use std::time::Instant;
+
+#[path = "common/timing.rs"]
+mod timing;
 
 use cylvol::accel::bvh::build_bvh;
 use cylvol::accel::grid::build_grid;
@@ -23,6 +25,7 @@ use cylvol::accel::space::{
 use cylvol::accel::{Accel, AccelParams, BvhParams, GridParams, StructureKind};
 use cylvol::datasets::{generate, Dataset};
 use cylvol::geometry::cylindrical::CylFrame;
+use timing::best;
 
 /// Hashes what is written to it, skipping every `build_s: VALUE` (a timing, not a result).
 struct DebugHash {
@@ -66,37 +69,6 @@ fn hash_of(x: &impl fmt::Debug) -> u64 {
     let mut h = DebugHash::new();
     write!(h, "{x:?}").expect("hashing never fails");
     h.hasher.finish()
-}
-
-/// CPU time of this process so far (user + system, all threads), in seconds; 0 where
-/// `/proc/self/stat` cannot be read. On a loaded machine it is steadier than wall time.
-fn cpu_s() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    // Fields after the command name (which ends with ')'): utime and stime are the 12th and
-    // 13th of them, in clock ticks of 1/100 s.
-    let rest = stat.rsplit(')').next().unwrap_or("");
-    let f: Vec<f64> = rest
-        .split_whitespace()
-        .map(|x| x.parse().unwrap_or(0.0))
-        .collect();
-    (f.get(11).unwrap_or(&0.0) + f.get(12).unwrap_or(&0.0)) / 100.0
-}
-
-/// Best of `repeats` runs of `f`: wall seconds, CPU seconds (of the same run), and the last
-/// result.
-fn best<T>(repeats: usize, mut f: impl FnMut() -> T) -> ((f64, f64), T) {
-    let mut best = (f64::INFINITY, 0.0);
-    let mut last = None;
-    for _ in 0..repeats {
-        let (t, c) = (Instant::now(), cpu_s());
-        let out = f();
-        let wall = t.elapsed().as_secs_f64();
-        if wall < best.0 {
-            best = (wall, cpu_s() - c);
-        }
-        last = Some(out);
-    }
-    (best, last.expect("at least one run"))
 }
 
 fn main() {

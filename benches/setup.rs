@@ -1,0 +1,137 @@
+//! What a first frame spends before and on its rays (a plain program, not criterion: it prints
+//! a table).
+//!
+//! `cargo bench --bench setup -- [INPUT] [STRUCTURE] [SIZE] [REPEATS]` (default
+//! `pump-rotor:2100000 auto 512 3`): `INPUT` is what `cylvol render` takes (a dataset
+//! `NAME[:CELLS]` or a mesh file). It times, best of `REPEATS`, each phase of the set-up that
+//! the C ABI's `cylvol_volume_new` (and so the VTK mapper's first frame) and `cylvol render`
+//! run, in their order: the mesh's validation (`Mesh::from_parts`, on a copy of its parts),
+//! axis detection, the structure choice (for `auto`), the structure, the three phases of
+//! `render::face_neighbours` (the adjacency, the boundary surface, the check of the faces
+//! without a neighbour), the default step and the scalar gather; then the first frame and a
+//! second one with the fast path at `SIZE × SIZE` (the bench's oblique view). The phases of
+//! `face_neighbours` are also timed together, through the function itself, to show that they
+//! are what it does. Wall and process CPU seconds are printed for each (CPU ≈ 2 × wall on two
+//! cores means the phase is parallel).
+
+#[path = "common/timing.rs"]
+mod timing;
+
+use cylvol::accel::choose::{cylindrical_area_ratio, structure_for_ratio};
+use cylvol::accel::{Accel, AccelParams, StructureKind};
+use cylvol::axis::detect_with_report;
+use cylvol::io::ReadOptions;
+use cylvol::mesh::topology::FaceNeighbors;
+use cylvol::render::surface::BoundarySurface;
+use cylvol::render::{
+    default_step, face_neighbours, Camera, RenderOptions, RenderPath, Renderer, ScalarField,
+    TransferFunction, Volume,
+};
+use cylvol::Mesh;
+use timing::best;
+
+fn main() {
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
+    let spec = args.first().map_or("pump-rotor:2100000", |s| s.as_str());
+    let structure = args.get(1).map_or("auto", |s| s.as_str());
+    let size: u32 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(512);
+    let repeats: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(3);
+    let mesh = cylvol::input::load(spec, &ReadOptions::default()).expect("a loadable INPUT");
+    println!(
+        "{spec}: {} cells, {} threads, best of {repeats}",
+        mesh.cell_count(),
+        rayon::current_num_threads()
+    );
+    println!("  {:<36} {:>8} {:>8}", "phase", "wall s", "cpu s");
+    let mut table = Table::default();
+    let parts = mesh.clone().into_parts();
+    let (t, _) = best(repeats, || Mesh::from_parts(parts.clone()).expect("valid"));
+    let (copy, _) = best(repeats, || parts.clone());
+    table.row(
+        "mesh validation (less the copy)",
+        (t.0 - copy.0, t.1 - copy.1),
+        true,
+    );
+    drop(parts);
+
+    let (t, detection) = best(repeats, || detect_with_report(&mesh));
+    table.row("axis detection", t, true);
+    let axis = detection.axis;
+    let kind = match structure {
+        "auto" => {
+            let (t, ratio) = best(repeats, || cylindrical_area_ratio(&mesh, &axis));
+            table.row("structure choice (auto)", t, true);
+            structure_for_ratio(ratio)
+        }
+        name => name.parse::<StructureKind>().expect("a structure name"),
+    };
+    let (t, accel) = best(repeats, || {
+        Accel::build(&mesh, kind, &axis, &AccelParams::default()).expect("builds")
+    });
+    table.row(&format!("structure ({})", kind.name()), t, true);
+
+    let tolerance = FaceNeighbors::seam_tolerance(&mesh);
+    let (t, faces) = best(repeats, || {
+        FaceNeighbors::build_with_tolerance(&mesh, tolerance)
+    });
+    table.row("face adjacency", t, true);
+    let (t, surface) = best(repeats, || BoundarySurface::new(&mesh, &faces));
+    table.row("boundary surface", t, true);
+    let (t, _) = best(repeats, || {
+        let mut checked = faces.clone();
+        checked.check_boundary_near(
+            &mesh,
+            |c, f, p, r| surface.other_face_near(&mesh, c, f, p, r),
+            |p| accel.cell_at(&mesh, p),
+        )
+    });
+    let (copy, _) = best(repeats, || faces.clone());
+    table.row(
+        "boundary check (less the copy)",
+        (t.0 - copy.0, t.1 - copy.1),
+        true,
+    );
+    let (t, topology) = best(repeats, || face_neighbours(&mesh, &accel));
+    table.row("  (face_neighbours as a whole)", t, false);
+
+    let (t, step) = best(repeats, || default_step(&mesh));
+    table.row("default step", t, true);
+    let (t, _) = best(repeats, || ScalarField::gather(&mesh).expect("a scalar"));
+    table.row("scalar gather", t, true);
+    table.row("set-up in all", table.total, false);
+
+    let volume = Volume::new(&mesh, &accel).expect("volume");
+    let [lo, hi] = volume.scalar_range();
+    let tf = TransferFunction::default_for_range(lo, hi, 0.3, 0.1);
+    let camera = Camera::view(mesh.bounds(), size, size, 30.0, 20.0, 1.0);
+    let mut options = RenderOptions::new(size, size, step);
+    options.path = RenderPath::Fast;
+    let frame = || {
+        let renderer = Renderer::new(&volume, &tf, &options)
+            .expect("renderer")
+            .with_neighbours(&topology);
+        renderer.render(&camera, None).expect("render")
+    };
+    let (t, _) = best(repeats, frame);
+    table.row(&format!("fast frame {size}x{size}"), t, true);
+    table.row("first frame in all", table.total, false);
+}
+
+/// The printed rows and the sum of those counted in the totals.
+#[derive(Default)]
+struct Table {
+    total: (f64, f64),
+}
+
+impl Table {
+    fn row(&mut self, name: &str, (wall, cpu): (f64, f64), counted: bool) {
+        if counted {
+            self.total.0 += wall;
+            self.total.1 += cpu;
+        }
+        println!("  {name:<36} {wall:>8.3} {cpu:>8.2}");
+    }
+}
