@@ -490,6 +490,11 @@ typedef struct CylvolRenderStats {
    * path).
    */
   uint64_t surface_visits;
+  /**
+   * Jumps over transparent space to the next cell that is not (fast path, BVH structures;
+   * the samples passed over are counted in `space_skips`).
+   */
+  uint64_t transparent_jumps;
 } CylvolRenderStats;
 
 #ifdef __cplusplus

@@ -60,6 +60,8 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
     let neighbours = common::closed_neighbours(mesh);
     // Samples in transparent cells found by face planes alone, over every render.
     let mut certified = 0;
+    // Jumps over transparent space by the fast path through a BVH, over every render.
+    let mut jumps = 0;
     // The fast renders' work with and without the boundary surface, over every render.
     let mut with_surface = RenderStats::default();
     let mut without_surface = RenderStats::default();
@@ -109,6 +111,12 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
             );
             assert_eq!(ps.plane_certified, 0, "{name} {kind}");
             certified += fs.plane_certified;
+            // Only the fast path jumps, and only through a BVH's nodes.
+            assert_eq!(ps.transparent_jumps, 0, "{name} {kind}");
+            if matches!(kind, StructureKind::CartGrid | StructureKind::CylGrid) {
+                assert_eq!(fs.transparent_jumps, 0, "{name} {kind}");
+            }
+            jumps += fs.transparent_jumps;
             let (reference, rs) = reference.get_or_insert_with(|| (paper.clone(), ps));
             assert!(
                 reference.rgba.iter().any(|p| p[3] > 0.05),
@@ -135,6 +143,7 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
     }
     // The transfer function leaves part of every test mesh's range transparent.
     assert!(certified > 0, "{name}: no sample certified by face planes");
+    assert!(jumps > 0, "{name}: no jump over transparent space");
     // The surface saves cells tested and structure nodes visited over all the renders (a
     // single render may test a few more: the first sample past an exit from the mesh goes to
     // the structure, where the structure's bounds might have skipped it).
@@ -381,13 +390,19 @@ fn the_boundary_surface_skips_outside_samples_without_location() {
 /// with the boundary surface, each sample past an exit is proved outside by parity (the
 /// segment from the last sample inside crosses one boundary face, once, and no other), with
 /// no structure look-up at all; without it, the structure is asked at each exit. The pixel
-/// is the same either way.
+/// is the same either way. The transfer function here leaves no cell transparent, so that
+/// no ray jumps over an exit (see `jumps_over_transparent_space_...`).
 #[test]
 fn exits_from_the_mesh_are_proved_outside_without_the_structure() {
     let mesh = annulus_with_hole();
     let topology = common::closed_neighbours(&mesh);
     let step = 0.01;
     each_single_ray_volume(&mesh, step, |kind, volume, tf, options| {
+        let [lo, hi] = volume.scalar_range();
+        let tf = &TransferFunction {
+            opacity: vec![(lo, 0.05), (hi, 0.6)],
+            ..tf.clone()
+        };
         let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| cast_one(volume, tf, options, n, o, d);
         let faces: &FaceNeighbors = &topology;
         let [a, b] = slanted_rays();
@@ -395,6 +410,7 @@ fn exits_from_the_mesh_are_proved_outside_without_the_structure() {
             let (with, ws) = cast(&topology, o, d);
             let (without, ns) = cast(faces, o, d);
             eprintln!("{kind}: with the surface {ws:?}\n  without {ns:?}");
+            assert_eq!(ws.samples_skipped + ns.samples_skipped, 0, "{kind}");
             assert_eq!(ws.structure_locates, 0, "{kind}: {ws:?}");
             assert!(ns.structure_locates >= 2, "{kind}: {ns:?}");
             assert_eq!(ws.samples_located, ns.samples_located, "{kind}");
@@ -446,4 +462,85 @@ fn an_unwelded_seam_is_not_taken_for_the_mesh_boundary() {
             }
         }
     });
+}
+
+/// Opacity points over a scalar range `[lo, hi]`.
+type OpacityRamp = fn(f64, f64) -> Vec<(f64, f64)>;
+
+/// The fast path's jumps over transparent space (BVH structures): from a sample in a cell
+/// the transfer function makes wholly transparent to the next bound of a piece of a cell it
+/// does not. On the pump rotor with an opacity ramp that is zero over the lower half of the
+/// range, the BVHs' images equal the grids' (which cannot jump) within 1e-6 with the same
+/// sample positions, while they jump, and cross and locate fewer cells. A transfer function
+/// transparent everywhere locates at most one sample a ray (the rest is jumped over), and
+/// one transparent nowhere never jumps.
+#[test]
+fn jumps_over_transparent_space_cross_fewer_cells_for_the_same_image() {
+    let mesh = generate(Dataset::PumpRotor, 8_000).expect("dataset");
+    let neighbours = common::closed_neighbours(&mesh);
+    let size = 40;
+    let camera = Camera::view(mesh.bounds(), size, size, 30.0, 25.0, 1.0);
+    let step = default_step(&mesh);
+    let options = RenderOptions::new(size, size, step);
+    let opacity_ramps: [(&str, OpacityRamp); 3] = [
+        ("upper half", |lo, hi| {
+            vec![(lo, 0.0), (0.5 * (lo + hi), 0.0), (hi, 0.8)]
+        }),
+        ("nowhere", |lo, hi| vec![(lo, 0.0), (hi, 0.0)]),
+        ("everywhere", |lo, hi| vec![(lo, 0.1), (hi, 0.8)]),
+    ];
+    for (name, ramp) in opacity_ramps {
+        let mut grid: Option<(Image, RenderStats)> = None;
+        for kind in [
+            StructureKind::CartGrid,
+            StructureKind::CylGrid,
+            StructureKind::CartBvh,
+            StructureKind::CylBvh,
+        ] {
+            let accel =
+                Accel::build(&mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
+            let volume = Volume::new(&mesh, &accel).expect("volume");
+            let [lo, hi] = volume.scalar_range();
+            let tf = TransferFunction {
+                opacity: ramp(lo, hi),
+                ..TransferFunction::default_for_range(lo, hi, 0.8, 0.2)
+            };
+            let renderer = Renderer::new(&volume, &tf, &options)
+                .expect("renderer")
+                .with_neighbours(&neighbours);
+            let (image, s) = renderer.render(&camera, None).expect("render");
+            eprintln!("{name} {kind}: {s:?}");
+            let is_grid = matches!(kind, StructureKind::CartGrid | StructureKind::CylGrid);
+            if is_grid {
+                assert_eq!(s.transparent_jumps, 0, "{name} {kind}");
+            }
+            let (g_image, g) = grid.get_or_insert_with(|| (image.clone(), s));
+            assert_eq!(s.samples, g.samples, "{name} {kind}");
+            let d = image.max_abs_difference(g_image);
+            assert!(d <= 1e-6, "{name} {kind}: {d}");
+            match name {
+                "upper half" if !is_grid => {
+                    assert!(s.transparent_jumps > 0, "{name} {kind}: {s:?}");
+                    assert!(s.walk_steps < g.walk_steps, "{name} {kind}: {s:?} {g:?}");
+                    assert!(
+                        s.samples_located < g.samples_located,
+                        "{name} {kind}: {s:?} {g:?}"
+                    );
+                    assert!(
+                        image.rgba.iter().any(|p| p[3] > 0.05),
+                        "{name}: empty image"
+                    );
+                }
+                "nowhere" if !is_grid => {
+                    assert!(s.samples_located <= s.rays, "{name} {kind}: {s:?}");
+                    assert!(s.transparent_jumps > 0, "{name} {kind}: {s:?}");
+                }
+                "everywhere" => {
+                    assert_eq!(s.samples_skipped, 0, "{name} {kind}: {s:?}");
+                    assert_eq!(s.transparent_jumps, 0, "{name} {kind}: {s:?}");
+                }
+                _ => {}
+            }
+        }
+    }
 }

@@ -143,6 +143,9 @@ pub struct CylvolRenderStats {
     /// Nodes of the boundary surface's BVH visited to skip the space outside the mesh (fast
     /// path).
     pub surface_visits: u64,
+    /// Jumps over transparent space to the next cell that is not (fast path, BVH structures;
+    /// the samples passed over are counted in `space_skips`).
+    pub transparent_jumps: u64,
 }
 
 impl From<(f64, RenderStats)> for CylvolRenderStats {
@@ -167,6 +170,7 @@ impl From<(f64, RenderStats)> for CylvolRenderStats {
             entry_walk_hits: s.entry_walk_hits,
             boundary_refinements: s.boundary_refinements,
             surface_visits: s.surface_visits,
+            transparent_jumps: s.transparent_jumps,
         }
     }
 }

@@ -93,7 +93,8 @@ use super::transparency::TransparentCells;
 use super::walk::{
     farthest_face, violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS,
 };
-use crate::accel::{Accel, Counters};
+use crate::accel::bvh::NodeMask;
+use crate::accel::{Accel, Counters, Structure};
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
 use crate::geometry::inverse::invert;
@@ -281,7 +282,8 @@ pub struct RenderStats {
     /// Cells the fast path's walks stepped across by face planes, without an inverse map.
     pub walk_steps: u64,
     /// Samples the fast path passed over without point location: outside every piece's
-    /// bound of the structure (empty-space skipping).
+    /// bound of the structure, or outside the mesh by its boundary surface (empty-space
+    /// skipping), or in transparent space jumped over (see `transparent_jumps`).
     pub space_skips: u64,
     /// Samples the fast path located through the structure from scratch.
     pub structure_locates: u64,
@@ -299,6 +301,11 @@ pub struct RenderStats {
     /// Nodes of the boundary surface's BVH visited to skip the space outside the mesh (fast
     /// path, see [`super::surface`]).
     pub surface_visits: u64,
+    /// Jumps of the fast path over transparent space: from a sample in a transparent cell to
+    /// the next bound of a piece of a cell that is not (BVH structures only; the samples
+    /// passed over are counted in `space_skips`, the node visits in `internal_visits` and
+    /// `leaf_visits`).
+    pub transparent_jumps: u64,
 }
 
 impl AddAssign for RenderStats {
@@ -321,6 +328,7 @@ impl AddAssign for RenderStats {
         self.boundary_refinements += o.boundary_refinements;
         self.surface_visits += o.surface_visits;
         self.plane_certified += o.plane_certified;
+        self.transparent_jumps += o.transparent_jumps;
     }
 }
 
@@ -619,6 +627,10 @@ pub struct Renderer<'a> {
     /// The cells the table makes wholly transparent, for the fast path; made before a render's
     /// rays are cast (or on a single ray's first use).
     transparent: std::sync::OnceLock<TransparentCells>,
+    /// The structure's nodes holding a piece of a cell that is not wholly transparent, for
+    /// the fast path's jumps over transparent space (`None` for a grid); made with the
+    /// transparent cells.
+    visible: std::sync::OnceLock<Option<NodeMask>>,
 }
 
 /// A bracket of a boundary crossing: `t_outside` outside the mesh, `t_inside` in cell
@@ -752,6 +764,7 @@ impl<'a> Renderer<'a> {
             clip_box,
             arcs: std::sync::OnceLock::new(),
             transparent: std::sync::OnceLock::new(),
+            visible: std::sync::OnceLock::new(),
         })
     }
 
@@ -777,6 +790,34 @@ impl<'a> Renderer<'a> {
         self.transparent.get_or_init(|| {
             TransparentCells::new_sequential(&self.volume.field.cell_ranges, &self.table)
         })
+    }
+
+    /// The nodes of the structure holding a piece of a cell that the table does not make
+    /// wholly transparent (`None` for a grid, which the fast path cannot jump through):
+    /// made on first use, on the calling thread, like [`Renderer::transparent_cells`].
+    pub fn visible_nodes(&self) -> Option<&NodeMask> {
+        self.visible
+            .get_or_init(|| self.make_visible_nodes(false))
+            .as_ref()
+    }
+
+    fn make_visible_nodes(&self, parallel: bool) -> Option<NodeMask> {
+        let transparent = self.transparent_cells();
+        let visible = |c: u32| !transparent.contains(c);
+        macro_rules! of {
+            ($b:expr) => {
+                Some(if parallel {
+                    $b.nodes_holding(visible)
+                } else {
+                    $b.nodes_holding_sequential(visible)
+                })
+            };
+        }
+        match self.volume.accel.structure() {
+            Structure::CartBvh(b) => of!(b),
+            Structure::CylBvh(b) => of!(b),
+            Structure::Grid(_) => None,
+        }
     }
 
     /// The ray's `[t_in, t_out]` within the mesh's (padded) box and `t ≥ 0`, if not empty.
@@ -1329,6 +1370,8 @@ impl<'a> Renderer<'a> {
         // Only the fast path skips transparent cells (the paper path samples every one).
         let transparent = fast.then(|| self.transparent_cells());
         let is_transparent = |cell: u32| transparent.is_some_and(|m| m.contains(cell));
+        // The fast path jumps over transparent space through a BVH's visible nodes.
+        let visible_nodes = if fast { self.visible_nodes() } else { None };
         let skipper = || {
             Skipper::with_arcs(
                 vol.accel,
@@ -1355,6 +1398,12 @@ impl<'a> Renderer<'a> {
         let mut first_cell: Option<u32> = None;
         // The ray lies in a piece's bound up to here (from the last empty-space query).
         let mut bound_until = f64::NEG_INFINITY;
+        // The ray may lie in a visible cell's piece up to here (from the last jump query).
+        let mut visible_until = f64::NEG_INFINITY;
+        // A jump passed over the position before the next sample (in the mesh or not), and
+        // the cell of the visible piece it jumped to (where the next location starts).
+        let mut jumped = false;
+        let mut jumped_to: Option<u32> = None;
         let sample_t = |k: u64| t_in + (k as f64 + 0.5) * step;
         // The ray left the mesh before `t_outside`: the last composited sample ends at the
         // crossing (nothing to do without boundary segments, which keep no last sample).
@@ -1535,9 +1584,13 @@ impl<'a> Renderer<'a> {
                             close_at_exit(&mut acc, t, None, &mut counters, stats);
                             continue 'samples;
                         }
-                        // The previous ray's first cell is a hint for this ray's first
-                        // entry only: later, it lies far behind.
-                        let h = if first_cell.is_none() { *hint } else { None };
+                        // After a jump, the visible cell jumped to is the hint. The previous
+                        // ray's first cell is a hint for this ray's first entry only: later,
+                        // it lies far behind.
+                        let h =
+                            jumped_to
+                                .take()
+                                .or(if first_cell.is_none() { *hint } else { None });
                         self.locate_entry(
                             origin,
                             dir,
@@ -1561,6 +1614,9 @@ impl<'a> Renderer<'a> {
                     }
                 }
             }
+            // Whether the position before this sample was jumped over (unknown: in the mesh
+            // or not).
+            let after_jump = std::mem::take(&mut jumped);
             let Some((cell, param)) = found else {
                 prev_in = false;
                 // Located nowhere: outside the mesh, exactly.
@@ -1587,6 +1643,40 @@ impl<'a> Renderer<'a> {
             // (Only the fast path has a mask: the paper path samples every cell.)
             if is_transparent(cell) {
                 stats.samples_skipped += 1;
+                // Up to the next bound of a visible cell's piece the ray meets only
+                // transparent cells or the space outside the mesh: nothing to composite (the
+                // last composited sample, if any, was closed by this one). Jump there when
+                // the next sample lies before it, and locate afresh.
+                let t_next = sample_t(k);
+                if let Some(nodes) = visible_nodes.filter(|_| t_next > visible_until) {
+                    let next = skipper().next_visible(
+                        origin,
+                        dir,
+                        t_next,
+                        t_out,
+                        nodes,
+                        |c| !is_transparent(c),
+                        &mut counters,
+                    );
+                    let until = match next {
+                        Some((te, tx, _)) if te <= t_next => {
+                            visible_until = tx;
+                            continue;
+                        }
+                        Some((te, _, c)) => {
+                            jumped_to = Some(c);
+                            te
+                        }
+                        None => t_out,
+                    };
+                    stats.transparent_jumps += 1;
+                    skip_until(&mut k, stats, until);
+                    prev = None;
+                    prev_in = false;
+                    jumped = true;
+                    proved_exit = None;
+                    (outside_until, surface_cell) = (f64::NEG_INFINITY, None);
+                }
                 continue;
             }
             let param = param.clamp(DVec3::ZERO, DVec3::ONE);
@@ -1629,7 +1719,9 @@ impl<'a> Renderer<'a> {
                 None
             } else {
                 let t_prev = if k >= 2 { sample_t(k - 2) } else { t_in };
-                let outside = k >= 2
+                // An earlier sample not located is outside; one jumped over or the ray's
+                // start may be either.
+                let outside = (k >= 2 && !after_jump)
                     || self
                         .boundary_locate(
                             Segment {
@@ -1768,9 +1860,17 @@ impl<'a> Renderer<'a> {
         }
         // The fast path's transparency mask, made in parallel here rather than by the first
         // ray (which would make it alone while the other threads wait).
-        if self.options.path == RenderPath::Fast && self.transparent.get().is_none() {
-            let mask = TransparentCells::new(&self.volume.field.cell_ranges, &self.table);
-            let _ = self.transparent.set(mask);
+        if self.options.path == RenderPath::Fast {
+            if self.transparent.get().is_none() {
+                let mask = TransparentCells::new(&self.volume.field.cell_ranges, &self.table);
+                let _ = self.transparent.set(mask);
+            }
+            if self.visible.get().is_none() {
+                let _ = self.visible.set(self.make_visible_nodes(true));
+            }
+            if self.arcs.get().is_none() {
+                let _ = self.arcs.set(NodeArcs::new(self.volume.accel));
+            }
         }
         let tile = self.options.tile.max(1);
         let (tx, ty) = (w.div_ceil(tile), h.div_ceil(tile));

@@ -22,7 +22,7 @@ use std::f64::consts::PI;
 use glam::DVec3;
 
 use crate::accel::bvh::ray::slab;
-use crate::accel::bvh::{BoxF32, Bvh, BvhBounds, SectorF32};
+use crate::accel::bvh::{BoxF32, Bvh, BvhBounds, NodeMask, SectorF32};
 use crate::accel::{Accel, Coordinates, Counters, Structure};
 use crate::geometry::cylindrical::CylFrame;
 
@@ -262,6 +262,52 @@ impl<'a> Skipper<'a> {
         }
     }
 
+    /// For a BVH: the smallest `t ∈ [t0, t1]` at which the ray (unit `dir`) may lie in the
+    /// bound of a piece of a *visible* cell, with the ray's exit from that bound and the
+    /// cell: `visible_nodes` are the nodes holding such pieces (from
+    /// [`Bvh::nodes_holding`] with `visible`), and `visible(cell)` says which cells are. The
+    /// ray meets no visible cell before that entry, so the samples before it lie in
+    /// invisible cells or outside the mesh. `None` if it meets no such bound on the interval,
+    /// and for a grid or a mask of another structure (the caller then cannot skip). Node
+    /// visits are counted in `counters`.
+    ///
+    /// [`Bvh::nodes_holding`]: crate::accel::bvh::Bvh::nodes_holding
+    #[allow(clippy::too_many_arguments)]
+    pub fn next_visible(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        visible_nodes: &NodeMask,
+        visible: impl Fn(u32) -> bool,
+        counters: &mut Counters,
+    ) -> Option<(f64, f64, u32)> {
+        let node = |i: usize| visible_nodes.contains(i);
+        match (self.accel.structure(), self.accel.coordinates()) {
+            (Structure::CartBvh(b), _) if visible_nodes.len() == b.nodes.len() => {
+                let ray = LocalRay::Boxes {
+                    o: origin - b.frame().anchor,
+                    d: dir,
+                    pad: b.query_pad(),
+                };
+                first_hit_of(b, ray, &[], t0, t1, counters, node, visible)
+            }
+            (Structure::CylBvh(b), Coordinates::Cylindrical(frame))
+                if visible_nodes.len() == b.nodes.len() =>
+            {
+                let ray = sector_ray(&frame, b, origin, dir);
+                let trig = self
+                    .arcs
+                    .map(|a| a.trig.as_slice())
+                    .filter(|t| t.len() == b.nodes.len())
+                    .unwrap_or(&[]);
+                first_hit_of(b, ray, trig, t0, t1, counters, node, visible)
+            }
+            _ => None,
+        }
+    }
+
     /// Whether the structure may hold a cell at `p`: for a grid, whether `p`'s second-level
     /// cell holds references (one top and one leaf visit counted); for a BVH, always `true`.
     pub fn may_hold(&self, p: DVec3, counters: &mut Counters) -> bool {
@@ -338,13 +384,43 @@ fn first_hit<B: BvhBounds>(
 where
     B::Compact: Enter,
 {
+    first_hit_of(bvh, ray, trig, t0, t1, counters, |_| true, |_| true).map(|(e, x, _)| (e, x))
+}
+
+/// [`first_hit`] among the nodes `node(index)` keeps and the pieces of the cells `cell(id)`
+/// keeps, with the piece's cell.
+#[allow(clippy::too_many_arguments)]
+fn first_hit_of<B: BvhBounds>(
+    bvh: &Bvh<B>,
+    ray: LocalRay,
+    trig: &[ArcTrig],
+    t0: f64,
+    t1: f64,
+    counters: &mut Counters,
+    node: impl Fn(usize) -> bool,
+    cell: impl Fn(u32) -> bool,
+) -> Option<(f64, f64, u32)>
+where
+    B::Compact: Enter,
+{
     bvh.closest_hit(
         t0,
         t1,
         counters,
-        |i, b, hi| b.enter(&ray, trig.get(i), t0, hi).map(|s| s.0),
+        |i, b, hi| {
+            if node(i) {
+                b.enter(&ray, trig.get(i), t0, hi).map(|s| s.0)
+            } else {
+                None
+            }
+        },
         // Against the whole interval, for the piece's own exit.
-        |b, _, _| b.enter(&ray, None, t0, t1),
+        |b, c, _| {
+            if cell(c) {
+                b.enter(&ray, None, t0, t1)
+            } else {
+                None
+            }
+        },
     )
-    .map(|(e, x, _)| (e, x))
 }

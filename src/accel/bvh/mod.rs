@@ -48,6 +48,7 @@
 
 mod binned_build;
 mod bounds;
+mod mask;
 mod near;
 pub(crate) mod ray;
 mod stats;
@@ -58,6 +59,7 @@ use std::marker::PhantomData;
 
 pub use binned_build::build_bvh;
 pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32, THETA_PAD};
+pub use mask::NodeMask;
 pub use stats::BvhStats;
 
 #[cfg(doc)]
