@@ -61,7 +61,11 @@
 //!   is not asked, and the exit's crossing is that face's; the same proof confirms the
 //!   boundary searches' "outside" at the ray's ends. A sample whose cell's scalar range the
 //!   transfer function maps to zero opacity everywhere is skipped without interpolation (it
-//!   would add nothing). With the same neighbours, the image equals the paper path's up to the
+//!   would add nothing); with a BVH, the ray then jumps to the next bound of a piece of a cell
+//!   that is not so ([`super::skip::Skipper::next_visible`] over the nodes that hold one,
+//!   [`Renderer::visible_nodes`]), passing over the samples before it, which lie in such
+//!   cells or outside the mesh, and locates the next sample from that cell. With the same
+//!   neighbours, the image equals the paper path's up to the
 //!   choice between two cells on a shared face (both valid, values equal to the inverse map's
 //!   tolerance, `~1e-9` relative); the paper path without neighbours (as the CLI runs it)
 //!   finds boundary crossings by bisection, to within `step / 2^(BISECTIONS + 1)` of the
