@@ -624,9 +624,9 @@ pub struct Renderer<'a> {
     options: RenderOptions,
     neighbours: &'a dyn Neighbours,
     clip_box: Aabb,
-    /// The cylindrical BVH's node arcs for the fast path's empty-space skipping by the
-    /// structure's bounds, made on first use (never with a boundary surface, which skips
-    /// instead).
+    /// The cylindrical BVH's node arcs for the fast path's traversals of the structure's
+    /// bounds (empty-space skipping without a boundary surface, jumps over transparent
+    /// space): made before a render's rays are cast, or on a single ray's first use.
     arcs: std::sync::OnceLock<NodeArcs>,
     /// The cells the table makes wholly transparent, for the fast path; made before a render's
     /// rays are cast (or on a single ray's first use).
@@ -1379,7 +1379,8 @@ impl<'a> Renderer<'a> {
         let skipper = || {
             Skipper::with_arcs(
                 vol.accel,
-                self.arcs.get_or_init(|| NodeArcs::new(vol.accel)),
+                self.arcs
+                    .get_or_init(|| NodeArcs::new_sequential(vol.accel)),
             )
         };
         let mut counters = Counters::default();
@@ -1862,8 +1863,9 @@ impl<'a> Renderer<'a> {
                 )));
             }
         }
-        // The fast path's transparency mask, made in parallel here rather than by the first
-        // ray (which would make it alone while the other threads wait).
+        // The fast path's transparency mask, visible nodes and node arcs, made in parallel
+        // here rather than by the first ray (which would make them alone, sequentially,
+        // while the other threads wait).
         if self.options.path == RenderPath::Fast {
             if self.transparent.get().is_none() {
                 let mask = TransparentCells::new(&self.volume.field.cell_ranges, &self.table);

@@ -63,12 +63,23 @@ pub struct NodeArcs {
 }
 
 impl NodeArcs {
-    /// The table for `accel` (empty unless it is a cylindrical BVH).
+    /// The table for `accel` (empty unless it is a cylindrical BVH), made in parallel.
     pub fn new(accel: &Accel) -> NodeArcs {
         use rayon::prelude::*;
         match (accel.structure(), accel.coordinates()) {
             (Structure::CylBvh(b), Coordinates::Cylindrical(_)) => NodeArcs {
                 trig: b.nodes.par_iter().map(|n| arc_trig(&n.bounds)).collect(),
+            },
+            _ => NodeArcs::default(),
+        }
+    }
+
+    /// [`NodeArcs::new`] on the calling thread only (for a table made lazily, whose maker
+    /// must not wait on work the thread pool might hand back to it).
+    pub fn new_sequential(accel: &Accel) -> NodeArcs {
+        match (accel.structure(), accel.coordinates()) {
+            (Structure::CylBvh(b), Coordinates::Cylindrical(_)) => NodeArcs {
+                trig: b.nodes.iter().map(|n| arc_trig(&n.bounds)).collect(),
             },
             _ => NodeArcs::default(),
         }
