@@ -204,6 +204,7 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->LastInternalVisits = this->LastLeafVisits = 0;
   this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
   this->LastSamplesSkipped = this->LastPlaneCertified = this->LastWalkSteps = 0;
+  this->LastTransparentJumps = 0;
   this->LastImageSize[0] = this->LastImageSize[1] = 0;
   this->BuildCount = 0;
   this->ScalarUpdateCount = 0;
@@ -337,6 +338,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastInternalVisits = this->LastLeafVisits = 0;
   this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
   this->LastSamplesSkipped = this->LastPlaneCertified = this->LastWalkSteps = 0;
+  this->LastTransparentJumps = 0;
   this->LastRaySeconds = 0.0;
 
   // ---- the input ---------------------------------------------------------------------
@@ -802,6 +804,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       this->LastSamplesSkipped += rs.samples_skipped;
       this->LastPlaneCertified += rs.plane_certified;
       this->LastWalkSteps += rs.walk_steps;
+      this->LastTransparentJumps += rs.transparent_jumps;
     }
     this->UpdateProgress(static_cast<double>(b + 1) / bands);
   }
@@ -883,4 +886,5 @@ void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastSamplesSkipped: " << this->LastSamplesSkipped << "\n";
   os << indent << "LastPlaneCertified: " << this->LastPlaneCertified << "\n";
   os << indent << "LastWalkSteps: " << this->LastWalkSteps << "\n";
+  os << indent << "LastTransparentJumps: " << this->LastTransparentJumps << "\n";
 }

@@ -214,6 +214,7 @@ public:
   vtkGetMacro(LastSamplesSkipped, vtkTypeUInt64);
   vtkGetMacro(LastPlaneCertified, vtkTypeUInt64);
   vtkGetMacro(LastWalkSteps, vtkTypeUInt64);
+  vtkGetMacro(LastTransparentJumps, vtkTypeUInt64);
   ///@}
 
   ///@{
@@ -287,6 +288,7 @@ protected:
   vtkTypeUInt64 LastSamplesSkipped;
   vtkTypeUInt64 LastPlaneCertified;
   vtkTypeUInt64 LastWalkSteps;
+  vtkTypeUInt64 LastTransparentJumps;
   int LastImageSize[2];
   int BuildCount;
   int ScalarUpdateCount;

@@ -104,6 +104,10 @@ int TestCylVolState(int, char*[])
     Expect(skipped > skippedFirst && skipped <= mapper->GetLastSamplesLocated(),
       "samples in the cells made transparent are skipped");
     Expect(mapper->GetLastPlaneCertified() <= skipped, "face planes place only skipped samples");
+    if (mapper->GetBuiltStructure() >= vtkCylVolMapper::STRUCTURE_CARTESIAN_BVH)
+    {
+      Expect(mapper->GetLastTransparentJumps() > 0, "a BVH jumps over transparent space");
+    }
     volume->GetProperty()->SetScalarOpacity(kept);
     kept->UnRegister(nullptr);
   }
