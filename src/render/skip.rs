@@ -250,26 +250,10 @@ impl<'a> Skipper<'a> {
         t1: f64,
         counters: &mut Counters,
     ) -> Option<(f64, f64)> {
-        match (self.accel.structure(), self.accel.coordinates()) {
-            (Structure::Grid(_), _) => Some((t0, t0)),
-            (Structure::CartBvh(b), _) => {
-                let ray = LocalRay::Boxes {
-                    o: origin - b.frame().anchor,
-                    d: dir,
-                    pad: b.query_pad(),
-                };
-                first_hit(b, ray, &[], t0, t1, counters)
-            }
-            (Structure::CylBvh(b), Coordinates::Cylindrical(frame)) => {
-                let ray = sector_ray(&frame, b, origin, dir);
-                let trig = self
-                    .arcs
-                    .map(|a| a.trig.as_slice())
-                    .filter(|t| t.len() == b.nodes.len())
-                    .unwrap_or(&[]);
-                first_hit(b, ray, trig, t0, t1, counters)
-            }
-            (Structure::CylBvh(_), Coordinates::Cartesian) => Some((t0, t0)),
+        match self.bvh_first_hit(origin, dir, t0, t1, counters, |_| true, |_| true) {
+            Some(hit) => hit.map(|(e, x, _)| (e, x)),
+            // A grid, or a cylindrical BVH without its frame: no bounds to traverse.
+            None => Some((t0, t0)),
         }
     }
 
@@ -294,26 +278,50 @@ impl<'a> Skipper<'a> {
         visible: impl Fn(u32) -> bool,
         counters: &mut Counters,
     ) -> Option<(f64, f64, u32)> {
+        let nodes = match self.accel.structure() {
+            Structure::CartBvh(b) => b.nodes.len(),
+            Structure::CylBvh(b) => b.nodes.len(),
+            Structure::Grid(_) => return None,
+        };
+        if visible_nodes.len() != nodes {
+            return None;
+        }
         let node = |i: usize| visible_nodes.contains(i);
+        self.bvh_first_hit(origin, dir, t0, t1, counters, node, visible)
+            .flatten()
+    }
+
+    /// The closest-hit traversal ([`first_hit`]) of the structure's BVH in its own frame,
+    /// among the nodes `node(index)` keeps and the pieces of the cells `cell(id)` keeps;
+    /// `None` for a grid or a cylindrical BVH without its frame (no bounds to traverse).
+    #[allow(clippy::too_many_arguments)]
+    fn bvh_first_hit(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        counters: &mut Counters,
+        node: impl Fn(usize) -> bool,
+        cell: impl Fn(u32) -> bool,
+    ) -> Option<Option<(f64, f64, u32)>> {
         match (self.accel.structure(), self.accel.coordinates()) {
-            (Structure::CartBvh(b), _) if visible_nodes.len() == b.nodes.len() => {
+            (Structure::CartBvh(b), _) => {
                 let ray = LocalRay::Boxes {
                     o: origin - b.frame().anchor,
                     d: dir,
                     pad: b.query_pad(),
                 };
-                first_hit_of(b, ray, &[], t0, t1, counters, node, visible)
+                Some(first_hit(b, ray, &[], t0, t1, counters, node, cell))
             }
-            (Structure::CylBvh(b), Coordinates::Cylindrical(frame))
-                if visible_nodes.len() == b.nodes.len() =>
-            {
+            (Structure::CylBvh(b), Coordinates::Cylindrical(frame)) => {
                 let ray = sector_ray(&frame, b, origin, dir);
                 let trig = self
                     .arcs
                     .map(|a| a.trig.as_slice())
                     .filter(|t| t.len() == b.nodes.len())
                     .unwrap_or(&[]);
-                first_hit_of(b, ray, trig, t0, t1, counters, node, visible)
+                Some(first_hit(b, ray, trig, t0, t1, counters, node, cell))
             }
             _ => None,
         }
@@ -381,27 +389,12 @@ impl Enter for SectorF32 {
     }
 }
 
-/// Closest-hit traversal ([`Bvh::closest_hit`]): the smallest entry `t ∈ [t0, t1]` into a
-/// leaf piece's bound, with that piece's exit. `trig` holds the nodes' arcs (empty if not
-/// known).
-fn first_hit<B: BvhBounds>(
-    bvh: &Bvh<B>,
-    ray: LocalRay,
-    trig: &[ArcTrig],
-    t0: f64,
-    t1: f64,
-    counters: &mut Counters,
-) -> Option<Span>
-where
-    B::Compact: Enter,
-{
-    first_hit_of(bvh, ray, trig, t0, t1, counters, |_| true, |_| true).map(|(e, x, _)| (e, x))
-}
-
-/// [`first_hit`] among the nodes `node(index)` keeps and the pieces of the cells `cell(id)`
-/// keeps, with the piece's cell.
+/// Closest-hit traversal ([`Bvh::closest_hit`]) among the nodes `node(index)` keeps and the
+/// pieces of the cells `cell(id)` keeps: the smallest entry `t ∈ [t0, t1]` into such a leaf
+/// piece's bound, with that piece's exit and cell. `trig` holds the nodes' arcs (empty if
+/// not known).
 #[allow(clippy::too_many_arguments)]
-fn first_hit_of<B: BvhBounds>(
+fn first_hit<B: BvhBounds>(
     bvh: &Bvh<B>,
     ray: LocalRay,
     trig: &[ArcTrig],
