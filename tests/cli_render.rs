@@ -359,3 +359,70 @@ fn render_takes_interpolation_and_gradient_opacity_and_counts_gradients_only_for
         );
     }
 }
+
+#[test]
+fn render_takes_a_transfer_function_like_vtk_and_skips_what_it_makes_transparent() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let png = |name: &str| dir.path().join(name).to_str().expect("utf-8").to_string();
+    let render = |out: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "pump-rotor:3000",
+            "-o",
+            out,
+            "--size",
+            "32x32",
+            "--structure",
+            "cyl-bvh",
+            "--view",
+            "30,20,2",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        json_of(&args)["stats"].clone()
+    };
+    let count = |v: &Value, key: &str| v[key].as_u64().expect("a count");
+    let (default_png, clear_png) = (png("default.png"), png("clear.png"));
+    let default = render(&default_png, &[]);
+    let rays = count(&default, "rays");
+    assert!(count(&default, "samples_located") > 2 * rays);
+    // Transparent everywhere: at most one sample a ray is located, and nothing is drawn.
+    let clear = render(&clear_png, &["--opacity", "0%:0,100%:0"]);
+    assert!(count(&clear, "samples_located") <= rays);
+    assert_eq!(
+        count(&clear, "transparent_jumps"),
+        count(&clear, "samples_located")
+    );
+    assert_ne!(
+        std::fs::read(&default_png).unwrap(),
+        std::fs::read(&clear_png).unwrap()
+    );
+    // Zero only at the lowest scalar (percentages and values mixed): no cell is wholly
+    // transparent, so nothing is jumped over.
+    let (red, blue) = (png("red.png"), png("blue.png"));
+    let opaque = ["--opacity", "0%:0,50%:0.5,100%:1", "--unit-distance", "10%"];
+    let red_stats = render(&red, &[&opaque[..], &["--color", "0%:1:0:0"]].concat());
+    assert_eq!(count(&red_stats, "transparent_jumps"), 0);
+    assert!(count(&default, "transparent_jumps") > 0);
+    render(
+        &blue,
+        &[&opaque[..], &["--color", "0%:0:0:1,100%:0:0:1"]].concat(),
+    );
+    assert_ne!(std::fs::read(&red).unwrap(), std::fs::read(&blue).unwrap());
+    for (bad, says) in [
+        (&["--opacity", "50%:0,0%:1"][..], "--opacity: point 2"),
+        (&["--opacity", "0%:2"][..], "not a number in [0, 1]"),
+        (&["--color", "0%:1:0"][..], "S:R:G:B"),
+        (&["--unit-distance", "0"][..], "--unit-distance"),
+        (&["--unit-distance", "-5%"][..], "--unit-distance"),
+    ] {
+        let out = png("bad.png");
+        let mut args = vec!["render", "pump-rotor:3000", "-o", &out, "--size", "8x8"];
+        args.extend_from_slice(bad);
+        let o = cylvol(&args);
+        assert!(!o.status.success(), "{bad:?} accepted");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(says), "{bad:?}: {err}");
+        assert!(!Path::new(&out).exists(), "{bad:?} wrote an image");
+    }
+}

@@ -1,10 +1,12 @@
-//! `cylvol bench INPUT... [--json] [--size N] [--view A,E,Z] [--step S]`: renders every input
+//! `cylvol bench INPUT... [--json] [--size N] [--view A,E,Z] [--step S] [--opacity S:A,...]
+//! [--color S:R:G:B,...] [--unit-distance D]`: renders every input
 //! with each of the four structures along both sampling paths and reports the talk's
 //! per-frame figures — samples, hexahedra tested, internal and leaf nodes visited, frame time
 //! — with cylindrical ÷ Cartesian ratios.
 //!
 //! Every structure and path renders the same `N × N` image (default 512) with the same camera
-//! (`--view`, default `0,0,1`), transfer function and step (default half the mean cell size),
+//! (`--view`, default `0,0,1`), transfer function (the default, or what `--opacity`, `--color`
+//! and `--unit-distance` set: [`super::transfer`]) and step (default half the mean cell size),
 //! as `cylvol render` would ([`super::scene`]). `paper` locates every sample from scratch
 //! through the structure, as the talk measured; `fast` is the project's best path (previous
 //! cell, face neighbours, transparent cells skipped). `frame_s` is the wall time of the
@@ -24,6 +26,7 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Map, Value};
 
+use super::transfer::TransferArgs;
 use super::{log, scene, InputArgs};
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::Axis;
@@ -56,6 +59,8 @@ pub struct BenchArgs {
     /// Machine axis instead of the detected one (for every input).
     #[arg(long, value_name = "AXIS")]
     axis: Option<Axis>,
+    #[command(flatten)]
+    transfer: TransferArgs,
 }
 
 /// The four structures' figures on one mesh, and the fast path's images.
@@ -76,6 +81,8 @@ pub struct BenchSetup {
     pub view: Option<[f64; 3]>,
     /// Sample spacing (`None`: the default).
     pub step: Option<f64>,
+    /// The transfer function's options (none set: the default).
+    pub transfer: TransferArgs,
 }
 
 fn path_json(stats: &RenderStats, frame_s: f64) -> Value {
@@ -149,7 +156,11 @@ pub fn bench_mesh(
         let kind = accel.kind();
         let build_s = accel.stats().build_s();
         let volume = Volume::with_field(mesh, accel, &field)?;
-        let transfer = scene::transfer(mesh, volume.scalar_range());
+        let range = volume.scalar_range();
+        let transfer =
+            setup
+                .transfer
+                .apply(scene::transfer(mesh, range), range, scene::diagonal(mesh))?;
         let mut entry = Map::new();
         entry.insert("build_s".into(), json!(build_s));
         for &path in paths {
@@ -280,6 +291,7 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
         height: args.size,
         view: args.view,
         step: args.step,
+        transfer: args.transfer.clone(),
     };
     let mut reports = Vec::new();
     for (k, spec) in args.inputs.iter().enumerate() {

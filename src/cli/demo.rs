@@ -159,6 +159,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         height: DEMO_IMAGE,
         view: Some(DEMO_VIEW),
         step: None,
+        transfer: Default::default(),
     };
     let bench = super::bench::bench_mesh(
         &mesh,

@@ -8,6 +8,7 @@ mod info;
 mod render;
 mod scene;
 mod stats;
+mod transfer;
 
 use std::path::PathBuf;
 

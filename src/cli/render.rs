@@ -1,6 +1,7 @@
 //! `cylvol render INPUT -o OUT.png [--structure …] [--size WxH] [--step S] [--scalar NAME]
 //! [--view AZIMUTH,ELEVATION,ZOOM] [--path paper|fast] [--shade] [--interpolation linear|nearest]
-//! [--gradient-opacity M:G,M:G,...]`: renders one image and
+//! [--gradient-opacity M:G,M:G,...] [--opacity S:A,...] [--color S:R:G:B,...]
+//! [--unit-distance D]`: renders one image and
 //! reports the time and the work counters on standard error (as JSON on standard output with
 //! `--json`).
 //!
@@ -9,13 +10,15 @@
 //! ([`cylvol::render::default_step`]), `--view 0,0,1` (VTK's reset camera: looking down `−z`
 //! at the bounds' centre), `--path fast`, no shading. The transfer function is
 //! [`cylvol::render::TransferFunction::default_for_range`] over the scalar range with a
-//! maximum opacity of 0.3 per hundredth of the mesh's diagonal; the background is black.
+//! maximum opacity of 0.3 per hundredth of the mesh's diagonal, or what `--opacity`, `--color`
+//! and `--unit-distance` set ([`super::transfer`]); the background is black.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use serde_json::json;
 
+use super::transfer::TransferArgs;
 use super::{log, scene, InputArgs};
 use cylvol::accel::AccelParams;
 use cylvol::render::{
@@ -60,6 +63,8 @@ pub struct RenderArgs {
     /// factor G in [0, 1] of the gradient magnitude M, in increasing M, e.g. `0:0,0.5:1`.
     #[arg(long, value_name = "M:G,M:G,...", value_parser = parse_gradient_opacity)]
     gradient_opacity: Option<Box<GradientOpacity>>,
+    #[command(flatten)]
+    transfer: TransferArgs,
     /// Print the figures as JSON on standard output.
     #[arg(long)]
     json: bool,
@@ -115,7 +120,10 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
     let step = scene::step(&mesh, args.step)?;
-    let transfer = scene::transfer(&mesh, volume.scalar_range());
+    let range = volume.scalar_range();
+    let transfer =
+        args.transfer
+            .apply(scene::transfer(&mesh, range), range, scene::diagonal(&mesh))?;
     let (width, height) = args.size;
     let mut options = RenderOptions::new(width, height, step);
     options.path = path;
