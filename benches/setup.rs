@@ -84,7 +84,7 @@ fn main() {
         let mut checked = faces.clone();
         checked.check_boundary_near(
             &mesh,
-            |c, f, p, r| surface.other_face_near(&mesh, c, f, p, r),
+            |c, f, probes, r| surface.other_faces_near(&mesh, c, f, probes, r),
             |p| accel.cell_at(&mesh, p),
         )
     });

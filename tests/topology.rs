@@ -712,10 +712,10 @@ fn boundary_check_filtered_by_the_surface_finds_the_same_faces() {
         let (asked, passed) = (AtomicUsize::new(0), AtomicUsize::new(0));
         let hanging = filtered.check_boundary_near(
             &mesh,
-            |c, f, p, r| {
-                asked.fetch_add(1, Ordering::Relaxed);
-                let near = surface.other_face_near(&mesh, c, f, p, r);
-                passed.fetch_add(near as usize, Ordering::Relaxed);
+            |c, f, probes, r| {
+                let near = surface.other_faces_near(&mesh, c, f, probes, r);
+                asked.fetch_add(probes.len(), Ordering::Relaxed);
+                passed.fetch_add(near.iter().filter(|&&x| x).count(), Ordering::Relaxed);
                 near
             },
             |p| brute_force_cell(&mesh, p),

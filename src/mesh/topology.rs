@@ -228,6 +228,10 @@ impl std::ops::Add for Counts {
 /// pairing independent of the order cells arrived in the bucket).
 type Entry = (FaceKey, u32, u8);
 
+/// Points at which [`FaceNeighbors::check_boundary`] probes each face without a neighbour:
+/// its centre and the four points halfway from there to its corners.
+pub const BOUNDARY_PROBES: usize = 5;
+
 impl FaceNeighbors {
     /// Matches faces by their point ids (see the module docs). Meshes of `u32::MAX` cells or
     /// more, which `u32` cell ids cannot address, get an empty table: every face reads as none.
@@ -543,21 +547,23 @@ impl FaceNeighbors {
         mesh: &Mesh,
         cell_at: impl Fn(glam::DVec3) -> Option<u32> + Sync,
     ) -> usize {
-        self.check_boundary_near(mesh, |_, _, _, _| true, cell_at)
+        self.check_boundary_near(mesh, |_, _, _, _| [true; BOUNDARY_PROBES], cell_at)
     }
 
-    /// [`FaceNeighbors::check_boundary`] with a filter in front of the point location: a probe
-    /// `p` beyond face `face` of `cell` goes to `cell_at` only where `near(cell, face, p, r)`
-    /// says another face without a neighbour may lie within `r` of it. `r` is the probe's
-    /// offset plus the face's deviation from its plane, the farthest the probe can be from
-    /// the face itself; a cell holding the probe would have a face without a neighbour within
-    /// that distance (the face it touches this one with, unmatched since this one has no
-    /// neighbour), so a filter that answers `false` only where no such face exists (e.g. from
-    /// [`crate::render::surface::BoundarySurface::other_face_near`]) changes no result.
+    /// [`FaceNeighbors::check_boundary`] with a filter in front of the point location: the
+    /// probes `p` beyond face `face` of `cell` are put to `near(cell, face, probes, r)`, all
+    /// at once, and a probe goes to `cell_at` only where its flag says another face without a
+    /// neighbour may lie within `r` of it. `r` is the probes' offset plus the face's deviation
+    /// from its plane, the farthest a probe can be from the face itself; a cell holding the
+    /// probe would have a face without a neighbour within that distance (the face it touches
+    /// this one with, unmatched since this one has no neighbour), so a filter that answers
+    /// `false` only where no such face exists (e.g. from
+    /// [`crate::render::surface::BoundarySurface::other_faces_near`]) changes no result.
     pub fn check_boundary_near(
         &mut self,
         mesh: &Mesh,
-        near: impl Fn(u32, usize, glam::DVec3, f64) -> bool + Sync,
+        near: impl Fn(u32, usize, &[glam::DVec3; BOUNDARY_PROBES], f64) -> [bool; BOUNDARY_PROBES]
+            + Sync,
         cell_at: impl Fn(glam::DVec3) -> Option<u32> + Sync,
     ) -> usize {
         use glam::DVec3;
@@ -584,14 +590,14 @@ impl FaceNeighbors {
                             let deviation =
                                 q.iter().map(|&k| n.dot(k - mid).abs()).fold(0.0, f64::max);
                             let reach = 2.0 * (eps + deviation);
-                            n != DVec3::ZERO
-                                && std::iter::once(mid)
-                                    .chain(q.iter().map(|&k| 0.5 * (mid + k)))
-                                    .map(|b| b + n * eps)
-                                    .any(|p| {
-                                        near(c as u32, f, p, reach)
-                                            && cell_at(p).is_some_and(|o| o as usize != c)
-                                    })
+                            n != DVec3::ZERO && {
+                                let probes = [mid, q[0], q[1], q[2], q[3]]
+                                    .map(|k| 0.5 * (mid + k) + n * eps);
+                                let near = near(c as u32, f, &probes, reach);
+                                probes.iter().zip(near).any(|(&p, near)| {
+                                    near && cell_at(p).is_some_and(|o| o as usize != c)
+                                })
+                            }
                         }
                     })
                     .count()

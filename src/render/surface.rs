@@ -317,28 +317,77 @@ impl BoundarySurface {
     }
 
     /// Whether a boundary face other than face `face` of `cell` may lie within `r` of `p`:
-    /// one whose box, slab (see the module documentation) and four edge slabs (between the
-    /// corners' extreme projections on each edge crossed with the normal), all padded by `r`,
-    /// hold `p`. Each holds the convex hull of the face's corners, hence the face, so `false`
+    /// one whose corners' box, slab (see the module documentation) and four edge slabs
+    /// (between the corners' extreme projections on each edge crossed with the normal), all
+    /// padded by `r`, hold `p`. Each holds the convex hull of the face's corners, hence the face, so `false`
     /// means no other boundary face comes that close.
     pub fn other_face_near(&self, mesh: &Mesh, cell: u32, face: usize, p: DVec3, r: f64) -> bool {
-        self.bvh.any_near(p, r, |i| {
-            let Some(&(c, f)) = self.faces.get(i as usize) else {
-                return false;
-            };
-            if c == cell && f as usize == face {
-                return false;
+        self.other_faces_near(mesh, cell, face, &[p], r)[0]
+    }
+
+    /// [`BoundarySurface::other_face_near`] for each of `points` (probes near one face, say),
+    /// in one traversal of the surface: the faces whose boxes, padded by `r`, meet the points'
+    /// box are tested against each point in turn (a face's corners' box, its slab and its
+    /// four edge slabs, as there).
+    pub fn other_faces_near<const N: usize>(
+        &self,
+        mesh: &Mesh,
+        cell: u32,
+        face: usize,
+        points: &[DVec3; N],
+        r: f64,
+    ) -> [bool; N] {
+        let mut near = [false; N];
+        if N == 0 {
+            return near;
+        }
+        self.bvh.each_near_box(&Aabb::from_points(points), r, |i| {
+            self.mark_near(mesh, i, (cell, face), points, r, &mut near);
+            // Stop once every point is near some face.
+            near.iter().all(|&x| x)
+        });
+        near
+    }
+
+    /// Sets the flags of the `points` that lie within `r` of boundary face `i` (unless it is
+    /// face `own`, a `(cell, face)`): in its corners' box, its slab and its four edge slabs
+    /// (the slabs between the corners' extreme projections hold their hull), all padded by
+    /// `r`. The edge slabs are made once a point passes the others.
+    fn mark_near<const N: usize>(
+        &self,
+        mesh: &Mesh,
+        i: u32,
+        own: (u32, usize),
+        points: &[DVec3; N],
+        r: f64,
+        near: &mut [bool; N],
+    ) {
+        let Some(&(c, f)) = self.faces.get(i as usize) else {
+            return;
+        };
+        if (c, f as usize) == own {
+            return;
+        }
+        let corners = face_corners(mesh, c, f);
+        let normal = &self.slabs[i as usize];
+        let b = Aabb::from_points(&corners);
+        let mut edges: Option<[Slab; 4]> = None;
+        for (p, near) in points.iter().zip(near.iter_mut()) {
+            if *near
+                || !(b.min - r).cmple(*p).all()
+                || !p.cmple(b.max + r).all()
+                || !normal.holds(*p, r)
+            {
+                continue;
             }
-            // Within r of the hull of the corners along the normal and across each edge
-            // (the slabs between the corners' extreme projections hold the hull).
-            let corners = face_corners(mesh, c, f);
-            let normal = &self.slabs[i as usize];
-            normal.holds(p, r)
-                && (0..4).all(|e| {
+            let edges = edges.get_or_insert_with(|| {
+                std::array::from_fn(|e| {
                     let m = (corners[(e + 1) % 4] - corners[e]).cross(normal.n);
-                    Slab::along(&corners, m).holds(p, r)
+                    Slab::along(&corners, m)
                 })
-        })
+            });
+            *near = edges.iter().all(|s| s.holds(*p, r));
+        }
     }
 }
 
@@ -351,6 +400,37 @@ pub(crate) fn face_corners(mesh: &Mesh, c: u32, f: u8) -> [DVec3; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The one traversal finds every face a brute-force pass over all of them finds, for
+    /// probes beside, on and between the boundary faces of a small rotor, near and far.
+    #[test]
+    fn faces_near_points_are_those_a_pass_over_every_face_finds() {
+        use crate::datasets::{generate, Dataset};
+        use crate::mesh::topology::FaceNeighbors;
+        let mesh = generate(Dataset::PumpRotor, 3000).unwrap();
+        let n = FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+        let surface = BoundarySurface::new(&mesh, &n);
+        let (mut near_some, mut near_none) = (0, 0);
+        for (k, &(c, f)) in surface.faces().iter().enumerate().step_by(7) {
+            let q = face_corners(&mesh, c, f);
+            let mid = (q[0] + q[1] + q[2] + q[3]) / 4.0;
+            let size = (q[2] - q[0]).length();
+            let normal = surface.slabs[k].n.normalize_or_zero();
+            let points =
+                [mid, q[0], q[1], q[2], q[3]].map(|x| 0.5 * (mid + x) + normal * size * 1e-3);
+            for r in [1e-9 * size, 0.3 * size, 2.0 * size] {
+                let got = surface.other_faces_near(&mesh, c, f as usize, &points, r);
+                let mut brute = [false; 5];
+                for i in 0..surface.face_count() as u32 {
+                    surface.mark_near(&mesh, i, (c, f as usize), &points, r, &mut brute);
+                }
+                assert_eq!(got, brute, "face {k}, r {r}");
+                near_some += got.iter().filter(|&&x| x).count();
+                near_none += got.iter().filter(|&&x| !x).count();
+            }
+        }
+        assert!(near_some > 0 && near_none > 0, "{near_some} {near_none}");
+    }
 
     #[test]
     fn slab_of_a_planar_face_is_thin() {

@@ -68,7 +68,7 @@ pub fn face_neighbours(mesh: &Mesh, accel: &Accel) -> Topology {
     let surface = BoundarySurface::new(mesh, &n);
     n.check_boundary_near(
         mesh,
-        |c, f, p, r| surface.other_face_near(mesh, c, f, p, r),
+        |c, f, probes, r| surface.other_faces_near(mesh, c, f, probes, r),
         |p| accel.cell_at(mesh, p),
     );
     Topology { faces: n, surface }
