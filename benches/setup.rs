@@ -27,7 +27,7 @@ use cylvol::render::{
     default_step, face_neighbours, Camera, RenderOptions, RenderPath, Renderer, ScalarField,
     TransferFunction, Volume,
 };
-use cylvol::Mesh;
+use cylvol::{Association, Mesh};
 use timing::best;
 
 fn main() {
@@ -118,6 +118,85 @@ fn main() {
     let (t, _) = best(repeats, frame);
     table.row(&format!("fast frame {size}x{size}"), t, true);
     table.row("first frame in all", table.total, false);
+
+    c_abi(&mesh, repeats);
+}
+
+/// The set-up as the VTK mapper runs it, through the C ABI from arrays laid out as VTK's
+/// (`f64` points, `i64` offsets and connectivity, cell types, `f64` point scalars):
+/// `cylvol_mesh_new`, `cylvol_mesh_set_scalars`, `cylvol_volume_new`. The rows above less
+/// these show what the ABI adds (conversions and copies).
+fn c_abi(mesh: &Mesh, repeats: usize) {
+    use cylvol::ffi::*;
+    use std::ptr::null_mut;
+    let Some((Association::Point, values)) = mesh.active_scalars() else {
+        println!("  (C ABI rows need point scalars)");
+        return;
+    };
+    let points: Vec<f64> = mesh.points().iter().flat_map(|p| p.to_array()).collect();
+    let (mut offsets, mut connectivity, mut types) = (vec![0i64], Vec::new(), Vec::new());
+    for (cell, kind) in mesh.cells().iter().zip(mesh.kinds()) {
+        connectivity.extend(kind.expand(cell).into_iter().map(i64::from));
+        offsets.push(connectivity.len() as i64);
+        types.push(kind.vtk_type());
+    }
+    println!("  C ABI, as the VTK mapper calls it:");
+    let mut table = Table::default();
+    let mesh_new = || {
+        let mut m = null_mut();
+        // SAFETY: the arrays are as long as the counts say; `m` is written.
+        let status = unsafe {
+            cylvol_mesh_new(
+                points.as_ptr().cast(),
+                CylvolValueType::F64.into(),
+                mesh.point_count(),
+                offsets.as_ptr().cast(),
+                connectivity.as_ptr().cast(),
+                CylvolIndexType::I64.into(),
+                connectivity.len(),
+                types.as_ptr(),
+                types.len(),
+                &mut m,
+            )
+        };
+        assert_eq!(status, CylvolStatus::Ok);
+        m
+    };
+    let set_scalars = |m: *mut CylvolMesh| {
+        // SAFETY: `m` is live; the values are one a point.
+        let status = unsafe {
+            cylvol_mesh_set_scalars(
+                m,
+                c"s".as_ptr(),
+                CylvolAssociation::POINT_DATA.into(),
+                values.as_ptr().cast(),
+                CylvolValueType::F64.into(),
+                values.len(),
+                1,
+                0,
+            )
+        };
+        assert_eq!(status, CylvolStatus::Ok);
+    };
+    let free_mesh = |m: *mut CylvolMesh| unsafe { cylvol_mesh_free(m) };
+    let (t, _) = best(repeats, || free_mesh(mesh_new()));
+    table.row("  cylvol_mesh_new", t, true);
+    let m = mesh_new();
+    let (t, _) = best(repeats, || set_scalars(m));
+    table.row("  cylvol_mesh_set_scalars", t, true);
+    let (t, _) = best(repeats, || {
+        let mut params = CylvolBuildParams::default();
+        // SAFETY: `params` is written.
+        unsafe { cylvol_build_params_default(&mut params) };
+        let mut v = null_mut();
+        // SAFETY: `m` is live; `v` is written, then freed.
+        let status = unsafe { cylvol_volume_new(m, &params, &mut v) };
+        assert_eq!(status, CylvolStatus::Ok);
+        unsafe { cylvol_volume_free(v) };
+    });
+    table.row("  cylvol_volume_new", t, true);
+    free_mesh(m);
+    table.row("  set-up through the C ABI in all", table.total, false);
 }
 
 /// The printed rows and the sum of those counted in the totals.
