@@ -187,12 +187,15 @@ typedef enum CylvolCameraMode {
 } CylvolCameraMode;
 
 /**
- * An opaque mesh: geometry and (at most) one active scalar array.
+ * An opaque mesh: geometry and (at most) one active scalar array. Volumes built from it
+ * share it rather than copy it; replacing its scalars afterwards copies it first (so a volume
+ * keeps the mesh it was built with).
  */
 typedef struct CylvolMesh CylvolMesh;
 
 /**
- * An opaque volume: its own copy of the mesh and the structure built over it.
+ * An opaque volume: the mesh (shared with the mesh handle it was built from, until either
+ * changes its scalars) and the structure built over it.
  */
 typedef struct CylvolVolume CylvolVolume;
 
@@ -597,7 +600,7 @@ enum CylvolStatus cylvol_mesh_bounds(const struct CylvolMesh *mesh, double bound
 enum CylvolStatus cylvol_mesh_scalar_range(const struct CylvolMesh *mesh, double range[2]);
 
 /**
- * Frees a mesh (NULL is fine). Volumes built from it keep their own copy.
+ * Frees a mesh (NULL is fine). Volumes built from it keep the mesh as it was.
  *
  * # Safety
  * `mesh` NULL or a live handle from [`cylvol_mesh_new`], not used afterwards.
@@ -614,8 +617,9 @@ void cylvol_build_params_default(struct CylvolBuildParams *params);
 
 /**
  * Builds the structure over the mesh's current cells and active scalars into a new volume,
- * which keeps its own copy of them: the mesh may be freed afterwards, and later changes to it
- * do not affect the volume. `params` NULL means the defaults. A mesh without scalars makes a
+ * which keeps them: the mesh may be freed afterwards, and later changes to it do not affect
+ * the volume. (The volume shares the mesh's memory rather than copying it; whichever of the
+ * two changes its scalars first gets a copy then.) `params` NULL means the defaults. A mesh without scalars makes a
  * volume that renders only after [`cylvol_volume_set_scalars`]. On failure `*out` is NULL.
  *
  * Errors: NULL_POINTER (`mesh`, `out`), INVALID_ARGUMENT (a bad structure or preset value, a

@@ -1569,3 +1569,48 @@ fn nearest_interpolation_and_gradient_opacity_match_the_rust_api() {
     assert!(none.f32.iter().all(|&x| x == 0.0));
     unsafe { cylvol_volume_free(v) };
 }
+
+/// A volume shares its mesh handle's memory, but neither sees the other's later scalars: the
+/// mesh's new scalars leave the volume's picture as it was, and the volume's new scalars leave
+/// the mesh's range as it was.
+#[test]
+fn a_volume_and_its_mesh_keep_their_own_scalars_after_the_build() {
+    let a = cube(3);
+    let m = mesh_with_field(&a);
+    let range = |m: *const CylvolMesh| {
+        let mut r = [0.0; 2];
+        assert_eq!(
+            unsafe { cylvol_mesh_scalar_range(m, r.as_mut_ptr()) },
+            S::Ok
+        );
+        r
+    };
+    let built_range = range(m);
+    let v = new_volume(m, &cart_bvh_params());
+    let tables = Tables::ramp(built_range);
+    let c = look_at([2.0, 1.5, 3.0], [0.5; 3], None);
+    let p = params(16, 16);
+    let first = render_f32(v, &c, &tables.c(), &p, None);
+    // New scalars on the mesh: its range changes, the volume's picture does not.
+    let doubled: Vec<f64> = field(&a).iter().map(|s| 2.0 * s + 1.0).collect();
+    assert_eq!(
+        set_scalars(m, &doubled, CylvolAssociation::POINT_DATA),
+        S::Ok
+    );
+    assert_ne!(range(m), built_range);
+    assert_eq!(render_f32(v, &c, &tables.c(), &p, None).f32, first.f32);
+    // A second volume shares the mesh with the new scalars; new scalars on it leave the mesh.
+    let w = new_volume(m, &cart_bvh_params());
+    let mesh_range = range(m);
+    let zeros = vec![0.0; doubled.len()];
+    let s = volume_set_scalars(w, c"zero".as_ptr(), &zeros, CylvolAssociation::POINT_DATA);
+    assert_eq!(s, S::Ok);
+    assert_eq!(range(m), mesh_range);
+    assert_ne!(render_f32(w, &c, &tables.c(), &p, None).f32, first.f32);
+    assert_eq!(render_f32(v, &c, &tables.c(), &p, None).f32, first.f32);
+    unsafe {
+        cylvol_mesh_free(m);
+        cylvol_volume_free(v);
+        cylvol_volume_free(w);
+    }
+}

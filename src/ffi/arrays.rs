@@ -1,7 +1,10 @@
 //! Reading caller arrays: checked pointers, lengths and alignment, and the conversion of
 //! `float`/`double` values and `int32_t`/`int64_t` indices to the library's types.
 
+use std::borrow::Cow;
 use std::ffi::c_void;
+
+use glam::DVec3;
 
 use super::codes::{CylvolIndexType, CylvolValueType};
 use super::status::{CylvolStatus, Failure};
@@ -98,23 +101,61 @@ pub fn finite(values: &[f64], what: &str) -> Result<(), Failure> {
     }
 }
 
-/// `len` indices of `index_type` at `ptr` as `i64`.
+/// `len` indices of `index_type` at `ptr` as `i64`: borrowed where they are `i64` already
+/// (VTK's 64-bit cell arrays), else converted.
 ///
 /// # Safety
 /// As [`fn@slice`].
-pub unsafe fn indices(
+pub unsafe fn indices<'a>(
     ptr: *const c_void,
     index_type: CylvolIndexType,
     len: usize,
     what: &str,
-) -> Result<Vec<i64>, Failure> {
+) -> Result<Cow<'a, [i64]>, Failure> {
     Ok(match index_type {
-        CylvolIndexType::I32 => unsafe { slice(ptr as *const i32, len, what)? }
-            .iter()
-            .map(|&v| v as i64)
-            .collect(),
-        CylvolIndexType::I64 => unsafe { slice(ptr as *const i64, len, what)? }.to_vec(),
+        CylvolIndexType::I32 => Cow::Owned(
+            unsafe { slice(ptr as *const i32, len, what)? }
+                .iter()
+                .map(|&v| v as i64)
+                .collect(),
+        ),
+        CylvolIndexType::I64 => Cow::Borrowed(unsafe { slice(ptr as *const i64, len, what)? }),
     })
+}
+
+/// `n` points of three values of `value_type` at `ptr`, each finite (else an error naming
+/// the first value that is not), converted in one pass.
+///
+/// # Safety
+/// As [`fn@slice`] for `3 n` values.
+pub unsafe fn points(
+    ptr: *const c_void,
+    value_type: CylvolValueType,
+    n: usize,
+    what: &str,
+) -> Result<Vec<DVec3>, Failure> {
+    let len = product(n, 3, what)?;
+    fn convert<T: Copy + Into<f64>>(xyz: &[T], what: &str) -> Result<Vec<DVec3>, Failure> {
+        let points: Vec<DVec3> = xyz
+            .chunks_exact(3)
+            .map(|c| DVec3::new(c[0].into(), c[1].into(), c[2].into()))
+            .collect();
+        match points.iter().position(|p| !p.is_finite()) {
+            Some(i) => {
+                let k = (0..3).find(|&k| !points[i][k].is_finite()).unwrap_or(0);
+                Err(Failure::invalid(format!(
+                    "{what}[{}] = {} is not finite",
+                    3 * i + k,
+                    points[i][k]
+                )))
+            }
+            None => Ok(points),
+        }
+    }
+    match value_type {
+        CylvolValueType::F32 => convert(unsafe { slice(ptr as *const f32, len, what)? }, what),
+        CylvolValueType::F64 => convert(unsafe { slice(ptr as *const f64, len, what)? }, what),
+    }
 }
 
 /// A reference to the object behind a handle, or [`CylvolStatus::NullPointer`].

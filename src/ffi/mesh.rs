@@ -5,8 +5,7 @@
 //! the chosen component (or the magnitude) as a one-component array under the caller's name.
 
 use std::ffi::{c_char, c_void, CStr};
-
-use glam::DVec3;
+use std::sync::Arc;
 
 use super::arrays::{self, product};
 use super::codes::{AssociationCode, Code, CylvolAssociation, IndexTypeCode, ValueTypeCode};
@@ -14,21 +13,22 @@ use super::status::{self, CylvolStatus, Failure};
 use crate::mesh::{cells_from_vtk, OffsetStyle};
 use crate::{Association, DataArray, Mesh, MeshParts};
 
-/// An opaque mesh: geometry and (at most) one active scalar array.
+/// An opaque mesh: geometry and (at most) one active scalar array. Volumes built from it
+/// share it rather than copy it; replacing its scalars afterwards copies it first (so a volume
+/// keeps the mesh it was built with).
 pub struct CylvolMesh {
-    /// Always `Some` between calls (taken only while its scalars are replaced).
-    mesh: Option<Mesh>,
+    mesh: Arc<Mesh>,
 }
 
 impl CylvolMesh {
     /// The mesh.
-    pub fn mesh(&self) -> Result<&Mesh, Failure> {
-        self.mesh.as_ref().ok_or_else(|| {
-            Failure::new(
-                CylvolStatus::Panic,
-                "the handle lost its mesh in an earlier internal error",
-            )
-        })
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// The mesh, shared.
+    pub(crate) fn shared(&self) -> Arc<Mesh> {
+        Arc::clone(&self.mesh)
     }
 }
 
@@ -114,28 +114,15 @@ pub unsafe fn read_scalars(
     })
 }
 
-/// `mesh` with its arrays replaced by `scalars` (the active scalar). `mesh` is consumed; on an
-/// error (none is expected: the geometry was valid and the scalars are checked) it is lost.
-pub fn with_scalars(mesh: Mesh, scalars: Scalars) -> Result<Mesh, Failure> {
-    let mut parts = mesh.into_parts();
-    parts.point_data.clear();
-    parts.cell_data.clear();
-    match scalars.association {
-        Association::Point => parts.point_data.push(scalars.array),
-        Association::Cell => parts.cell_data.push(scalars.array),
-    }
-    Ok(Mesh::from_parts(parts)?)
-}
-
-/// Replaces the active scalars of the mesh in `slot` (taken out meanwhile).
-pub fn replace_scalars(slot: &mut Option<Mesh>, scalars: Scalars) -> Result<(), Failure> {
-    let mesh = slot.take().ok_or_else(|| {
-        Failure::new(
-            CylvolStatus::Panic,
-            "the handle lost its mesh in an earlier internal error",
-        )
-    })?;
-    *slot = Some(with_scalars(mesh, scalars)?);
+/// Makes `scalars` the only array (the active scalar) of the mesh in `slot`, copying the
+/// mesh first where it is shared (with a volume built from it), the geometry not checked
+/// again. On an error (none is expected: the scalars are checked) the mesh is unchanged.
+pub fn replace_scalars(slot: &mut Arc<Mesh>, scalars: Scalars) -> Result<(), Failure> {
+    let (point_data, cell_data) = match scalars.association {
+        Association::Point => (vec![scalars.array], Vec::new()),
+        Association::Cell => (Vec::new(), vec![scalars.array]),
+    };
+    Arc::make_mut(slot).replace_arrays(point_data, cell_data)?;
     Ok(())
 }
 
@@ -176,11 +163,8 @@ pub unsafe extern "C" fn cylvol_mesh_new(
         unsafe { arrays::write(out, std::ptr::null_mut(), "out")? };
         let points_type = points_type.decode("points_type")?;
         let index_type = index_type.decode("index_type")?;
-        let coords = {
-            let len = product(n_points, 3, "points")?;
-            // SAFETY: the caller vouches for the arrays' lengths.
-            unsafe { arrays::values(points, points_type, len, "points")? }
-        };
+        // SAFETY: the caller vouches for the arrays' lengths.
+        let points = unsafe { arrays::points(points, points_type, n_points, "points")? };
         let n_offsets = n_cells
             .checked_add(1)
             .ok_or_else(|| Failure::invalid("n_cells is too large"))?;
@@ -210,16 +194,15 @@ pub unsafe extern "C" fn cylvol_mesh_new(
             n_points,
         )?;
         let mesh = Mesh::from_parts(MeshParts {
-            points: coords
-                .chunks_exact(3)
-                .map(|c| DVec3::new(c[0], c[1], c[2]))
-                .collect(),
+            points,
             cells: cells.cells,
             kinds: cells.kinds,
             point_data: Vec::new(),
             cell_data: Vec::new(),
         })?;
-        let handle = Box::into_raw(Box::new(CylvolMesh { mesh: Some(mesh) }));
+        let handle = Box::into_raw(Box::new(CylvolMesh {
+            mesh: Arc::new(mesh),
+        }));
         // SAFETY: checked non-NULL and aligned above.
         unsafe { out.write(handle) };
         Ok(())
@@ -252,7 +235,7 @@ pub unsafe extern "C" fn cylvol_mesh_set_scalars(
     status::status("cylvol_mesh_set_scalars", || {
         // SAFETY: the caller vouches for the handle.
         let handle = unsafe { arrays::handle_mut(mesh, "mesh")? };
-        let m = handle.mesh()?;
+        let m = handle.mesh();
         let counts = (m.point_count(), m.cell_count());
         // SAFETY: the caller vouches for the arrays.
         let scalars = unsafe {
@@ -283,7 +266,7 @@ pub unsafe extern "C" fn cylvol_mesh_counts(
 ) -> CylvolStatus {
     status::status("cylvol_mesh_counts", || {
         // SAFETY: the caller vouches for the handle and outputs.
-        let m = unsafe { arrays::handle(mesh, "mesh")? }.mesh()?;
+        let m = unsafe { arrays::handle(mesh, "mesh")? }.mesh();
         if n_points.is_null() || n_cells.is_null() {
             return Err(Failure::null(if n_points.is_null() {
                 "n_points"
@@ -311,7 +294,7 @@ pub unsafe extern "C" fn cylvol_mesh_bounds(
 ) -> CylvolStatus {
     status::status("cylvol_mesh_bounds", || {
         // SAFETY: the caller vouches for the handle and output.
-        let m = unsafe { arrays::handle(mesh, "mesh")? }.mesh()?;
+        let m = unsafe { arrays::handle(mesh, "mesh")? }.mesh();
         let out = unsafe { arrays::slice_mut(bounds, 6, "bounds")? };
         out.copy_from_slice(&m.bounds());
         Ok(())
@@ -331,7 +314,7 @@ pub unsafe extern "C" fn cylvol_mesh_scalar_range(
 ) -> CylvolStatus {
     status::status("cylvol_mesh_scalar_range", || {
         // SAFETY: the caller vouches for the handle and output.
-        let m = unsafe { arrays::handle(mesh, "mesh")? }.mesh()?;
+        let m = unsafe { arrays::handle(mesh, "mesh")? }.mesh();
         let out = unsafe { arrays::slice_mut(range, 2, "range")? };
         let r = m.scalar_range().ok_or_else(|| {
             Failure::new(
@@ -344,7 +327,7 @@ pub unsafe extern "C" fn cylvol_mesh_scalar_range(
     })
 }
 
-/// Frees a mesh (NULL is fine). Volumes built from it keep their own copy.
+/// Frees a mesh (NULL is fine). Volumes built from it keep the mesh as it was.
 ///
 /// # Safety
 /// `mesh` NULL or a live handle from [`cylvol_mesh_new`], not used afterwards.

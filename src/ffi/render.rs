@@ -397,7 +397,7 @@ pub unsafe extern "C" fn cylvol_render(
                     format!("pixels_len = {pixels_len}, expected {expected} for {w}x{h} RGBA"),
                 ));
             }
-            let mesh = v.mesh()?;
+            let mesh = v.mesh();
             let (field, lo, hi) = match &v.field {
                 Some(field) => {
                     let [lo, hi] = field.range();

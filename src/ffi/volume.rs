@@ -1,8 +1,10 @@
-//! Volume handles: a copy of a mesh with the acceleration structure built over it, the face
+//! Volume handles: a mesh (shared with its handle, never copied for the build) with the
+//! acceleration structure built over it, the face
 //! neighbours the fast path walks, the statistics of the build and of the last render, and
 //! the detail of the handle's last failure.
 
 use std::ffi::{c_char, c_void, CString};
+use std::sync::Arc;
 use std::time::Instant;
 
 use glam::DVec3;
@@ -73,10 +75,10 @@ pub struct CylvolBuildStats {
     pub area_ratio: f64,
 }
 
-/// An opaque volume: its own copy of the mesh and the structure built over it.
+/// An opaque volume: the mesh (shared with the mesh handle it was built from, until either
+/// changes its scalars) and the structure built over it.
 pub struct CylvolVolume {
-    /// The mesh (always `Some` between calls).
-    pub(crate) mesh: Option<Mesh>,
+    pub(crate) mesh: Arc<Mesh>,
     pub(crate) accel: Accel,
     pub(crate) neighbours: Topology,
     /// The active scalar gathered for rendering (`None` while the mesh has none), kept
@@ -90,13 +92,8 @@ pub struct CylvolVolume {
 
 impl CylvolVolume {
     /// The mesh.
-    pub(crate) fn mesh(&self) -> Result<&Mesh, Failure> {
-        self.mesh.as_ref().ok_or_else(|| {
-            Failure::new(
-                CylvolStatus::Panic,
-                "the handle lost its mesh in an earlier internal error",
-            )
-        })
+    pub(crate) fn mesh(&self) -> &Mesh {
+        &self.mesh
     }
 }
 
@@ -155,8 +152,8 @@ fn to_c(kind: StructureKind) -> CylvolStructure {
     }
 }
 
-/// Builds a volume over `mesh` (consumed) as `params` say.
-pub(crate) fn build(mesh: Mesh, params: &CylvolBuildParams) -> Result<CylvolVolume, Failure> {
+/// Builds a volume over `mesh` (shared, not copied) as `params` say.
+pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<CylvolVolume, Failure> {
     let started = Instant::now();
     let structure = params.structure.decode("params->structure")?;
     let accel_params = accel_params(params.preset)?;
@@ -198,7 +195,7 @@ pub(crate) fn build(mesh: Mesh, params: &CylvolBuildParams) -> Result<CylvolVolu
         area_ratio: ratio,
     };
     Ok(CylvolVolume {
-        mesh: Some(mesh),
+        mesh,
         accel,
         neighbours,
         field,
@@ -222,8 +219,9 @@ pub unsafe extern "C" fn cylvol_build_params_default(params: *mut CylvolBuildPar
 }
 
 /// Builds the structure over the mesh's current cells and active scalars into a new volume,
-/// which keeps its own copy of them: the mesh may be freed afterwards, and later changes to it
-/// do not affect the volume. `params` NULL means the defaults. A mesh without scalars makes a
+/// which keeps them: the mesh may be freed afterwards, and later changes to it do not affect
+/// the volume. (The volume shares the mesh's memory rather than copying it; whichever of the
+/// two changes its scalars first gets a copy then.) `params` NULL means the defaults. A mesh without scalars makes a
 /// volume that renders only after [`cylvol_volume_set_scalars`]. On failure `*out` is NULL.
 ///
 /// Errors: NULL_POINTER (`mesh`, `out`), INVALID_ARGUMENT (a bad structure or preset value, a
@@ -241,7 +239,7 @@ pub unsafe extern "C" fn cylvol_volume_new(
     status::status("cylvol_volume_new", || {
         // SAFETY: the caller vouches for the pointers.
         unsafe { arrays::write(out, std::ptr::null_mut(), "out")? };
-        let m = unsafe { arrays::handle(mesh, "mesh")? }.mesh()?.clone();
+        let m = unsafe { arrays::handle(mesh, "mesh")? }.shared();
         let params = unsafe { params.as_ref() }.copied().unwrap_or_default();
         let volume = build(m, &params)?;
         // SAFETY: checked non-NULL and aligned above.
@@ -280,7 +278,7 @@ pub unsafe extern "C" fn cylvol_volume_set_scalars(
     // SAFETY: the caller vouches for the handle and arrays.
     unsafe {
         on_volume("cylvol_volume_set_scalars", volume, |v| {
-            let m = v.mesh()?;
+            let m = v.mesh();
             let counts = (m.point_count(), m.cell_count());
             let scalars = read_scalars(
                 name,
@@ -293,7 +291,7 @@ pub unsafe extern "C" fn cylvol_volume_set_scalars(
                 counts,
             )?;
             replace_scalars(&mut v.mesh, scalars)?;
-            v.field = ScalarField::gather(v.mesh()?).ok();
+            v.field = ScalarField::gather(v.mesh()).ok();
             Ok(())
         })
     }

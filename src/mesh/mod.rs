@@ -77,6 +77,36 @@ impl Mesh {
         Ok(mesh)
     }
 
+    /// Replaces the point and cell data arrays, the geometry kept as it is (and not checked
+    /// again): each array must have one tuple per point (or cell) and finite values, as for
+    /// [`Mesh::from_parts`]. The active scalar becomes the default one of the new arrays. On
+    /// an error the mesh is unchanged.
+    ///
+    /// ```
+    /// use cylvol::datasets::{generate, Dataset};
+    /// use cylvol::DataArray;
+    /// let mut mesh = generate(Dataset::PumpInlet, 1000).unwrap();
+    /// let n = mesh.point_count();
+    /// let ramp = DataArray::scalar("ramp", (0..n).map(|i| i as f64).collect());
+    /// mesh.replace_arrays(vec![ramp], vec![]).unwrap();
+    /// assert_eq!(mesh.scalar_range(), Some([0.0, (n - 1) as f64]));
+    /// let short = DataArray::scalar("short", vec![1.0; n - 1]);
+    /// assert!(mesh.replace_arrays(vec![short], vec![]).is_err());
+    /// assert_eq!(mesh.point_data()[0].name, "ramp");
+    /// ```
+    pub fn replace_arrays(
+        &mut self,
+        point_data: Vec<DataArray>,
+        cell_data: Vec<DataArray>,
+    ) -> Result<(), MeshError> {
+        validate::check_arrays(&point_data, Association::Point, self.points.len())?;
+        validate::check_arrays(&cell_data, Association::Cell, self.cells.len())?;
+        self.point_data = point_data;
+        self.cell_data = cell_data;
+        self.active = self.default_active();
+        Ok(())
+    }
+
     /// The parts this mesh was made of (for writers and transformations).
     pub fn into_parts(self) -> MeshParts {
         MeshParts {

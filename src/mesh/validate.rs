@@ -63,7 +63,8 @@ pub(super) fn validate(parts: &MeshParts) -> Result<(), MeshError> {
     check_orientation(parts)
 }
 
-fn check_arrays(
+/// Checks that each array has `tuples` tuples and finite values.
+pub(super) fn check_arrays(
     arrays: &[DataArray],
     association: Association,
     tuples: usize,
