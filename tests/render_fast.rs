@@ -544,3 +544,43 @@ fn jumps_over_transparent_space_cross_fewer_cells_for_the_same_image() {
         }
     }
 }
+
+/// A cylindrical BVH's node arcs are made by its first render and kept with the structure:
+/// a second render (a new renderer, as every frame of the C ABI and the VTK mapper makes)
+/// finds the same table, one entry a node; other structures have none.
+#[test]
+fn node_arcs_are_made_once_per_structure_and_kept_across_frames() {
+    let mesh = generate(Dataset::PumpRotor, 3000).expect("rotor");
+    let axis = cylvol::axis::detect(&mesh);
+    let frame = |accel: &Accel| {
+        let volume = Volume::new(&mesh, accel).expect("volume");
+        let [lo, hi] = volume.scalar_range();
+        let tf = TransferFunction::default_for_range(lo, hi, 0.3, 0.1);
+        let options = RenderOptions::new(24, 24, cylvol::render::default_step(&mesh));
+        let camera = Camera::view(mesh.bounds(), 24, 24, 30.0, 20.0, 1.0);
+        Renderer::new(&volume, &tf, &options)
+            .expect("renderer")
+            .render(&camera, None)
+            .expect("render");
+    };
+    let cyl = Accel::build(&mesh, StructureKind::CylBvh, &axis, &AccelParams::default())
+        .expect("cyl-bvh");
+    frame(&cyl);
+    let first = cyl.node_arcs().trig().as_ptr();
+    let nodes = match cyl.stats() {
+        cylvol::accel::StructureStats::Bvh(b) => b.nodes,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(cyl.node_arcs().trig().len(), nodes);
+    frame(&cyl);
+    assert_eq!(cyl.node_arcs().trig().as_ptr(), first, "made again");
+    let cart = Accel::build(
+        &mesh,
+        StructureKind::CartBvh,
+        &axis,
+        &AccelParams::default(),
+    )
+    .expect("cart-bvh");
+    frame(&cart);
+    assert!(cart.node_arcs().trig().is_empty());
+}

@@ -1,11 +1,12 @@
 //! [`Accel`]: one of the four structures built over a mesh, with point location (the cell test
 //! by the inverse trilinear map) and the statistics the talk reports.
 
+use std::sync::OnceLock;
 use std::time::Instant;
 
 use glam::DVec3;
 
-use super::bvh::{build_bvh, BvhParams, BvhStats};
+use super::bvh::{build_bvh, BvhParams, BvhStats, NodeArcs};
 use super::grid::{build_grid, GridParams, GridStats};
 use super::space::{
     cartesian_pieces, cylindrical_pieces, linear_boxes, seam_frame, Coordinates,
@@ -82,6 +83,8 @@ pub struct Accel {
     coordinates: Coordinates,
     structure: Structure,
     build_s: f64,
+    /// A cylindrical BVH's node arcs, made by the first ray traversal that needs them.
+    arcs: OnceLock<NodeArcs>,
 }
 
 impl Accel {
@@ -127,6 +130,7 @@ impl Accel {
             coordinates,
             structure,
             build_s: started.elapsed().as_secs_f64(),
+            arcs: OnceLock::new(),
         })
     }
 
@@ -143,6 +147,29 @@ impl Accel {
     /// The structure itself.
     pub fn structure(&self) -> &Structure {
         &self.structure
+    }
+
+    /// The sines and cosines of a cylindrical BVH's node arcs, for ray traversals of its
+    /// sectors (empty for the other structures). Made on the calling thread the first time
+    /// they are asked for, unless [`Accel::make_node_arcs`] made them before; then kept
+    /// with the structure (32 bytes a node), so every later frame has them.
+    pub fn node_arcs(&self) -> &NodeArcs {
+        self.arcs.get_or_init(|| match &self.structure {
+            Structure::CylBvh(b) => NodeArcs::new_sequential(b),
+            _ => NodeArcs::default(),
+        })
+    }
+
+    /// Makes the node arcs of [`Accel::node_arcs`] in parallel, if not made yet: for a caller
+    /// about to start parallel work that needs them (not from inside such work).
+    pub fn make_node_arcs(&self) {
+        if self.arcs.get().is_none() {
+            let arcs = match &self.structure {
+                Structure::CylBvh(b) => NodeArcs::new(b),
+                _ => NodeArcs::default(),
+            };
+            let _ = self.arcs.set(arcs);
+        }
     }
 
     /// Its figures; `build_s` counts the whole build, cell bounds included.

@@ -90,7 +90,7 @@ use super::camera::{Camera, RayGenerator, RaySource};
 use super::image::Image;
 use super::march::{boundary_face_crossing, boundary_plane_crossing, March};
 use super::shading::Shading;
-use super::skip::{NodeArcs, Skipper};
+use super::skip::Skipper;
 use super::surface::{face_corners, BoundarySurface};
 use super::transfer::{GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE};
 use super::transparency::TransparentCells;
@@ -624,10 +624,6 @@ pub struct Renderer<'a> {
     options: RenderOptions,
     neighbours: &'a dyn Neighbours,
     clip_box: Aabb,
-    /// The cylindrical BVH's node arcs for the fast path's traversals of the structure's
-    /// bounds (empty-space skipping without a boundary surface, jumps over transparent
-    /// space): made before a render's rays are cast, or on a single ray's first use.
-    arcs: std::sync::OnceLock<NodeArcs>,
     /// The cells the table makes wholly transparent, for the fast path; made before a render's
     /// rays are cast (or on a single ray's first use).
     transparent: std::sync::OnceLock<TransparentCells>,
@@ -766,7 +762,6 @@ impl<'a> Renderer<'a> {
             options: *options,
             neighbours: &NoNeighbours,
             clip_box,
-            arcs: std::sync::OnceLock::new(),
             transparent: std::sync::OnceLock::new(),
             visible: std::sync::OnceLock::new(),
         })
@@ -1376,13 +1371,7 @@ impl<'a> Renderer<'a> {
         let is_transparent = |cell: u32| transparent.is_some_and(|m| m.contains(cell));
         // The fast path jumps over transparent space through a BVH's visible nodes.
         let visible_nodes = if fast { self.visible_nodes() } else { None };
-        let skipper = || {
-            Skipper::with_arcs(
-                vol.accel,
-                self.arcs
-                    .get_or_init(|| NodeArcs::new_sequential(vol.accel)),
-            )
-        };
+        let skipper = || Skipper::new(vol.accel);
         let mut counters = Counters::default();
         let mut acc = Accum {
             transmittance: 1.0,
@@ -1863,9 +1852,10 @@ impl<'a> Renderer<'a> {
                 )));
             }
         }
-        // The fast path's transparency mask, visible nodes and node arcs, made in parallel
-        // here rather than by the first ray (which would make them alone, sequentially,
-        // while the other threads wait).
+        // The fast path's transparency mask and visible nodes, and the structure's node arcs
+        // (kept with the structure: made by its first render), made in parallel here rather
+        // than by the first ray (which would make them alone, sequentially, while the other
+        // threads wait).
         if self.options.path == RenderPath::Fast {
             if self.transparent.get().is_none() {
                 let mask = TransparentCells::new(&self.volume.field.cell_ranges, &self.table);
@@ -1874,10 +1864,8 @@ impl<'a> Renderer<'a> {
             if self.visible.get().is_none() {
                 let _ = self.visible.set(self.make_visible_nodes(true));
             }
-            if self.arcs.get().is_none() {
-                let _ = self.arcs.set(NodeArcs::new(self.volume.accel));
-            }
         }
+        self.volume.accel.make_node_arcs();
         let tile = self.options.tile.max(1);
         let (tx, ty) = (w.div_ceil(tile), h.div_ceil(tile));
         let tiles: Vec<(u32, u32)> = (0..ty).flat_map(|y| (0..tx).map(move |x| (x, y))).collect();

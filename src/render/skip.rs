@@ -7,7 +7,8 @@
 //!   Boxes are slab-tested. Sectors are tested on `r` (a quadratic in `t`), `h` (a slab) and,
 //!   for arcs narrower than π, θ (two half-planes through the axis); a wider arc is tested on
 //!   `r` and `h` only, a lower bound of the true entry, which is all skipping needs. The
-//!   sines and cosines of the nodes' arcs are computed once per renderer ([`NodeArcs`]).
+//!   sines and cosines of the nodes' arcs are computed once per structure
+//!   ([`Accel::node_arcs`]).
 //!   [`Skipper::next_span`] also gives the exit from the piece's bound entered first, so the
 //!   samples up to it (in that bound) go to point location without asking again.
 //! - **Grids**: a sample is passed over when its second-level cell holds no reference (one
@@ -22,7 +23,7 @@ use std::f64::consts::PI;
 use glam::DVec3;
 
 use crate::accel::bvh::ray::slab;
-use crate::accel::bvh::{BoxF32, Bvh, BvhBounds, NodeMask, SectorF32};
+use crate::accel::bvh::{arc_trig, ArcTrig, BoxF32, Bvh, BvhBounds, NodeMask, SectorF32};
 use crate::accel::{Accel, Coordinates, Counters, Structure};
 use crate::geometry::cylindrical::CylFrame;
 
@@ -43,48 +44,6 @@ enum LocalRay {
 
 /// An entry and exit `t` of a ray into and out of a bound.
 type Span = (f64, f64);
-
-/// `[sin θ_lo, cos θ_lo, sin θ_hi, cos θ_hi]` of a sector's arc.
-type ArcTrig = [f64; 4];
-
-#[inline]
-fn arc_trig(s: &SectorF32) -> ArcTrig {
-    let (s0, c0) = (s.theta[0] as f64).sin_cos();
-    let (s1, c1) = (s.theta[1] as f64).sin_cos();
-    [s0, c0, s1, c1]
-}
-
-/// The sines and cosines of the arcs of a cylindrical BVH's nodes, computed once per
-/// renderer so that the empty-space traversal of its nodes takes no trigonometry (its leaf
-/// pieces, fewer per traversal, still compute theirs). Empty for any other structure.
-#[derive(Clone, Debug, Default)]
-pub struct NodeArcs {
-    trig: Vec<ArcTrig>,
-}
-
-impl NodeArcs {
-    /// The table for `accel` (empty unless it is a cylindrical BVH), made in parallel.
-    pub fn new(accel: &Accel) -> NodeArcs {
-        use rayon::prelude::*;
-        match (accel.structure(), accel.coordinates()) {
-            (Structure::CylBvh(b), Coordinates::Cylindrical(_)) => NodeArcs {
-                trig: b.nodes.par_iter().map(|n| arc_trig(&n.bounds)).collect(),
-            },
-            _ => NodeArcs::default(),
-        }
-    }
-
-    /// [`NodeArcs::new`] on the calling thread only (for a table made lazily, whose maker
-    /// must not wait on work the thread pool might hand back to it).
-    pub fn new_sequential(accel: &Accel) -> NodeArcs {
-        match (accel.structure(), accel.coordinates()) {
-            (Structure::CylBvh(b), Coordinates::Cylindrical(_)) => NodeArcs {
-                trig: b.nodes.iter().map(|n| arc_trig(&n.bounds)).collect(),
-            },
-            _ => NodeArcs::default(),
-        }
-    }
-}
 
 impl LocalRay {
     /// The smallest `t` in `[t0, t1]` inside the (padded) bound, if any.
@@ -206,22 +165,13 @@ impl LocalRay {
 #[derive(Clone, Copy, Debug)]
 pub struct Skipper<'a> {
     accel: &'a Accel,
-    arcs: Option<&'a NodeArcs>,
 }
 
 impl<'a> Skipper<'a> {
-    /// Skipping over `accel`.
+    /// Skipping over `accel` (a cylindrical BVH's traversals use its node arcs,
+    /// [`Accel::node_arcs`]).
     pub fn new(accel: &'a Accel) -> Skipper<'a> {
-        Skipper { accel, arcs: None }
-    }
-
-    /// Skipping over `accel` with its nodes' arcs precomputed (`NodeArcs::new(accel)`; a table
-    /// of another structure is ignored).
-    pub fn with_arcs(accel: &'a Accel, arcs: &'a NodeArcs) -> Skipper<'a> {
-        Skipper {
-            accel,
-            arcs: Some(arcs),
-        }
+        Skipper { accel }
     }
 
     /// For a BVH: the smallest `t ∈ [t0, t1]` at which the ray (unit `dir`) may lie in a
@@ -316,9 +266,7 @@ impl<'a> Skipper<'a> {
             }
             (Structure::CylBvh(b), Coordinates::Cylindrical(frame)) => {
                 let ray = sector_ray(&frame, b, origin, dir);
-                let trig = self
-                    .arcs
-                    .map(|a| a.trig.as_slice())
+                let trig = Some(self.accel.node_arcs().trig())
                     .filter(|t| t.len() == b.nodes.len())
                     .unwrap_or(&[]);
                 Some(first_hit(b, ray, trig, t0, t1, counters, node, cell))

@@ -46,6 +46,7 @@
 //! assert!(counters.leaf_visits >= 1);
 //! ```
 
+mod arcs;
 mod binned_build;
 mod bounds;
 mod mask;
@@ -57,6 +58,7 @@ mod validation;
 
 use std::marker::PhantomData;
 
+pub use arcs::{arc_trig, ArcTrig, NodeArcs};
 pub use binned_build::build_bvh;
 pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32, THETA_PAD};
 pub use mask::NodeMask;
