@@ -157,31 +157,14 @@ pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<Cylvo
     let started = Instant::now();
     let structure = params.structure.decode("params->structure")?;
     let accel_params = accel_params(params.preset)?;
-    let (axis, clear) = if params.axis_auto != 0 {
-        let d = detect_with_report(&mesh);
-        (d.axis, d.clear)
-    } else {
-        arrays::finite(&params.axis_origin, "params->axis_origin")?;
-        arrays::finite(&params.axis_direction, "params->axis_direction")?;
-        let axis = Axis::new(
-            DVec3::from_array(params.axis_origin),
-            DVec3::from_array(params.axis_direction),
-        )
-        .map_err(|e| Failure::invalid(format!("params: {e}")))?;
-        (axis, true)
-    };
-    let (kind, ratio) = match structure {
-        CylvolStructure::Auto => {
-            let ratio = cylindrical_area_ratio(&mesh, &axis);
-            (structure_for_ratio(ratio), ratio.unwrap_or(0.0))
-        }
-        CylvolStructure::CartesianGrid => (StructureKind::CartGrid, 0.0),
-        CylvolStructure::CylindricalGrid => (StructureKind::CylGrid, 0.0),
-        CylvolStructure::CartesianBvh => (StructureKind::CartBvh, 0.0),
-        CylvolStructure::CylindricalBvh => (StructureKind::CylBvh, 0.0),
-    };
-    let accel = Accel::build(&mesh, kind, &axis, &accel_params)?;
-    let neighbours = crate::render::face_neighbours(&mesh, &accel);
+    // The face neighbours and their surface need no structure: made alongside it, so that
+    // each fills the cores the other's sequential parts leave idle.
+    let (built, mut neighbours) = rayon::join(
+        || structure_of(&mesh, structure, params, &accel_params),
+        || crate::render::unchecked_neighbours(&mesh),
+    );
+    let (accel, axis, clear, kind, ratio) = built?;
+    neighbours.check_boundary(&mesh, &accel);
     let default_step = crate::render::default_step(&mesh);
     let field = ScalarField::gather(&mesh).ok();
     let build = CylvolBuildStats {
@@ -204,6 +187,41 @@ pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<Cylvo
         render: CylvolRenderStats::default(),
         last_error: CString::default(),
     })
+}
+
+/// The axis (detected or given), the structure `params` ask for (AUTO's choice and the area
+/// ratio it measured) and the structure built.
+fn structure_of(
+    mesh: &Mesh,
+    structure: CylvolStructure,
+    params: &CylvolBuildParams,
+    accel_params: &AccelParams,
+) -> Result<(Accel, Axis, bool, StructureKind, f64), Failure> {
+    let (axis, clear) = if params.axis_auto != 0 {
+        let d = detect_with_report(mesh);
+        (d.axis, d.clear)
+    } else {
+        arrays::finite(&params.axis_origin, "params->axis_origin")?;
+        arrays::finite(&params.axis_direction, "params->axis_direction")?;
+        let axis = Axis::new(
+            DVec3::from_array(params.axis_origin),
+            DVec3::from_array(params.axis_direction),
+        )
+        .map_err(|e| Failure::invalid(format!("params: {e}")))?;
+        (axis, true)
+    };
+    let (kind, ratio) = match structure {
+        CylvolStructure::Auto => {
+            let ratio = cylindrical_area_ratio(mesh, &axis);
+            (structure_for_ratio(ratio), ratio.unwrap_or(0.0))
+        }
+        CylvolStructure::CartesianGrid => (StructureKind::CartGrid, 0.0),
+        CylvolStructure::CylindricalGrid => (StructureKind::CylGrid, 0.0),
+        CylvolStructure::CartesianBvh => (StructureKind::CartBvh, 0.0),
+        CylvolStructure::CylindricalBvh => (StructureKind::CylBvh, 0.0),
+    };
+    let accel = Accel::build(mesh, kind, &axis, accel_params)?;
+    Ok((accel, axis, clear, kind, ratio))
 }
 
 /// Fills `params` with the defaults: AUTO, axis detected, preset 0.

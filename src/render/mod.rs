@@ -42,7 +42,7 @@ pub use raycast::{
     RenderStats, Renderer, ScalarField, Volume, MAX_SAMPLES_PER_RAY,
 };
 pub use shading::Shading;
-pub use topology::{face_neighbours, Topology};
+pub use topology::{face_neighbours, unchecked_neighbours, Topology};
 pub use transfer::{
     GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE, GRADIENT_TABLE_SIZE,
 };

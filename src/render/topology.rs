@@ -23,6 +23,22 @@ impl Topology {
         Topology { faces, surface }
     }
 
+    /// Checks the faces without a neighbour against `accel` (built over `mesh`), as
+    /// [`face_neighbours`] does ([`FaceNeighbors::check_boundary_near`], the probes near no
+    /// other such face passed by the surface), so that the boundary searches trust them only
+    /// when they really bound the mesh. Returns the number of hanging faces.
+    ///
+    /// The neighbours and their surface need no structure: [`Topology::new`] can run while
+    /// the structure is built, and this after.
+    pub fn check_boundary(&mut self, mesh: &Mesh, accel: &Accel) -> usize {
+        let surface = &self.surface;
+        self.faces.check_boundary_near(
+            mesh,
+            |c, f, probes, r| surface.other_faces_near(mesh, c, f, probes, r),
+            |p| accel.cell_at(mesh, p),
+        )
+    }
+
     /// The face neighbours.
     pub fn faces(&self) -> &FaceNeighbors {
         &self.faces
@@ -62,14 +78,16 @@ impl Neighbours for Topology {
 /// by the surface) so that the boundary searches trust them only when they really bound the
 /// mesh, and those faces in a [`BoundarySurface`] for skipping the space outside the mesh.
 pub fn face_neighbours(mesh: &Mesh, accel: &Accel) -> Topology {
-    let mut n = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
-    // The surface of the faces without a neighbour, before the check: probes with no other
-    // such face near them are outside without a structure look-up.
-    let surface = BoundarySurface::new(mesh, &n);
-    n.check_boundary_near(
-        mesh,
-        |c, f, probes, r| surface.other_faces_near(mesh, c, f, probes, r),
-        |p| accel.cell_at(mesh, p),
-    );
-    Topology { faces: n, surface }
+    // The surface of the faces without a neighbour is made before the check: probes with no
+    // other such face near them are outside without a structure look-up.
+    let mut topology = unchecked_neighbours(mesh);
+    topology.check_boundary(mesh, accel);
+    topology
+}
+
+/// The part of [`face_neighbours`] that needs no structure: the neighbours (seams welded)
+/// and their boundary surface, the boundary not checked yet ([`Topology::check_boundary`]).
+pub fn unchecked_neighbours(mesh: &Mesh) -> Topology {
+    let faces = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
+    Topology::new(mesh, faces)
 }
