@@ -159,6 +159,41 @@ fn cell_ranges(
 mod tests {
     use super::*;
 
+    /// A large array reports its first offender, and a bad span before the ids.
+    #[test]
+    fn the_first_bad_cell_of_many_is_reported() {
+        let n = 100_000;
+        let mut connectivity: Vec<i64> = (0..n as i64)
+            .flat_map(|c| [c, c + 1, c + 2, c + 3])
+            .collect();
+        let offsets: Vec<i64> = (1..=n as i64).map(|c| 4 * c).collect();
+        let types = vec![VTK_TETRA; n];
+        let points = n + 3;
+        assert_eq!(
+            cells_from_vtk(&connectivity, &offsets, OffsetStyle::Ends, &types, points)
+                .unwrap()
+                .cells
+                .len(),
+            n
+        );
+        for bad in [97_000, 61_000, 30_001] {
+            connectivity[4 * bad + 2] = -7;
+            match cells_from_vtk(&connectivity, &offsets, OffsetStyle::Ends, &types, points) {
+                Err(MeshError::IndexOutOfRange { cell, index, .. }) => {
+                    assert_eq!((cell, index), (bad, -7));
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+        // A bad span before them all comes first, as spans are checked before ids.
+        let mut offsets = offsets;
+        offsets[80_000] = 3;
+        match cells_from_vtk(&connectivity, &offsets, OffsetStyle::Ends, &types, points) {
+            Err(MeshError::CellArrays(m)) => assert!(m.starts_with("cell 80000 spans"), "{m}"),
+            other => panic!("{other:?}"),
+        }
+    }
+
     #[test]
     fn voxel_is_reordered_to_hexahedron() {
         let c = cells_from_vtk(
