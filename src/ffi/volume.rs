@@ -157,16 +157,21 @@ pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<Cylvo
     let started = Instant::now();
     let structure = params.structure.decode("params->structure")?;
     let accel_params = accel_params(params.preset)?;
-    // The face neighbours and their surface need no structure: made alongside it, so that
-    // each fills the cores the other's sequential parts leave idle.
-    let (built, mut neighbours) = rayon::join(
+    // The face neighbours and their surface, the default step and the scalars need no
+    // structure: made alongside it, so that each fills the cores the other's sequential
+    // parts leave idle.
+    let (built, (mut neighbours, default_step, field)) = rayon::join(
         || structure_of(&mesh, structure, params, &accel_params),
-        || crate::render::unchecked_neighbours(&mesh),
+        || {
+            (
+                crate::render::unchecked_neighbours(&mesh),
+                crate::render::default_step(&mesh),
+                ScalarField::gather(&mesh).ok(),
+            )
+        },
     );
     let (accel, axis, clear, kind, ratio) = built?;
     neighbours.check_boundary(&mesh, &accel);
-    let default_step = crate::render::default_step(&mesh);
-    let field = ScalarField::gather(&mesh).ok();
     let build = CylvolBuildStats {
         structure: to_c(kind),
         build_seconds: started.elapsed().as_secs_f64(),
