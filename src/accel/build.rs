@@ -161,7 +161,9 @@ impl Accel {
     }
 
     /// Makes the node arcs of [`Accel::node_arcs`] in parallel, if not made yet: for a caller
-    /// about to start parallel work that needs them (not from inside such work).
+    /// about to start parallel work that needs them. It never waits on another thread (one
+    /// making them at the same time makes them too, and one of the equal tables is kept), so
+    /// it is safe from inside the thread pool as well.
     pub fn make_node_arcs(&self) {
         if self.arcs.get().is_none() {
             let arcs = match &self.structure {

@@ -1,7 +1,7 @@
 //! Volume handles: a mesh (shared with its handle, never copied for the build) with the
-//! acceleration structure built over it, the face
-//! neighbours the fast path walks, the statistics of the build and of the last render, and
-//! the detail of the handle's last failure.
+//! acceleration structure built over it, the face neighbours the fast path walks, the
+//! statistics of the build and of the last render, and the detail of the handle's last
+//! failure.
 
 use std::ffi::{c_char, c_void, CString};
 use std::sync::Arc;
