@@ -1,6 +1,6 @@
-//! The transfer-function options of `cylvol render`: `--opacity`, `--color` and
-//! `--unit-distance`, VTK's `vtkPiecewiseFunction`, `vtkColorTransferFunction` and
-//! `ScalarOpacityUnitDistance` on the command line.
+//! The transfer-function options of `cylvol render` and `cylvol bench`: `--opacity`,
+//! `--color` and `--unit-distance`, VTK's `vtkPiecewiseFunction`, `vtkColorTransferFunction`
+//! and `ScalarOpacityUnitDistance` on the command line.
 //!
 //! A point's scalar is a value (`0.25`, `-3e4`) or a percentage of the active scalar's range
 //! (`35%`), so that one command line fits any mesh. Once resolved, the points must come in
