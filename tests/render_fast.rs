@@ -584,3 +584,57 @@ fn node_arcs_are_made_once_per_structure_and_kept_across_frames() {
     frame(&cart);
     assert!(cart.node_arcs().trig().is_empty());
 }
+
+/// The boundary surface finds the same exit as the walk across the cells: from the centres of
+/// cells of a small rotor (a ring with blades: many boundary faces) along rays in many
+/// directions, forwards and backwards, wherever both can tell, the first boundary crossing is
+/// the same `t`, bit for bit (the same face, solved the same way). The surface solves for
+/// fewer faces, so it tells at least as often.
+#[test]
+fn the_boundary_surface_finds_the_exit_the_walk_finds() {
+    use cylvol::accel::Counters;
+    use cylvol::render::march::boundary_face_crossing;
+    let mesh = generate(Dataset::PumpRotor, 3000).expect("rotor");
+    let axis = cylvol::axis::detect(&mesh);
+    let accel = Accel::build(
+        &mesh,
+        StructureKind::CartBvh,
+        &axis,
+        &AccelParams::default(),
+    )
+    .expect("cart-bvh");
+    let topology = cylvol::render::face_neighbours(&mesh, &accel);
+    assert!(topology.complete());
+    let diag = cylvol::geometry::bounds::Aabb::from_points(mesh.points()).diagonal();
+    let (mut both, mut surface_only, mut walk_only) = (0, 0, 0);
+    for cell in (0..mesh.cell_count()).step_by(7) {
+        let corners = mesh.cell_corners(cell);
+        let o = corners.iter().copied().sum::<DVec3>() / 8.0;
+        for k in 0..6 {
+            let a = 2.0 * PI * (k as f64 + 0.37 * cell as f64) / 6.0;
+            let d = DVec3::new(a.cos(), a.sin(), 0.3 * (a * 3.0).sin()).normalize();
+            for t_to in [2.0 * diag, -2.0 * diag] {
+                let walked = boundary_face_crossing(&mesh, &topology, cell as u32, o, d, 0.0, t_to);
+                let surfaced = topology
+                    .surface()
+                    .first_face_crossing(&mesh, o, d, 0.0, t_to, &mut Counters::default())
+                    .flatten()
+                    .map(|(t, _)| t);
+                match (walked, surfaced) {
+                    (Some(w), Some(s)) => {
+                        assert_eq!(w, s, "cell {cell}, direction {k}, towards {t_to}");
+                        both += 1;
+                    }
+                    (None, Some(_)) => surface_only += 1,
+                    (Some(_), None) => walk_only += 1,
+                    (None, None) => {}
+                }
+            }
+        }
+    }
+    assert!(both > 1000, "{both}");
+    assert!(
+        walk_only <= surface_only,
+        "{walk_only} against {surface_only}"
+    );
+}

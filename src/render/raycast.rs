@@ -1266,6 +1266,24 @@ impl<'a> Renderer<'a> {
         stats: &mut RenderStats,
     ) -> f64 {
         if self.neighbours.complete() {
+            // The boundary surface solves only for the boundary faces near the segment; the
+            // walk across the cells from the inside end, for each of their faces, where the
+            // surface cannot tell.
+            if let Some(surface) = self.neighbours.surface() {
+                let mut c = Counters::default();
+                let first = surface.first_face_crossing(
+                    self.volume.mesh,
+                    origin,
+                    dir,
+                    t_inside,
+                    t_outside,
+                    &mut c,
+                );
+                stats.surface_visits += c.internal_visits + c.leaf_visits;
+                if let Some(Some((t, _))) = first {
+                    return t;
+                }
+            }
             if let Some(t) = boundary_face_crossing(
                 self.volume.mesh,
                 self.neighbours,

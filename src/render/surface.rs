@@ -25,6 +25,7 @@ use crate::accel::bvh::{build_bvh, Bvh, BvhParams};
 use crate::accel::space::Pieces;
 use crate::accel::Counters;
 use crate::geometry::bounds::Aabb;
+use crate::geometry::patch::segment_crossings;
 use crate::mesh::topology::{FaceKey, FACES};
 use crate::Mesh;
 
@@ -292,6 +293,56 @@ impl BoundarySurface {
             return None;
         }
         Some(hit.and_then(|(t, _, i)| self.faces.get(i as usize).map(|&(c, _)| (t, c))))
+    }
+
+    /// Where the segment from `t_from` to `t_to` of the ray `origin + t dir` (backwards along
+    /// the ray when `t_to < t_from`) first crosses a boundary face, exactly (the bilinear
+    /// face, [`segment_crossings`], as [`crate::render::march::boundary_face_crossing`] finds
+    /// it by walking the cells): `Some(Some((t, (cell, face))))`, `Some(None)` where it
+    /// crosses none, `None` where a face it may cross cannot be told robustly (near an edge,
+    /// tangent). Only the faces whose bounds the segment meets are solved for, nearest first;
+    /// node visits are counted in `counters`.
+    ///
+    /// From a point in the mesh, the first crossing is where the ray leaves it, wherever every
+    /// face without a neighbour bounds the mesh ([`crate::render::Neighbours::complete`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn first_face_crossing(
+        &self,
+        mesh: &Mesh,
+        origin: DVec3,
+        dir: DVec3,
+        t_from: f64,
+        t_to: f64,
+        counters: &mut Counters,
+    ) -> Option<Option<(f64, (u32, u8))>> {
+        // Along s = ±t, so that the search always goes towards larger s.
+        let (d, sign) = if t_to >= t_from {
+            (dir, 1.0)
+        } else {
+            (-dir, -1.0)
+        };
+        let (s_from, s_to) = (sign * t_from, sign * t_to);
+        let mut undecided = false;
+        let hit = self
+            .bvh
+            .first_along(origin, d, s_from, s_to, counters, |i, lo, hi| {
+                let &(c, f) = self.faces.get(i as usize)?;
+                let (a, b) = self.slabs.get(i as usize)?.span(origin, d)?;
+                if lo.max(a) > hi.min(b) {
+                    return None;
+                }
+                match segment_crossings(&face_corners(mesh, c, f), origin, d, s_from, s_to, 0.0) {
+                    Some(x) => x.ts().first().map(|&s| (s, s)),
+                    None => {
+                        undecided = true;
+                        None
+                    }
+                }
+            });
+        if undecided {
+            return None;
+        }
+        Some(hit.and_then(|(s, _, i)| self.faces.get(i as usize).map(|&f| (sign * s, f))))
     }
 
     /// The first `t ∈ [t0, t1]` at which the ray may cross a boundary face for which
