@@ -7,13 +7,16 @@
 //! in-mesh length of the ray is counted exactly rather than to a step.
 //!
 //! # Finding the crossing
-//! With complete face neighbours the crossing is found exactly: from the inside sample's cell
-//! the ray is followed across the faces it crosses — each a bilinear patch, the trilinear
-//! map's own face, whose crossing by a line is the root of a quadratic
-//! ([`crate::geometry::patch::segment_crossings`]) — until it crosses one without a neighbour
-//! ([`super::march::boundary_face_crossing`]). On the fast path, where the sample past an
-//! exit is proved outside by parity, the crossing of the exit face is already in hand. Where
-//! the walk cannot tell (a crossing within `1e-6` of a face's edge, a grazing ray) or without
+//! With complete face neighbours the crossing is found exactly: it is the first crossing of a
+//! face without a neighbour — each a bilinear patch, the trilinear map's own face, whose
+//! crossing by a line is the root of a quadratic
+//! ([`crate::geometry::patch::segment_crossings`]). The boundary surface offers the faces
+//! whose bounds the segment meets, nearest first
+//! ([`super::surface::BoundarySurface::first_face_crossing`]); where one of them cannot be
+//! told, the ray is followed from the inside sample's cell across the faces it crosses until
+//! it crosses one without a neighbour ([`super::march::boundary_face_crossing`]). On the fast
+//! path, where the sample past an exit is proved outside by parity, the crossing of the exit
+//! face is already in hand. Where neither can tell (a crossing within `1e-6` of a face's edge, a grazing ray) or without
 //! neighbours, the crossing is found by [`BISECTIONS`] bisection steps on exact mesh
 //! containment, then refined once by linear interpolation of the violated parametric
 //! coordinate of the cell at the inside end of the bracket. Where the refinement does not land

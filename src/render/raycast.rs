@@ -11,8 +11,8 @@
 //! # Boundary-aware segments
 //! Where a located sample follows an unlocated one (or the ray's start), or an unlocated one
 //! follows it (or the ray's end), the ray crossed the mesh boundary in between: the crossing
-//! is found exactly where the face neighbours are complete (following the ray across cell
-//! faces), else by bisection on exact mesh containment refined once (see
+//! is found exactly where the face neighbours are complete (the first boundary face the ray
+//! crosses), else by bisection on exact mesh containment refined once (see
 //! [`super::boundary`]), and the boundary sample stands for the in-mesh part of the ray from
 //! the crossing to the middle between it and its located neighbour — its own segment cut at
 //! the crossing, or extended to it over the outside neighbour's segment. Its opacity is that
