@@ -99,7 +99,7 @@ fn in_order(option: &str, scalars: impl Iterator<Item = f64>) -> Result<(), Erro
         }
         if s < last {
             return Err(Error::Invalid(format!(
-                "{option}: point {} (scalar {s}) comes before the one ahead of it ({last}); \
+                "{option}: point {} (scalar {s}) is below the point before it ({last}); \
                  points go in increasing scalar order",
                 k + 1
             )));
