@@ -93,12 +93,14 @@ pub unsafe fn values(
 /// An error naming the first non-finite value of `values`, if any.
 pub fn finite(values: &[f64], what: &str) -> Result<(), Failure> {
     match values.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(Failure::invalid(format!(
-            "{what}[{i}] = {} is not finite",
-            values[i]
-        ))),
+        Some(i) => Err(not_finite(what, i, values[i])),
         None => Ok(()),
     }
+}
+
+/// The error for `what[i] = value`, which is not finite.
+fn not_finite(what: &str, i: usize, value: f64) -> Failure {
+    Failure::invalid(format!("{what}[{i}] = {value} is not finite"))
 }
 
 /// `len` indices of `index_type` at `ptr` as `i64`: borrowed where they are `i64` already
@@ -143,11 +145,7 @@ pub unsafe fn points(
         match points.iter().position(|p| !p.is_finite()) {
             Some(i) => {
                 let k = (0..3).find(|&k| !points[i][k].is_finite()).unwrap_or(0);
-                Err(Failure::invalid(format!(
-                    "{what}[{}] = {} is not finite",
-                    3 * i + k,
-                    points[i][k]
-                )))
+                Err(not_finite(what, 3 * i + k, points[i][k]))
             }
             None => Ok(points),
         }

@@ -170,10 +170,10 @@ pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<Cylvo
             )
         },
     );
-    let (accel, axis, clear, kind, ratio) = built?;
+    let (accel, axis, clear, ratio) = built?;
     neighbours.check_boundary(&mesh, &accel);
     let build = CylvolBuildStats {
-        structure: to_c(kind),
+        structure: to_c(accel.kind()),
         build_seconds: started.elapsed().as_secs_f64(),
         bytes: accel.stats().bytes() as u64,
         cells: mesh.cell_count() as u64,
@@ -194,14 +194,14 @@ pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<Cylvo
     })
 }
 
-/// The axis (detected or given), the structure `params` ask for (AUTO's choice and the area
-/// ratio it measured) and the structure built.
+/// The structure `params` ask for, built (AUTO's choice made), with the axis used (detected
+/// or given), whether it was clear, and the area ratio AUTO measured (0 if none).
 fn structure_of(
     mesh: &Mesh,
     structure: CylvolStructure,
     params: &CylvolBuildParams,
     accel_params: &AccelParams,
-) -> Result<(Accel, Axis, bool, StructureKind, f64), Failure> {
+) -> Result<(Accel, Axis, bool, f64), Failure> {
     let (axis, clear) = if params.axis_auto != 0 {
         let d = detect_with_report(mesh);
         (d.axis, d.clear)
@@ -226,7 +226,7 @@ fn structure_of(
         CylvolStructure::CylindricalBvh => (StructureKind::CylBvh, 0.0),
     };
     let accel = Accel::build(mesh, kind, &axis, accel_params)?;
-    Ok((accel, axis, clear, kind, ratio))
+    Ok((accel, axis, clear, ratio))
 }
 
 /// Fills `params` with the defaults: AUTO, axis detected, preset 0.

@@ -276,12 +276,7 @@ impl BoundarySurface {
         let hit = self
             .bvh
             .first_along(origin, dir, t_from, t_end, counters, |i, lo, hi| {
-                let f = *self.faces.get(i as usize)?;
-                let (s, e) = self.slabs.get(i as usize)?.span(origin, dir)?;
-                let (lo, hi) = (lo.max(s), hi.min(e));
-                if lo > hi {
-                    return None;
-                }
+                let (f, lo, hi) = self.face_span(i, origin, dir, lo, hi)?;
                 if lo < t && f != face && may_cross(f) {
                     // Settled: the closest hit is now before `t`, which ends the traversal.
                     other = true;
@@ -326,11 +321,7 @@ impl BoundarySurface {
         let hit = self
             .bvh
             .first_along(origin, d, s_from, s_to, counters, |i, lo, hi| {
-                let &(c, f) = self.faces.get(i as usize)?;
-                let (a, b) = self.slabs.get(i as usize)?.span(origin, d)?;
-                if lo.max(a) > hi.min(b) {
-                    return None;
-                }
+                let ((c, f), _, _) = self.face_span(i, origin, d, lo, hi)?;
                 match segment_crossings(&face_corners(mesh, c, f), origin, d, s_from, s_to, 0.0) {
                     Some(x) => x.ts().first().map(|&s| (s, s)),
                     None => {
@@ -343,6 +334,24 @@ impl BoundarySurface {
             return None;
         }
         Some(hit.and_then(|(s, _, i)| self.faces.get(i as usize).map(|&f| (sign * s, f))))
+    }
+
+    /// Boundary face `i` (its `(cell, face)`) and the part of `[lo, hi]` (the ray's interval
+    /// in the face's box) in which the ray is in the face's slab too; `None` where there is
+    /// none. The conservative bound every traversal of the surface tests a face by.
+    #[inline]
+    fn face_span(
+        &self,
+        i: u32,
+        origin: DVec3,
+        dir: DVec3,
+        lo: f64,
+        hi: f64,
+    ) -> Option<((u32, u8), f64, f64)> {
+        let face = *self.faces.get(i as usize)?;
+        let (s, e) = self.slabs.get(i as usize)?.span(origin, dir)?;
+        let (lo, hi) = (lo.max(s), hi.min(e));
+        (lo <= hi).then_some((face, lo, hi))
     }
 
     /// The first `t ∈ [t0, t1]` at which the ray may cross a boundary face for which
@@ -359,27 +368,19 @@ impl BoundarySurface {
     ) -> Option<(f64, (u32, u8))> {
         self.bvh
             .first_along(origin, dir, t0, t1, counters, |i, lo, hi| {
-                let face = *self.faces.get(i as usize)?;
-                let (s, e) = self.slabs.get(i as usize)?.span(origin, dir)?;
-                let (lo, hi) = (lo.max(s), hi.min(e));
-                (lo <= hi && keep(face)).then_some((lo, hi))
+                let (face, lo, hi) = self.face_span(i, origin, dir, lo, hi)?;
+                keep(face).then_some((lo, hi))
             })
             .and_then(|(t, _, i)| self.faces.get(i as usize).map(|&f| (t, f)))
     }
 
-    /// Whether a boundary face other than face `face` of `cell` may lie within `r` of `p`:
-    /// one whose corners' box, slab (see the module documentation) and four edge slabs
-    /// (between the corners' extreme projections on each edge crossed with the normal), all
-    /// padded by `r`, hold `p`. Each holds the convex hull of the face's corners, hence the face, so `false`
-    /// means no other boundary face comes that close.
-    pub fn other_face_near(&self, mesh: &Mesh, cell: u32, face: usize, p: DVec3, r: f64) -> bool {
-        self.other_faces_near(mesh, cell, face, &[p], r)[0]
-    }
-
-    /// [`BoundarySurface::other_face_near`] for each of `points` (probes near one face, say),
-    /// in one traversal of the surface: the faces whose boxes, padded by `r`, meet the points'
-    /// box are tested against each point in turn (a face's corners' box, its slab and its
-    /// four edge slabs, as there).
+    /// For each of `points` (the probes near one face, say), whether a boundary face other
+    /// than face `face` of `cell` may lie within `r` of it: one whose corners' box, slab (see
+    /// the module documentation) and four edge slabs (between the corners' extreme
+    /// projections on each edge crossed with the normal), all padded by `r`, hold the point.
+    /// Each holds the convex hull of the face's corners, hence the face, so `false` means no
+    /// other boundary face comes that close. One traversal of the surface: the faces whose
+    /// boxes, padded by `r`, meet the points' box are tested against each point in turn.
     pub fn other_faces_near<const N: usize>(
         &self,
         mesh: &Mesh,

@@ -65,9 +65,4 @@ impl NodeArcs {
     pub fn trig(&self) -> &[ArcTrig] {
         &self.trig
     }
-
-    /// Heap bytes held.
-    pub fn bytes(&self) -> usize {
-        self.trig.capacity() * std::mem::size_of::<ArcTrig>()
-    }
 }
