@@ -206,6 +206,64 @@ proptest! {
     }
 }
 
+/// The bits of the stored form of the union of `bounds`' linear boxes, and of the union of
+/// their stored forms' corners: the build takes the second for the first.
+fn union_two_ways<B: BvhBounds>(bounds: &[B]) -> ([u32; 6], [u32; 6]) {
+    let frame = B::frame_of(&B::union_all(bounds));
+    let lin = bounds
+        .iter()
+        .fold(Aabb::EMPTY, |u, b| u.union(&b.linearize(&frame)));
+    let direct = B::compact(&lin, &frame);
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for b in bounds {
+        let (l, h) = B::compact_corners(&B::compact(&b.linearize(&frame), &frame));
+        for a in 0..3 {
+            lo[a] = lo[a].min(l[a]);
+            hi[a] = hi[a].max(h[a]);
+        }
+    }
+    let corners = B::compact_from_corners(lo, hi);
+    // The corners give back the stored form they came from.
+    let (l, h) = B::compact_corners(&direct);
+    assert_eq!(
+        B::compact_bits(&B::compact_from_corners(l, h)),
+        B::compact_bits(&direct)
+    );
+    (B::compact_bits(&direct), B::compact_bits(&corners))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn stored_box_of_a_union_is_the_union_of_stored_corners(
+        mut bounds in prop::collection::vec(arb_box(), 0..20),
+        far in prop_oneof![Just(0.0f64), Just(1e6f64)],
+        empty in any::<bool>(),
+    ) {
+        for b in &mut bounds {
+            *b = Aabb::new(b.min + far, b.max + far);
+        }
+        if empty {
+            bounds.push(Aabb::EMPTY);
+        }
+        let (direct, corners) = union_two_ways(&bounds);
+        prop_assert_eq!(direct, corners);
+    }
+
+    #[test]
+    fn stored_sector_of_a_union_is_the_union_of_stored_corners(
+        mut bounds in prop::collection::vec(arb_sector(), 0..20),
+        empty in any::<bool>(),
+    ) {
+        if empty {
+            bounds.push(CylBounds::EMPTY);
+        }
+        let (direct, corners) = union_two_ways(&bounds);
+        prop_assert_eq!(direct, corners);
+    }
+}
+
 #[test]
 fn empty_and_degenerate_pieces_do_not_break_the_build() {
     let empty: Pieces<Aabb> = Pieces::default();

@@ -3,10 +3,10 @@
 use std::marker::PhantomData;
 use std::time::Instant;
 
-use glam::DVec3;
+use glam::{BVec4A, Vec3A, Vec4};
 use rayon::prelude::*;
 
-use super::bounds::{BvhBounds, LinearFrame};
+use super::bounds::BvhBounds;
 use super::{Bvh, BvhParams, Node, Ref, MAX_DEPTH};
 use crate::accel::space::Pieces;
 use crate::geometry::bounds::Aabb;
@@ -50,18 +50,14 @@ pub fn build_bvh<B: BvhBounds>(pieces: &Pieces<B>, params: &BvhParams) -> Bvh<B>
         .par_iter()
         .enumerate()
         .map(|(i, b)| {
-            let lin = b.linearize(&frame);
-            Item {
-                lin,
-                piece: i as u32,
-            }
+            let (lo, hi) = B::compact_corners(&B::compact(&b.linearize(&frame), &frame));
+            Item::new(lo, hi, i as u32)
         })
         .collect();
     let nodes = if n == 0 {
         Vec::new()
     } else {
         let ctx = Ctx::<B> {
-            frame,
             params,
             _b: PhantomData,
         };
@@ -73,8 +69,8 @@ pub fn build_bvh<B: BvhBounds>(pieces: &Pieces<B>, params: &BvhParams) -> Bvh<B>
     let refs: Vec<Ref<B::Compact>> = items
         .par_iter()
         .map(|it| Ref {
-            bounds: B::compact(&it.lin, &frame),
-            cell: pieces.cells[it.piece as usize],
+            bounds: B::compact_from_corners(it.lo().to_array(), it.hi().to_array()),
+            cell: pieces.cells[it.piece()],
         })
         .collect();
     Bvh {
@@ -127,39 +123,104 @@ fn flatten<C: Copy>(built: Built<C>, out: &mut Vec<Node<C>>) {
     }
 }
 
-/// A piece during the build: its linear box and its index. The build partitions these in
-/// place, so every pass reads them in order; they are kept small (the centre is recomputed
-/// where needed) because the passes over them are bound by memory.
+/// A piece during the build: the corners of its stored bound ([`BvhBounds::compact_corners`],
+/// `f32`) and its index, in 32 aligned bytes (the index as the bits of the low corner's fourth
+/// lane, masked off before any arithmetic, so it never meets a floating-point operation). The
+/// build partitions these in place, so every pass reads them in order; they are kept small
+/// (the centre is recomputed where needed) because the passes over them are bound by memory.
 #[derive(Clone, Copy)]
+#[repr(C)]
 struct Item {
-    lin: Aabb,
-    piece: u32,
+    lo_piece: Vec4,
+    hi: Vec3A,
 }
 
+/// The three coordinate lanes of a [`Vec4`].
+const XYZ: BVec4A = BVec4A::new(true, true, true, false);
+
 impl Item {
-    /// The centre of the linear box.
+    fn new(lo: [f32; 3], hi: [f32; 3], piece: u32) -> Item {
+        Item {
+            lo_piece: Vec4::new(lo[0], lo[1], lo[2], f32::from_bits(piece)),
+            hi: Vec3A::from_array(hi),
+        }
+    }
+
     #[inline]
-    fn centre(&self) -> DVec3 {
-        self.lin.center()
+    fn lo(&self) -> Vec3A {
+        Vec3A::from_vec4(Vec4::select(XYZ, self.lo_piece, Vec4::ZERO))
+    }
+
+    #[inline]
+    fn hi(&self) -> Vec3A {
+        self.hi
+    }
+
+    #[inline]
+    fn piece(&self) -> usize {
+        self.lo_piece.w.to_bits() as usize
+    }
+
+    /// The centre of the stored bound's corners (NaN for an empty bound).
+    #[inline]
+    fn centre(&self) -> Vec3A {
+        (self.lo() + self.hi()) * 0.5
     }
 }
 
-/// `b` grown to hold `l`: [`Aabb::union`] for a `b` without NaN (as every bin and node box
-/// built from [`Aabb::EMPTY`] by unions is), by plain comparisons.
-#[inline]
-fn merge(b: &mut Aabb, l: &Aabb) {
-    b.min = DVec3::select(l.min.cmplt(b.min), l.min, b.min);
-    b.max = DVec3::select(l.max.cmpgt(b.max), l.max, b.max);
+/// A box of corners in `f32`: a node's or a bin's bound, or a box of centres. Unions of the
+/// pieces' stored corners are exact, so a node's stored bound is the same, bit for bit, as the
+/// stored form of the union of its pieces' `f64` bounds.
+#[derive(Clone, Copy)]
+struct Corners {
+    lo: Vec3A,
+    hi: Vec3A,
+}
+
+impl Corners {
+    const EMPTY: Corners = Corners {
+        lo: Vec3A::INFINITY,
+        hi: Vec3A::NEG_INFINITY,
+    };
+
+    /// Grown to hold the box `[lo, hi]`. The box's NaN coordinates, if any, are ignored (a
+    /// NaN as the first operand of `min`/`max` yields the second, in glam's SIMD and scalar
+    /// forms alike), and so are an empty box's `±∞`.
+    #[inline]
+    fn merge(&mut self, lo: Vec3A, hi: Vec3A) {
+        self.lo = lo.min(self.lo);
+        self.hi = hi.max(self.hi);
+    }
+
+    #[inline]
+    fn union(mut self, o: &Corners) -> Corners {
+        self.merge(o.lo, o.hi);
+        self
+    }
+
+    /// The extent, zero on an axis where the box is empty.
+    fn extent(&self) -> Vec3A {
+        (self.hi - self.lo).max(Vec3A::ZERO)
+    }
+
+    /// The surface area, in world units, of the bound these corners stand for (the
+    /// heuristic's `A`; sectors measure their arc's span, which the padding of stored arcs
+    /// widens by far less than their `f32` rounding).
+    fn area<B: BvhBounds>(&self) -> f64 {
+        if !self.lo.cmple(self.hi).all() {
+            return 0.0;
+        }
+        B::linear_area(&Aabb::new(self.lo.as_dvec3(), self.hi.as_dvec3()))
+    }
 }
 
 struct Ctx<B> {
-    frame: LinearFrame,
     params: BvhParams,
     _b: PhantomData<B>,
 }
 
-/// A node's bounds (the union of its pieces' linear boxes) and the box of their centroids.
-type Scan = (Aabb, Aabb);
+/// A node's bounds (the union of its pieces' corners) and the box of their centres.
+type Scan = (Corners, Corners);
 
 /// The cheapest SAH split of a node: the axis, the first bin on the right, its cost, and the
 /// bounds of the two sides.
@@ -167,52 +228,90 @@ struct BestSplit {
     axis: usize,
     bin: usize,
     cost: f64,
-    left: Aabb,
-    right: Aabb,
+    left: Corners,
+    right: Corners,
 }
 
 #[derive(Clone, Copy)]
 struct Bin {
-    bounds: Aabb,
+    bounds: Corners,
     count: u32,
 }
 
 const EMPTY_BIN: Bin = Bin {
-    bounds: Aabb::EMPTY,
+    bounds: Corners::EMPTY,
     count: 0,
 };
 
-/// The bin of a centroid coordinate (NaN goes to bin 0, like the partition).
-#[inline]
-fn bin_of(c: f64, min: f64, scale: f64, bins: usize) -> usize {
-    (((c - min) * scale) as usize).min(bins - 1)
+/// How a node's centres are binned: bin `⌊(c − min) · scale⌋` (at most the last) along each
+/// axis whose scale is not zero. Binning and partitioning use the same arithmetic, so a piece
+/// goes to the side its bin was counted on.
+#[derive(Clone, Copy)]
+struct Binning {
+    min: Vec3A,
+    scale: Vec3A,
+    bins: usize,
+}
+
+impl Binning {
+    /// `bins` bins over the centres' box, or `None` when the centres are all one point.
+    fn new(cent: &Corners, bins: usize) -> Option<Binning> {
+        let ext = cent.extent();
+        let s = |e: f32| {
+            let s = bins as f32 / e;
+            if e > 0.0 && s.is_finite() {
+                s
+            } else {
+                0.0
+            }
+        };
+        let scale = Vec3A::new(s(ext.x), s(ext.y), s(ext.z));
+        (scale != Vec3A::ZERO).then_some(Binning {
+            min: cent.lo,
+            scale,
+            bins,
+        })
+    }
+
+    /// The bins of a centre along each axis (NaN goes to bin 0).
+    #[inline]
+    fn bins_of(&self, c: Vec3A) -> [usize; 3] {
+        let v = ((c - self.min) * self.scale).to_array();
+        v.map(|x| (x as usize).min(self.bins - 1))
+    }
+
+    /// The bin of a centre along one axis: `bins_of(c)[axis]`.
+    #[inline]
+    fn bin_of(&self, c: Vec3A, axis: usize) -> usize {
+        (((c[axis] - self.min[axis]) * self.scale[axis]) as usize).min(self.bins - 1)
+    }
 }
 
 impl<B: BvhBounds> Ctx<B> {
-    /// The union of the pieces' linear boxes and the box of their centroids.
-    fn scan(&self, idx: &[Item]) -> (Aabb, Aabb) {
-        let fold = |(b, c): (Aabb, Aabb), it: &Item| {
-            let l = &it.lin;
-            (
-                b.union(l),
-                if l.is_empty() { c } else { c.grow(it.centre()) },
-            )
+    /// The union of the pieces' corners and the box of their centres.
+    fn scan(&self, idx: &[Item]) -> Scan {
+        let fold = |(mut b, mut c): Scan, it: &Item| {
+            // An empty piece's centre is NaN, which merging passes over.
+            let m = it.centre();
+            b.merge(it.lo(), it.hi());
+            c.merge(m, m);
+            (b, c)
         };
         if idx.len() > PARALLEL_THRESHOLD {
             idx.par_iter()
-                .fold(|| (Aabb::EMPTY, Aabb::EMPTY), fold)
+                .fold(|| (Corners::EMPTY, Corners::EMPTY), fold)
                 .reduce(
-                    || (Aabb::EMPTY, Aabb::EMPTY),
+                    || (Corners::EMPTY, Corners::EMPTY),
                     |a, b| (a.0.union(&b.0), a.1.union(&b.1)),
                 )
         } else {
-            idx.iter().fold((Aabb::EMPTY, Aabb::EMPTY), fold)
+            idx.iter().fold((Corners::EMPTY, Corners::EMPTY), fold)
         }
     }
 
-    fn node(&self, bounds: &Aabb, count: u32, index: u32) -> Node<B::Compact> {
+    fn node(&self, bounds: &Corners, count: u32, index: u32) -> Node<B::Compact> {
         Node {
-            bounds: B::compact(bounds, &self.frame),
+            bounds: B::compact_from_corners(bounds.lo.to_array(), bounds.hi.to_array()),
             count,
             index,
         }
@@ -273,12 +372,12 @@ impl<B: BvhBounds> Ctx<B> {
     }
 
     /// Where to split the node (after partitioning `idx`), or `None` for a leaf; with the
-    /// split, the two sides' bounds and centroid boxes where the SAH split found them.
+    /// split, the two sides' bounds and centre boxes where the SAH split found them.
     fn split(
         &self,
         idx: &mut [Item],
-        bounds: &Aabb,
-        cent: &Aabb,
+        bounds: &Corners,
+        cent: &Corners,
         depth: usize,
     ) -> Option<(usize, [Option<Scan>; 2])> {
         let n = idx.len();
@@ -287,13 +386,13 @@ impl<B: BvhBounds> Ctx<B> {
             return None;
         }
         if depth < MEDIAN_DEPTH {
-            let area = B::linear_area(bounds);
-            if let Some(best) = self.best_bin_split(idx, cent, area) {
+            let area = bounds.area::<B>();
+            if let Some((best, binning)) = self.best_bin_split(idx, cent, area) {
                 let leaf_cost = n as f64 * area;
                 if n <= max_leaf && leaf_cost <= best.cost {
                     return None;
                 }
-                let (mid, [cl, cr]) = self.partition(idx, cent, best.axis, best.bin);
+                let (mid, [cl, cr]) = partition(idx, &binning, best.axis, best.bin);
                 if mid > 0 && mid < n {
                     return Some((mid, [Some((best.left, cl)), Some((best.right, cr))]));
                 }
@@ -302,7 +401,7 @@ impl<B: BvhBounds> Ctx<B> {
         if n <= max_leaf {
             return None;
         }
-        Some((self.median_split(idx, cent), [None, None]))
+        Some((median_split(idx, cent), [None, None]))
     }
 
     /// Bins for a node of `n` pieces: no more than pieces.
@@ -310,52 +409,45 @@ impl<B: BvhBounds> Ctx<B> {
         self.params.bins.min(n).max(2)
     }
 
-    /// The cheapest bin boundary.
-    fn best_bin_split(&self, idx: &[Item], cent: &Aabb, area: f64) -> Option<BestSplit> {
+    /// The cheapest bin boundary, and the binning it was found with.
+    fn best_bin_split(
+        &self,
+        idx: &[Item],
+        cent: &Corners,
+        area: f64,
+    ) -> Option<(BestSplit, Binning)> {
         let k = self.bins_for(idx.len());
         // Bin arrays sized to the node: small nodes, the most numerous, clear little memory.
-        if k <= 4 {
-            self.best_bin_split_in::<4>(idx, cent, area, k)
+        let binning = Binning::new(cent, k)?;
+        let best = if k <= 4 {
+            self.best_bin_split_in::<4>(idx, &binning, area)
         } else if k <= 8 {
-            self.best_bin_split_in::<8>(idx, cent, area, k)
+            self.best_bin_split_in::<8>(idx, &binning, area)
         } else if k <= 16 {
-            self.best_bin_split_in::<16>(idx, cent, area, k)
+            self.best_bin_split_in::<16>(idx, &binning, area)
         } else {
-            self.best_bin_split_in::<MAX_BINS>(idx, cent, area, k)
-        }
+            self.best_bin_split_in::<MAX_BINS>(idx, &binning, area)
+        }?;
+        Some((best, binning))
     }
 
     fn best_bin_split_in<const K: usize>(
         &self,
         idx: &[Item],
-        cent: &Aabb,
+        binning: &Binning,
         area: f64,
-        k: usize,
     ) -> Option<BestSplit> {
-        let k = k.min(K);
-        let ext = cent.extent();
-        let min = cent.min;
-        let s = |e: f64| {
-            let s = k as f64 / e;
-            if e > 0.0 && s.is_finite() {
-                s
-            } else {
-                0.0
-            }
-        };
-        let scale = DVec3::new(s(ext.x), s(ext.y), s(ext.z));
-        if scale == DVec3::ZERO {
-            return None;
-        }
+        let k = binning.bins.min(K);
+        let live = binning.scale.cmpgt(Vec3A::ZERO).bitmask();
         let fill = |chunk: &[Item]| {
             let mut bins = [[EMPTY_BIN; K]; 3];
             for it in chunk {
-                let l = &it.lin;
-                let c = it.centre();
-                for a in 0..3 {
-                    if scale[a] > 0.0 {
-                        let b = &mut bins[a][bin_of(c[a], min[a], scale[a], k)];
-                        merge(&mut b.bounds, l);
+                let (lo, hi) = (it.lo(), it.hi());
+                let at = binning.bins_of((lo + hi) * 0.5);
+                for (a, bins) in bins.iter_mut().enumerate() {
+                    if live & (1 << a) != 0 {
+                        let b = &mut bins[at[a]];
+                        b.bounds.merge(lo, hi);
                         b.count += 1;
                     }
                 }
@@ -380,12 +472,12 @@ impl<B: BvhBounds> Ctx<B> {
         let traversal = self.params.traversal_cost * area;
         let mut best: Option<BestSplit> = None;
         for (a, bins) in bins.iter().enumerate() {
-            if scale[a] <= 0.0 {
+            if live & (1 << a) == 0 {
                 continue;
             }
             // Right-hand areas × counts (and bounds) for splits before bin s.
             let mut right_cost = [0.0f64; K];
-            let mut right_bounds = [Aabb::EMPTY; K];
+            let mut right_bounds = [Corners::EMPTY; K];
             let mut acc = EMPTY_BIN;
             for s in (1..k).rev() {
                 acc.bounds = acc.bounds.union(&bins[s].bounds);
@@ -394,7 +486,7 @@ impl<B: BvhBounds> Ctx<B> {
                 right_cost[s] = if acc.count == 0 {
                     f64::NAN
                 } else {
-                    B::linear_area(&acc.bounds) * acc.count as f64
+                    acc.bounds.area::<B>() * acc.count as f64
                 };
             }
             let mut left = EMPTY_BIN;
@@ -404,8 +496,7 @@ impl<B: BvhBounds> Ctx<B> {
                 if left.count == 0 || right_cost[s].is_nan() {
                     continue;
                 }
-                let cost =
-                    traversal + B::linear_area(&left.bounds) * left.count as f64 + right_cost[s];
+                let cost = traversal + left.bounds.area::<B>() * left.count as f64 + right_cost[s];
                 if best.as_ref().map_or(true, |b| cost < b.cost) {
                     best = Some(BestSplit {
                         axis: a,
@@ -419,57 +510,47 @@ impl<B: BvhBounds> Ctx<B> {
         }
         best
     }
+}
 
-    /// Moves the pieces whose centroid falls in a bin before `bin` to the front; returns
-    /// how many they are and the centroid boxes of the two sides (as [`Ctx::scan`] would).
-    fn partition(
-        &self,
-        idx: &mut [Item],
-        cent: &Aabb,
-        axis: usize,
-        bin: usize,
-    ) -> (usize, [Aabb; 2]) {
-        let k = self.bins_for(idx.len());
-        let min = cent.min[axis];
-        let scale = k as f64 / cent.extent()[axis];
-        let left = |it: &Item| bin_of(it.centre()[axis], min, scale, k) < bin;
-        let grow = |c: Aabb, it: &Item| {
-            if it.lin.is_empty() {
-                c
-            } else {
-                c.grow(it.centre())
-            }
-        };
-        let (mut lo, mut hi) = (0usize, idx.len());
-        let (mut cl, mut cr) = (Aabb::EMPTY, Aabb::EMPTY);
-        while lo < hi {
-            if left(&idx[lo]) {
-                cl = grow(cl, &idx[lo]);
-                lo += 1;
-            } else {
-                cr = grow(cr, &idx[lo]);
-                hi -= 1;
-                idx.swap(lo, hi);
-            }
-        }
-        (lo, [cl, cr])
-    }
-
-    /// Halves the pieces at the median centroid along the centroids' longest axis.
-    fn median_split(&self, idx: &mut [Item], cent: &Aabb) -> usize {
-        let ext = cent.extent();
-        let axis = if ext.x >= ext.y && ext.x >= ext.z {
-            0
-        } else if ext.y >= ext.z {
-            1
+/// Moves the pieces whose centre falls in a bin before `bin` along `axis` to the front;
+/// returns how many they are and the centre boxes of the two sides (as [`Ctx::scan`] would:
+/// an empty piece's centre is NaN, which merging passes over).
+fn partition(
+    idx: &mut [Item],
+    binning: &Binning,
+    axis: usize,
+    bin: usize,
+) -> (usize, [Corners; 2]) {
+    let (mut lo, mut hi) = (0usize, idx.len());
+    let (mut cl, mut cr) = (Corners::EMPTY, Corners::EMPTY);
+    while lo < hi {
+        let m = idx[lo].centre();
+        if binning.bin_of(m, axis) < bin {
+            cl.merge(m, m);
+            lo += 1;
         } else {
-            2
-        };
-        let mid = idx.len() / 2;
-        let key = |it: &Item| it.centre()[axis];
-        idx.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
-        mid
+            cr.merge(m, m);
+            hi -= 1;
+            idx.swap(lo, hi);
+        }
     }
+    (lo, [cl, cr])
+}
+
+/// Halves the pieces at the median centre along the centres' longest axis.
+fn median_split(idx: &mut [Item], cent: &Corners) -> usize {
+    let ext = cent.extent();
+    let axis = if ext.x >= ext.y && ext.x >= ext.z {
+        0
+    } else if ext.y >= ext.z {
+        1
+    } else {
+        2
+    };
+    let mid = idx.len() / 2;
+    let key = |it: &Item| it.centre()[axis];
+    idx.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
+    mid
 }
 
 const _: () = assert!(MEDIAN_DEPTH + 40 < MAX_DEPTH);

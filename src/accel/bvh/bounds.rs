@@ -67,7 +67,25 @@ pub trait BvhBounds: Copy + Send + Sync + Debug + 'static {
     fn compact_holds(c: &Self::Compact, b: &Self, frame: &LinearFrame) -> bool;
     /// The stored values' bits, to compare compact bounds exactly.
     fn compact_bits(c: &Self::Compact) -> [u32; 6];
+    /// The compact bound as low and high corners in the linear coordinates' order (`x, y, z`;
+    /// `r, θ, h`), the form the build takes unions of. An empty bound's corners are `+∞` and
+    /// `−∞`, which unions pass over. The union of corners is exact and every coordinate of
+    /// [`BvhBounds::compact`] is monotone in the linear box, so the corners' union of compact
+    /// bounds is the corners of the compact union, bit for bit.
+    fn compact_corners(c: &Self::Compact) -> ([f32; 3], [f32; 3]);
+    /// The compact bound with these corners ([`BvhBounds::compact_corners`] undone); corners
+    /// low above high (or NaN) on any axis give the empty bound.
+    fn compact_from_corners(lo: [f32; 3], hi: [f32; 3]) -> Self::Compact;
 }
+
+/// Whether corners hold no point: low above high, or NaN, on some axis.
+#[inline]
+fn corners_empty(lo: &[f32; 3], hi: &[f32; 3]) -> bool {
+    !(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])
+}
+
+/// The corners of an empty bound.
+const EMPTY_CORNERS: ([f32; 3], [f32; 3]) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
 
 /// The largest `f32` not above `x` (NaN stays NaN).
 #[inline]
@@ -240,6 +258,23 @@ impl BvhBounds for Aabb {
             c.max[2].to_bits(),
         ]
     }
+
+    fn compact_corners(c: &BoxF32) -> ([f32; 3], [f32; 3]) {
+        if corners_empty(&c.min, &c.max) {
+            EMPTY_CORNERS
+        } else {
+            (c.min, c.max)
+        }
+    }
+
+    fn compact_from_corners(lo: [f32; 3], hi: [f32; 3]) -> BoxF32 {
+        let (min, max) = if corners_empty(&lo, &hi) {
+            EMPTY_CORNERS
+        } else {
+            (lo, hi)
+        };
+        BoxF32 { min, max }
+    }
 }
 
 /// The sector area of a linear box `(r, θ − θ₀, h)`: the formula of
@@ -346,11 +381,7 @@ impl BvhBounds for CylBounds {
 
     fn compact(lin: &Aabb, frame: &LinearFrame) -> SectorF32 {
         if lin.is_empty() {
-            return SectorF32 {
-                r: [f32::INFINITY, f32::NEG_INFINITY],
-                theta: [0.0, -1.0],
-                h: [f32::INFINITY, f32::NEG_INFINITY],
-            };
+            return EMPTY_SECTOR;
         }
         // Unwrapped, not reduced: monotone in the linear box, so nesting is kept bit for bit.
         let lo = frame.theta0 + lin.min.y - THETA_PAD;
@@ -456,7 +487,35 @@ impl BvhBounds for CylBounds {
             c.h[1].to_bits(),
         ]
     }
+
+    fn compact_corners(c: &SectorF32) -> ([f32; 3], [f32; 3]) {
+        let lo = [c.r[0], c.theta[0], c.h[0]];
+        let hi = [c.r[1], c.theta[1], c.h[1]];
+        if corners_empty(&lo, &hi) {
+            EMPTY_CORNERS
+        } else {
+            (lo, hi)
+        }
+    }
+
+    fn compact_from_corners(lo: [f32; 3], hi: [f32; 3]) -> SectorF32 {
+        if corners_empty(&lo, &hi) {
+            return EMPTY_SECTOR;
+        }
+        SectorF32 {
+            r: [lo[0], hi[0]],
+            theta: [lo[1], hi[1]],
+            h: [lo[2], hi[2]],
+        }
+    }
 }
+
+/// The stored form of an empty sector.
+const EMPTY_SECTOR: SectorF32 = SectorF32 {
+    r: [f32::INFINITY, f32::NEG_INFINITY],
+    theta: [0.0, -1.0],
+    h: [f32::INFINITY, f32::NEG_INFINITY],
+};
 
 #[cfg(test)]
 mod tests {

@@ -10,6 +10,12 @@
 //!   units: [`Aabb::surface_area`] for boxes, [`CylBounds::surface_area`] for sectors (two
 //!   annular caps, the inner and outer curved faces and two planar sides). Subtrees above a
 //!   size threshold are built in parallel with `rayon::join`.
+//! - **Build passes in `f32`.** The binning and partitioning passes, which stream over every
+//!   piece at every level, work on each piece's *stored* bound (below: `f32`, rounded outward)
+//!   as two corners, 32 bytes with the piece's index, with SIMD unions. Unions of stored corners
+//!   are exact and the stored form is monotone in the bound, so each node's stored bound is,
+//!   bit for bit, the stored form of the union of its pieces' `f64` bounds; only the choice of
+//!   split reads the `f32` rounding (centroids and areas).
 //! - **Cylindrical bounds.** θ is periodic. The build works in *linear* coordinates
 //!   `(r, θ − θ₀, h)`, where `θ₀` is the start of the root's arc and every piece's arc is
 //!   unwrapped relative to it; unions and centroids are then ordinary, a node's arc is the
