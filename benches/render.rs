@@ -11,6 +11,12 @@
 //! space, cells walked across, structure locations. `STRUCTURES` is `all` or a comma-separated
 //! list (`cyl-bvh,cart-grid`), `PATHS` `both`, `paper` or `fast`, `SEGMENTS` `segments`
 //! (boundary segments, the default) or `whole` (whole steps).
+//!
+//! `--vtk-scene` renders the scene of the VTK comparison (`scripts/bench_vtk.py`, whose
+//! `cylvol render` options the README gives) instead of the default one: its opacity and
+//! colour points, a unit distance of 10 % of the bounding-box diagonal, every cell with some
+//! opacity; `--step-factor=F` multiplies the default step by `F` (the comparison is also run
+//! at 4× and 8×).
 
 use std::time::Instant;
 
@@ -26,10 +32,13 @@ use cylvol::render::{
 use timing::cpu_seconds;
 
 fn main() {
-    let args: Vec<String> = std::env::args()
-        .skip(1)
-        .filter(|a| !a.starts_with("--"))
-        .collect();
+    let all: Vec<String> = std::env::args().skip(1).collect();
+    let vtk_scene = all.iter().any(|a| a == "--vtk-scene");
+    let step_factor: f64 = all
+        .iter()
+        .find_map(|a| a.strip_prefix("--step-factor="))
+        .map_or(1.0, |f| f.parse().expect("a step factor"));
+    let args: Vec<String> = all.into_iter().filter(|a| !a.starts_with("--")).collect();
     let spec = args.first().map_or("pump-rotor:200000", |s| s.as_str());
     let size: u32 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(256);
     let frames: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(3);
@@ -70,7 +79,7 @@ fn main() {
         );
         n
     };
-    let step = default_step(&mesh);
+    let step = default_step(&mesh) * step_factor;
     println!(
         "{name}: {} cells, {size}x{size}, step {step:.5}, best of {frames} frames",
         mesh.cell_count()
@@ -97,7 +106,14 @@ fn main() {
         let accel = Accel::build(&mesh, kind, &axis, &AccelParams::default()).expect("build");
         let volume = Volume::new(&mesh, &accel).expect("volume");
         let [lo, hi] = volume.scalar_range();
-        let tf = TransferFunction::default_for_range(lo, hi, 0.3, 0.1);
+        let tf = if vtk_scene {
+            let b = mesh.bounds();
+            let diagonal =
+                ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
+            vtk_comparison_transfer(lo, hi, diagonal)
+        } else {
+            TransferFunction::default_for_range(lo, hi, 0.3, 0.1)
+        };
         let camera = Camera::view(mesh.bounds(), size, size, 30.0, 20.0, 1.0);
         for &path in &paths {
             let mut options = RenderOptions::new(size, size, step);
@@ -138,4 +154,21 @@ fn main() {
             );
         }
     }
+}
+
+/// The transfer function of the VTK comparison over the scalar range `[lo, hi]`: the CLI's
+/// `--opacity 0%:0,35%:0.1,70%:0.5,100%:1 --color 0%:0.1:0.2:0.9,35%:0.1:0.8:0.8,
+/// 70%:0.95:0.85:0.2,100%:0.9:0.1:0.1 --unit-distance 10%`.
+fn vtk_comparison_transfer(lo: f64, hi: f64, diagonal: f64) -> TransferFunction {
+    let at = |f: f64| lo + f * (hi - lo);
+    let mut tf = TransferFunction::default_for_range(lo, hi, 0.3, 0.1);
+    tf.opacity = vec![(at(0.0), 0.0), (at(0.35), 0.1), (at(0.7), 0.5), (at(1.0), 1.0)];
+    tf.color = vec![
+        (at(0.0), [0.1, 0.2, 0.9]),
+        (at(0.35), [0.1, 0.8, 0.8]),
+        (at(0.7), [0.95, 0.85, 0.2]),
+        (at(1.0), [0.9, 0.1, 0.1]),
+    ];
+    tf.unit_distance = 0.1 * diagonal;
+    tf
 }
