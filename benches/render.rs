@@ -162,7 +162,12 @@ fn main() {
 fn vtk_comparison_transfer(lo: f64, hi: f64, diagonal: f64) -> TransferFunction {
     let at = |f: f64| lo + f * (hi - lo);
     let mut tf = TransferFunction::default_for_range(lo, hi, 0.3, 0.1);
-    tf.opacity = vec![(at(0.0), 0.0), (at(0.35), 0.1), (at(0.7), 0.5), (at(1.0), 1.0)];
+    tf.opacity = vec![
+        (at(0.0), 0.0),
+        (at(0.35), 0.1),
+        (at(0.7), 0.5),
+        (at(1.0), 1.0),
+    ];
     tf.color = vec![
         (at(0.0), [0.1, 0.2, 0.9]),
         (at(0.35), [0.1, 0.8, 0.8]),

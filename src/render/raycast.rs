@@ -163,6 +163,9 @@ pub trait Neighbours: Sync {
     fn surface(&self) -> Option<&BoundarySurface> {
         None
     }
+
+    /// Starts loading the neighbours of `cell` into the cache (a hint; by default nothing).
+    fn prefetch(&self, _cell: u32) {}
 }
 
 impl<F: Fn(u32) -> [u32; 6] + Sync> Neighbours for F {

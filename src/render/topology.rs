@@ -69,6 +69,13 @@ impl Neighbours for Topology {
     fn surface(&self) -> Option<&BoundarySurface> {
         Some(&self.surface)
     }
+
+    #[inline]
+    fn prefetch(&self, cell: u32) {
+        if let Some(row) = self.faces.raw().get(cell as usize * 6) {
+            super::march::prefetch(row);
+        }
+    }
 }
 
 /// The face neighbours the fast path should walk, with their boundary surface: seams of
