@@ -386,16 +386,31 @@ fn render_takes_a_transfer_function_like_vtk_and_skips_what_it_makes_transparent
     let default = render(&default_png, &[]);
     let rays = count(&default, "rays");
     assert!(count(&default, "samples_located") > 2 * rays);
-    // Transparent everywhere: at most one sample a ray is located, and nothing is drawn.
+    // Transparent everywhere: no sample is taken, no cell tested, and nothing is drawn.
     let clear = render(&clear_png, &["--opacity", "0%:0,100%:0"]);
-    assert!(count(&clear, "samples_located") <= rays);
-    assert_eq!(
-        count(&clear, "transparent_jumps"),
-        count(&clear, "samples_located")
-    );
+    assert_eq!(count(&clear, "rays"), rays);
+    for key in [
+        "samples",
+        "samples_located",
+        "hex_tests",
+        "transparent_jumps",
+    ] {
+        assert_eq!(count(&clear, key), 0, "{key}");
+    }
     assert_ne!(
         std::fs::read(&default_png).unwrap(),
         std::fs::read(&clear_png).unwrap()
+    );
+    let decoder = png::Decoder::new(std::fs::File::open(&clear_png).unwrap());
+    let mut reader = decoder.read_info().unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    let first = pixels[..4].to_vec();
+    assert!(
+        pixels[..info.buffer_size()]
+            .chunks(4)
+            .all(|p| p == first.as_slice()),
+        "a transparent table draws nothing: every pixel is the background"
     );
     // Zero only at the lowest scalar (percentages and values mixed): no cell is wholly
     // transparent, so nothing is jumped over.

@@ -472,8 +472,8 @@ type OpacityRamp = fn(f64, f64) -> Vec<(f64, f64)>;
 /// does not. On the pump rotor with an opacity ramp that is zero over the lower half of the
 /// range, the BVHs' images equal the grids' (which cannot jump) within 1e-6 with the same
 /// sample positions, while they jump, and cross and locate fewer cells. A transfer function
-/// transparent everywhere locates at most one sample a ray (the rest is jumped over), and
-/// one transparent nowhere never jumps.
+/// transparent everywhere takes no sample at all, on every structure, and one transparent
+/// nowhere never jumps.
 #[test]
 fn jumps_over_transparent_space_cross_fewer_cells_for_the_same_image() {
     let mesh = generate(Dataset::PumpRotor, 8_000).expect("dataset");
@@ -531,9 +531,20 @@ fn jumps_over_transparent_space_cross_fewer_cells_for_the_same_image() {
                         "{name}: empty image"
                     );
                 }
-                "nowhere" if !is_grid => {
-                    assert!(s.samples_located <= s.rays, "{name} {kind}: {s:?}");
-                    assert!(s.transparent_jumps > 0, "{name} {kind}: {s:?}");
+                "nowhere" => {
+                    // Nothing can be seen: no ray samples, tests a cell or asks a structure.
+                    assert_eq!(s.rays, (size * size) as u64, "{name} {kind}");
+                    assert_eq!(
+                        (
+                            s.samples,
+                            s.hex_tests,
+                            s.transparent_jumps,
+                            s.internal_visits
+                        ),
+                        (0, 0, 0, 0),
+                        "{name} {kind}: {s:?}"
+                    );
+                    assert!(image.rgba.iter().all(|p| p[3] == 0.0), "{name} {kind}");
                 }
                 "everywhere" => {
                     assert_eq!(s.samples_skipped, 0, "{name} {kind}: {s:?}");

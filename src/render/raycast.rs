@@ -64,7 +64,9 @@
 //!   would add nothing); with a BVH, the ray then jumps to the next bound of a piece of a cell
 //!   that is not so ([`super::skip::Skipper::next_visible`] over the nodes that hold one,
 //!   [`Renderer::visible_nodes`]), passing over the samples before it, which lie in such
-//!   cells or outside the mesh, and locates the next sample from that cell. With the same
+//!   cells or outside the mesh, and locates the next sample from that cell. Where the table
+//!   is transparent everywhere ([`TransferTable::transparent_everywhere`]) nothing could be
+//!   seen: no ray takes a sample, and no transparency table is made. With the same
 //!   neighbours, the image equals the paper path's up to the
 //!   choice between two cells on a shared face (both valid, values equal to the inverse map's
 //!   tolerance, `~1e-9` relative); the paper path without neighbours (as the CLI runs it)
@@ -786,6 +788,13 @@ impl<'a> Renderer<'a> {
         &self.table
     }
 
+    /// Whether the fast path can skip every ray: the table is transparent everywhere, so no
+    /// sample adds anything (the paper path, a measurement, samples all the same).
+    #[inline]
+    fn nothing_visible(&self) -> bool {
+        self.options.path == RenderPath::Fast && self.table.transparent_everywhere()
+    }
+
     /// The cells the transfer table makes wholly transparent (made on first use, on the
     /// calling thread; [`Renderer::render_rays`] makes it in parallel before casting).
     pub fn transparent_cells(&self) -> &TransparentCells {
@@ -1374,6 +1383,9 @@ impl<'a> Renderer<'a> {
             rgba: [0.0; 4],
             depth: f64::INFINITY,
         };
+        if self.nothing_visible() {
+            return out;
+        }
         let Some((t_in, t_out)) = self.clip(origin, dir) else {
             return out;
         };
@@ -1877,7 +1889,7 @@ impl<'a> Renderer<'a> {
         // (kept with the structure: made by its first render), made in parallel here rather
         // than by the first ray (which would make them alone, sequentially, while the other
         // threads wait).
-        if self.options.path == RenderPath::Fast {
+        if self.options.path == RenderPath::Fast && !self.nothing_visible() {
             if self.transparent.get().is_none() {
                 let mask = TransparentCells::new(&self.volume.field.cell_ranges, &self.table);
                 let _ = self.transparent.set(mask);

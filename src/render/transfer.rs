@@ -339,6 +339,21 @@ impl TransferTable {
         }
     }
 
+    /// Whether every lookup has zero opacity, whatever the scalar: nothing the table colours
+    /// is ever seen.
+    ///
+    /// ```
+    /// use cylvol::render::TransferFunction;
+    /// let clear = TransferFunction::constant([1.0, 0.0, 0.0], 0.0, 1.0);
+    /// assert!(clear.table(0.0, 1.0, 0.5, 64).unwrap().transparent_everywhere());
+    /// let ramp = TransferFunction::default_for_range(0.0, 1.0, 0.3, 1.0);
+    /// assert!(!ramp.table(0.0, 1.0, 0.5, 64).unwrap().transparent_everywhere());
+    /// ```
+    #[inline]
+    pub fn transparent_everywhere(&self) -> bool {
+        self.nonzero_prefix.last() == Some(&0)
+    }
+
     /// Whether every lookup of a scalar in `[a, b]` has zero opacity.
     #[inline]
     pub fn transparent_over(&self, a: f64, b: f64) -> bool {
