@@ -183,13 +183,22 @@ impl Corners {
         hi: Vec3A::NEG_INFINITY,
     };
 
-    /// Grown to hold the box `[lo, hi]`. The box's NaN coordinates, if any, are ignored (a
-    /// NaN as the first operand of `min`/`max` yields the second, in glam's SIMD and scalar
-    /// forms alike), and so are an empty box's `±∞`.
+    /// Grown to hold the box `[lo, hi]` (never NaN: pieces' corners are not, and an empty
+    /// bound's `±∞` corners leave the box as it is).
     #[inline]
     fn merge(&mut self, lo: Vec3A, hi: Vec3A) {
         self.lo = lo.min(self.lo);
         self.hi = hi.max(self.hi);
+    }
+
+    /// Grown to hold the point `m`, unless it has a NaN coordinate (the centre of an empty
+    /// bound), which is passed over: tested rather than left to `min`/`max`, whose NaN rule
+    /// differs between glam's SSE2 and NEON forms.
+    #[inline]
+    fn merge_point(&mut self, m: Vec3A) {
+        if !m.is_nan() {
+            self.merge(m, m);
+        }
     }
 
     #[inline]
@@ -291,10 +300,8 @@ impl<B: BvhBounds> Ctx<B> {
     /// The union of the pieces' corners and the box of their centres.
     fn scan(&self, idx: &[Item]) -> Scan {
         let fold = |(mut b, mut c): Scan, it: &Item| {
-            // An empty piece's centre is NaN, which merging passes over.
-            let m = it.centre();
             b.merge(it.lo(), it.hi());
-            c.merge(m, m);
+            c.merge_point(it.centre());
             (b, c)
         };
         if idx.len() > PARALLEL_THRESHOLD {
@@ -513,8 +520,8 @@ impl<B: BvhBounds> Ctx<B> {
 }
 
 /// Moves the pieces whose centre falls in a bin before `bin` along `axis` to the front;
-/// returns how many they are and the centre boxes of the two sides (as [`Ctx::scan`] would:
-/// an empty piece's centre is NaN, which merging passes over).
+/// returns how many they are and the centre boxes of the two sides (as [`Ctx::scan`] makes
+/// them).
 fn partition(
     idx: &mut [Item],
     binning: &Binning,
@@ -526,10 +533,10 @@ fn partition(
     while lo < hi {
         let m = idx[lo].centre();
         if binning.bin_of(m, axis) < bin {
-            cl.merge(m, m);
+            cl.merge_point(m);
             lo += 1;
         } else {
-            cr.merge(m, m);
+            cr.merge_point(m);
             hi -= 1;
             idx.swap(lo, hi);
         }
