@@ -25,6 +25,7 @@ mod timing;
 
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::datasets::{generate, Dataset};
+use cylvol::geometry::bounds::Aabb;
 use cylvol::render::{
     default_step, face_neighbours, Camera, RenderOptions, RenderPath, RenderStats, Renderer,
     TransferFunction, Volume,
@@ -107,9 +108,7 @@ fn main() {
         let volume = Volume::new(&mesh, &accel).expect("volume");
         let [lo, hi] = volume.scalar_range();
         let tf = if vtk_scene {
-            let b = mesh.bounds();
-            let diagonal =
-                ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
+            let diagonal = Aabb::from_points(mesh.points()).diagonal();
             vtk_comparison_transfer(lo, hi, diagonal)
         } else {
             TransferFunction::default_for_range(lo, hi, 0.3, 0.1)

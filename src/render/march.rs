@@ -234,10 +234,7 @@ impl March {
             steps += 1;
             work.plane_steps += 1;
             let around = neighbours.neighbours(n);
-            let entry = around
-                .iter()
-                .position(|&m| m == self.cell)
-                .unwrap_or(usize::MAX);
+            let entry = entry_face(&around, self.cell);
             // The next cell is one of these: start loading them all while this one is solved.
             for (f, &m) in around.iter().enumerate() {
                 if f != entry && (m as usize) < n_cells {
@@ -281,14 +278,10 @@ impl March {
     }
 }
 
-/// The face (0–5) of cell `n` across which `from` lies, `usize::MAX` if none: the face a ray
-/// crossing from `from` into `n` enters by.
-fn entry_face(neighbours: &dyn Neighbours, n: u32, from: u32) -> usize {
-    neighbours
-        .neighbours(n)
-        .iter()
-        .position(|&m| m == from)
-        .unwrap_or(usize::MAX)
+/// The face (0–5) of a cell whose neighbours are `around` across which `from` lies,
+/// `usize::MAX` if none: the face a ray crossing from `from` into the cell enters by.
+fn entry_face(around: &[u32; 6], from: u32) -> usize {
+    around.iter().position(|&m| m == from).unwrap_or(usize::MAX)
 }
 
 /// Where the ray `o + t d` leaves the mesh by the face planes, marching from `cell` (which
@@ -403,7 +396,7 @@ pub fn boundary_face_crossing(
         if n as usize >= cells.len() || n == c {
             return None;
         }
-        entry = entry_face(neighbours, n, c);
+        entry = entry_face(&neighbours.neighbours(n), c);
         c = n;
         s_from = s;
     }
