@@ -134,12 +134,12 @@ fn c_abi(mesh: &Mesh, repeats: usize) {
         return;
     };
     let points: Vec<f64> = mesh.points().iter().flat_map(|p| p.to_array()).collect();
-    let (mut offsets, mut connectivity, mut types) = (vec![0i64], Vec::new(), Vec::new());
-    for (cell, kind) in mesh.cells().iter().zip(mesh.kinds()) {
-        connectivity.extend(kind.expand(cell).into_iter().map(i64::from));
-        offsets.push(connectivity.len() as i64);
-        types.push(kind.vtk_type());
-    }
+    let offsets: Vec<i64> = std::iter::once(0)
+        .chain(mesh.vtk_cell_ends())
+        .map(|end| end as i64)
+        .collect();
+    let connectivity: Vec<i64> = mesh.vtk_connectivity().map(i64::from).collect();
+    let types: Vec<u8> = mesh.vtk_cell_types().collect();
     println!("  C ABI, as the VTK mapper calls it:");
     let mut table = Table::default();
     let mesh_new = || {

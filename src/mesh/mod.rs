@@ -146,6 +146,44 @@ impl Mesh {
         &self.cells
     }
 
+    /// The cells' point ids as VTK lists them, cell after cell in each kind's VTK vertex order
+    /// (VTK's `connectivity` array).
+    ///
+    /// ```
+    /// use cylvol::{CellKind, Mesh, MeshParts};
+    /// use glam::DVec3;
+    /// let mesh = Mesh::from_parts(MeshParts {
+    ///     points: (0..6).map(|i| DVec3::new(i as f64, (i % 3) as f64, (i / 3) as f64)).collect(),
+    ///     cells: vec![CellKind::Wedge.collapse(&[0, 1, 2, 3, 4, 5])],
+    ///     kinds: vec![CellKind::Wedge],
+    ///     ..Default::default()
+    /// })
+    /// .unwrap();
+    /// assert_eq!(mesh.vtk_connectivity().collect::<Vec<_>>(), [0, 1, 2, 3, 4, 5]);
+    /// assert_eq!(mesh.vtk_cell_ends().collect::<Vec<_>>(), [6]);
+    /// assert_eq!(mesh.vtk_cell_types().collect::<Vec<_>>(), [13]);
+    /// ```
+    pub fn vtk_connectivity(&self) -> impl Iterator<Item = u32> + '_ {
+        self.cells
+            .iter()
+            .zip(&self.kinds)
+            .flat_map(|(c, k)| k.vtk_slots().iter().map(move |&s| c[s]))
+    }
+
+    /// Where each cell's ids end in [`Mesh::vtk_connectivity`] (VTK's `offsets` array, with no
+    /// leading zero).
+    pub fn vtk_cell_ends(&self) -> impl Iterator<Item = usize> + '_ {
+        self.kinds.iter().scan(0, |end, k| {
+            *end += k.vertex_count();
+            Some(*end)
+        })
+    }
+
+    /// Each cell's VTK cell type code.
+    pub fn vtk_cell_types(&self) -> impl Iterator<Item = u8> + '_ {
+        self.kinds.iter().map(|k| k.vtk_type())
+    }
+
     /// The kind of each cell.
     pub fn kinds(&self) -> &[CellKind] {
         &self.kinds

@@ -131,12 +131,6 @@ pub(super) fn write(mesh: &Mesh, out: &mut dyn Write, options: &LegacyOptions) -
     o.text(&format!("POINTS {} double\n", mesh.point_count()))?;
     o.doubles(mesh.points().iter().flat_map(|p| p.to_array()), 3)?;
 
-    let ids = || {
-        cells
-            .iter()
-            .zip(kinds)
-            .flat_map(|(c, k)| k.vtk_slots().iter().map(move |&s| i64::from(c[s])))
-    };
     if classic {
         o.text(&format!("CELLS {n_cells} {classic_size}\n"))?;
         if ascii {
@@ -159,17 +153,14 @@ pub(super) fn write(mesh: &Mesh, out: &mut dyn Write, options: &LegacyOptions) -
     } else {
         o.text(&format!("CELLS {} {connectivity_len}\n", n_cells + 1))?;
         o.text("OFFSETS vtktypeint64\n")?;
-        let offsets = std::iter::once(0i64).chain(kinds.iter().scan(0i64, |end, k| {
-            *end += k.vertex_count() as i64;
-            Some(*end)
-        }));
-        o.ints(offsets, 9, true)?;
+        let offsets = std::iter::once(0).chain(mesh.vtk_cell_ends());
+        o.ints(offsets.map(|end| end as i64), 9, true)?;
         o.text("CONNECTIVITY vtktypeint64\n")?;
-        o.ints(ids(), 8, true)?;
+        o.ints(mesh.vtk_connectivity().map(i64::from), 8, true)?;
     }
 
     o.text(&format!("CELL_TYPES {n_cells}\n"))?;
-    o.ints(kinds.iter().map(|k| i64::from(k.vtk_type())), 1, false)?;
+    o.ints(mesh.vtk_cell_types().map(i64::from), 1, false)?;
 
     for (keyword, count, arrays) in [
         ("CELL_DATA", n_cells, mesh.cell_data()),

@@ -11,7 +11,7 @@ use flate2::write::ZlibEncoder;
 use rayon::prelude::*;
 
 use super::xml::escape;
-use crate::mesh::{Association, CellKind};
+use crate::mesh::Association;
 use crate::Mesh;
 
 /// How array data is stored in the file.
@@ -87,16 +87,16 @@ enum Num {
 enum Payload<'m> {
     Values(&'m [f64]),
     Points(&'m [glam::DVec3]),
-    Connectivity(&'m [[u32; 8]], &'m [CellKind]),
-    Offsets(&'m [CellKind]),
-    Types(&'m [CellKind]),
+    Connectivity(&'m Mesh),
+    Offsets(&'m Mesh),
+    Types(&'m Mesh),
 }
 
 impl Payload<'_> {
     fn type_name(&self) -> &'static str {
         match self {
             Payload::Values(_) | Payload::Points(_) => "Float64",
-            Payload::Connectivity(..) | Payload::Offsets(_) => "Int64",
+            Payload::Connectivity(_) | Payload::Offsets(_) => "Int64",
             Payload::Types(_) => "UInt8",
         }
     }
@@ -112,8 +112,8 @@ impl Payload<'_> {
         match self {
             Payload::Values(v) => v.len(),
             Payload::Points(p) => 3 * p.len(),
-            Payload::Connectivity(_, k) => k.iter().map(|k| k.vertex_count()).sum(),
-            Payload::Offsets(k) | Payload::Types(k) => k.len(),
+            Payload::Connectivity(m) => m.kinds().iter().map(|k| k.vertex_count()).sum(),
+            Payload::Offsets(m) | Payload::Types(m) => m.cell_count(),
         }
     }
 
@@ -125,17 +125,9 @@ impl Payload<'_> {
         match self {
             Payload::Values(v) => Box::new(v.iter().map(|&x| Num::F(x))),
             Payload::Points(p) => Box::new(p.iter().flat_map(|p| [p.x, p.y, p.z]).map(Num::F)),
-            Payload::Connectivity(cells, kinds) => Box::new(
-                cells
-                    .iter()
-                    .zip(kinds.iter())
-                    .flat_map(|(c, k)| k.vtk_slots().iter().map(move |&s| Num::I(c[s] as i64))),
-            ),
-            Payload::Offsets(kinds) => Box::new(kinds.iter().scan(0i64, |end, k| {
-                *end += k.vertex_count() as i64;
-                Some(Num::I(*end))
-            })),
-            Payload::Types(kinds) => Box::new(kinds.iter().map(|k| Num::U8(k.vtk_type()))),
+            Payload::Connectivity(m) => Box::new(m.vtk_connectivity().map(|i| Num::I(i.into()))),
+            Payload::Offsets(m) => Box::new(m.vtk_cell_ends().map(|end| Num::I(end as i64))),
+            Payload::Types(m) => Box::new(m.vtk_cell_types().map(Num::U8)),
         }
     }
 }
@@ -393,17 +385,17 @@ fn specs(mesh: &Mesh) -> [(&'static str, Vec<Spec<'_>>); 4] {
                 Spec {
                     name: "connectivity".into(),
                     components: 1,
-                    payload: Payload::Connectivity(mesh.cells(), mesh.kinds()),
+                    payload: Payload::Connectivity(mesh),
                 },
                 Spec {
                     name: "offsets".into(),
                     components: 1,
-                    payload: Payload::Offsets(mesh.kinds()),
+                    payload: Payload::Offsets(mesh),
                 },
                 Spec {
                     name: "types".into(),
                     components: 1,
-                    payload: Payload::Types(mesh.kinds()),
+                    payload: Payload::Types(mesh),
                 },
             ],
         ),
