@@ -256,6 +256,58 @@ fn empty_and_degenerate_inputs() {
     assert_eq!(counters, before, "a query outside the domain did work");
 }
 
+/// Densities far beyond any preset (as a careless caller of the C ABI may pass) are lowered
+/// to the grid's memory budget — per piece 16 top cells, 64 leaf cells and 512 references, a
+/// few thousand cells and a million references whatever the pieces — instead of allocating
+/// gigabytes (the C ABI fuzz target found a 3 GB allocation for twelve hexahedra). The grid
+/// still holds every piece where it reaches.
+#[test]
+fn absurd_densities_stay_within_the_memory_budget() {
+    // Twelve unit boxes in a row, and one box over them all (it reaches every grid cell).
+    let mut bounds: Vec<Aabb> = (0..12)
+        .map(|i| {
+            Aabb::new(
+                DVec3::new(i as f64, 0.0, 0.0),
+                DVec3::new(i as f64 + 1.0, 1.0, 1.0),
+            )
+        })
+        .collect();
+    bounds.push(Aabb::new(DVec3::ZERO, DVec3::new(12.0, 1.0, 1.0)));
+    let pieces = Pieces {
+        cells: (0..bounds.len() as u32).collect(),
+        bounds,
+    };
+    for (top_density, leaf_density) in [(1e12, 1e12), (1.0, 1e15), (1e9, 1.0), (1e-12, 1e300)] {
+        let params = GridParams {
+            top_density,
+            leaf_density,
+        };
+        let g = build_grid(Coordinates::Cartesian, &pieces, &params);
+        g.assert_well_formed(&pieces);
+        let stats = g.stats();
+        let n = pieces.bounds.len();
+        assert!(
+            stats.top_cells <= 16 * n + (1 << 12),
+            "{params:?}: {stats:?}"
+        );
+        assert!(
+            stats.leaf_cells <= 64 * n + (1 << 16),
+            "{params:?}: {stats:?}"
+        );
+        assert!(
+            stats.references <= 512 * n + (1 << 20),
+            "{params:?}: {stats:?}"
+        );
+        assert!(stats.bytes < 64 << 20, "{params:?}: {stats:?}");
+        let mut counters = Counters::default();
+        assert_eq!(
+            g.find(DVec3::new(7.5, 0.5, 0.5), &mut counters, |c| c == 7),
+            Some(7)
+        );
+        assert!(g.candidates(DVec3::new(7.5, 0.5, 0.5)).contains(&12));
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Point location on meshes against brute force over all cells.
 

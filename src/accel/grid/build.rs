@@ -17,6 +17,18 @@ const TOP_CAP: u32 = 1 << 12;
 const LEAF_CAP: u32 = 255;
 /// Most top cells in all.
 const MAX_TOP_CELLS: u64 = 1 << 28;
+/// Most top cells per piece, beyond [`TOP_CELLS_FLOOR`].
+const TOP_CELLS_PER_PIECE: u64 = 16;
+/// Top cells any grid may have, whatever its pieces.
+const TOP_CELLS_FLOOR: u64 = 1 << 12;
+/// Most leaf cells per piece, beyond [`LEAF_CELLS_FLOOR`].
+const LEAF_CELLS_PER_PIECE: u64 = 64;
+/// Leaf cells any grid may have, whatever its pieces.
+const LEAF_CELLS_FLOOR: u64 = 1 << 16;
+/// Most references (piece–grid cell pairs) per piece at either level, beyond [`REFS_FLOOR`].
+const REFS_PER_PIECE: u64 = 512;
+/// References any grid may have at either level, whatever its pieces.
+const REFS_FLOOR: u64 = 1 << 20;
 /// Fewest pieces handed to one parallel task in round one.
 const CHUNK: usize = 4096;
 /// Most per-chunk top-cell counters in round one (they limit the number of chunks).
@@ -24,8 +36,12 @@ const HISTOGRAM_BUDGET: usize = 1 << 24;
 
 /// Builds a two-level grid over boxes given in `coordinates` (for cylindrical coordinates,
 /// `(r, θ, h)` boxes as [`crate::accel::space::linear_boxes`] makes them). Empty or non-finite
-/// boxes are left out. Never panics; densities that would overflow the 32-bit ranges are
-/// lowered until the grid fits.
+/// boxes are left out. Never panics; densities that would overflow the 32-bit ranges, or the
+/// grid's memory budget, are lowered until the grid fits. The budget, per piece: 16 top cells,
+/// 64 leaf cells and 512 references at each level (a few thousand cells and a million
+/// references whatever the pieces); the presets stay well within it (`fast` on the 300 k
+/// pump rotor: 0.26 top cells, 14 leaf cells and 158 references a piece), so only densities
+/// far beyond them are lowered.
 ///
 /// ```
 /// use cylvol::accel::grid::{build_grid, GridParams};
@@ -78,18 +94,35 @@ pub fn build_grid(
             leaf_density,
         );
         match grid {
-            Some(mut g) => {
+            Ok(mut g) => {
                 g.meta.build_s = start.elapsed().as_secs_f64();
                 return g;
             }
-            // Too many leaf cells or references for 32-bit ranges: coarsen.
-            None if leaf_density > 1e-6 => leaf_density /= 4.0,
-            None => top_density /= 4.0,
+            // Too many cells or references at one level: coarsen that level (the second
+            // level down to one leaf cell per top cell, then the top level).
+            Err(Overflow::Leaves) if leaf_density > 1e-6 => leaf_density /= 4.0,
+            Err(_) => top_density /= 4.0,
         }
     }
 }
 
-/// One build at the given densities; `None` if the counts overflow 32 bits.
+/// Which level of a build at given densities went over its budget (or 32 bits).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Overflow {
+    /// The top cells' references.
+    Top,
+    /// The leaf cells or their references.
+    Leaves,
+}
+
+/// The budget of a grid over `count` pieces: `per_piece` a piece beyond `floor`.
+fn budget(count: usize, per_piece: u64, floor: u64) -> u64 {
+    (count as u64)
+        .saturating_mul(per_piece)
+        .saturating_add(floor)
+}
+
+/// One build at the given densities; which level overflowed when one does.
 #[allow(clippy::too_many_arguments)]
 fn attempt(
     coordinates: Coordinates,
@@ -100,7 +133,7 @@ fn attempt(
     count: usize,
     top_density: f64,
     leaf_density: f64,
-) -> Option<TwoLevelGrid> {
+) -> Result<TwoLevelGrid, Overflow> {
     let mut grid = TwoLevelGrid {
         meta: Box::new(Meta {
             coordinates,
@@ -116,7 +149,7 @@ fn attempt(
     };
     if count == 0 || domain.is_empty() {
         grid.domain = Aabb::EMPTY;
-        return Some(grid);
+        return Ok(grid);
     }
     let extent = domain.extent();
     let inner_r = cylindrical.then_some(domain.min.x);
@@ -126,7 +159,8 @@ fn attempt(
         top_density.max(0.0),
         TOP_CAP,
     );
-    while top_res.iter().map(|&r| r as u64).product::<u64>() > MAX_TOP_CELLS {
+    let most_top_cells = MAX_TOP_CELLS.min(budget(count, TOP_CELLS_PER_PIECE, TOP_CELLS_FLOOR));
+    while top_res.iter().map(|&r| r as u64).product::<u64>() > most_top_cells {
         top_res = top_res.map(|r| (r / 2).max(1));
     }
     grid.top_res = top_res;
@@ -150,7 +184,9 @@ fn attempt(
             })
         },
         top_res,
-    )?;
+        budget(count, REFS_PER_PIECE, REFS_FLOOR),
+    )
+    .ok_or(Overflow::Top)?;
 
     // Second-level resolution of every top cell, and where its leaf cells start.
     let mut top: Vec<TopCell> = (0..top_cells)
@@ -176,18 +212,20 @@ fn attempt(
         .collect();
     let mut leaves: u64 = 0;
     for tc in &mut top {
-        tc.first = u32::try_from(leaves).ok()?;
+        tc.first = u32::try_from(leaves).map_err(|_| Overflow::Leaves)?;
         leaves += tc.res.iter().map(|&r| r as u64).product::<u64>();
     }
-    if leaves >= u32::MAX as u64 {
-        return None;
+    if leaves >= u32::MAX as u64 || leaves > budget(count, LEAF_CELLS_PER_PIECE, LEAF_CELLS_FLOOR) {
+        return Err(Overflow::Leaves);
     }
     grid.top = top;
-    let (refs, leaf_begin) = fill_leaves(&grid, pieces, &top_begin, &top_refs)?;
+    let most_refs = budget(count, REFS_PER_PIECE, REFS_FLOOR);
+    let (refs, leaf_begin) =
+        fill_leaves(&grid, pieces, &top_begin, &top_refs, most_refs).ok_or(Overflow::Leaves)?;
     drop(top_refs);
     grid.leaf_begin = leaf_begin;
     grid.refs = refs;
-    Some(grid)
+    Ok(grid)
 }
 
 /// The leaf cells a top cell's piece overlaps: `(lo, hi)` inclusive, in the top cell's second
@@ -204,12 +242,14 @@ fn leaf_range(b: &Aabb, (origin, inv): (DVec3, DVec3), res: [u32; 3]) -> ([u32; 
 /// are contiguous, so every top cell fills its own slices): counts the references of each leaf
 /// cell, then writes the cell ids of each leaf cell's pieces, sorted and without duplicates (a
 /// cell reaching one leaf cell through two pieces is kept once), and packs the result.
-/// Returns the references and the leaf cells' starts; `None` if they overflow 32 bits.
+/// Returns the references and the leaf cells' starts; `None` if they overflow 32 bits or
+/// number more than `most_refs` (then the counting stops early).
 fn fill_leaves(
     grid: &TwoLevelGrid,
     pieces: &Pieces<Aabb>,
     top_begin: &[usize],
     top_refs: &[u32],
+    most_refs: u64,
 ) -> Option<(Vec<u32>, Vec<u32>)> {
     let top = &grid.top;
     let leaves = top
@@ -223,17 +263,23 @@ fn fill_leaves(
         (res, frame, &top_refs[top_begin[t]..top_begin[t + 1]])
     };
 
-    // Counts per leaf cell.
+    // Counts per leaf cell; a top cell whose own count goes over the budget stops the build.
     let mut counts = vec![0usize; leaves];
     split_by_top_cell(top, &mut counts, |t| leaf_count(top[t].res))
         .into_par_iter()
-        .for_each(|(t, counts)| {
+        .try_for_each(|(t, counts)| {
             let (res, frame, mine) = task(t);
+            let mut pairs = 0u64;
             for &i in mine {
                 let (lo, hi) = leaf_range(&pieces.bounds[i as usize], frame, res);
+                pairs += range_size(lo, hi);
+                if pairs > most_refs {
+                    return None;
+                }
                 for_each_cell(lo, hi, |c| counts[linear(c, res)] += 1);
             }
-        });
+            Some(())
+        })?;
     let mut begin = Vec::with_capacity(leaves + 1);
     let mut total = 0usize;
     begin.push(0);
@@ -241,7 +287,7 @@ fn fill_leaves(
         total = total.checked_add(c)?;
         begin.push(total);
     }
-    if total as u64 >= 1 << 36 {
+    if total as u64 >= 1 << 36 || total as u64 > most_refs {
         return None;
     }
 
@@ -354,12 +400,13 @@ fn split_by_top_cell<'a, T>(
 /// parallel, the counts are prefix-summed (top cell major, chunk minor), and each chunk writes
 /// its pieces at its own offsets. The result does not depend on the chunking. `range(i)` is
 /// piece `i`'s inclusive range of top cells, `None` to leave it out. `None` if the pairs are
-/// too many.
+/// more than `most_pairs` (a chunk with more stops counting at once) or overflow.
 fn group_by_top_cell(
     n: usize,
     top_cells: usize,
     range: impl Fn(usize) -> Option<([u32; 3], [u32; 3])> + Sync,
     res: [u32; 3],
+    most_pairs: u64,
 ) -> Option<(Vec<usize>, Vec<u32>)> {
     // Chunks: a few per thread, but their counts together within a memory budget.
     let chunks = (4 * rayon::current_num_threads())
@@ -372,14 +419,19 @@ fn group_by_top_cell(
         .into_par_iter()
         .map(|c| {
             let mut h = vec![0usize; top_cells];
+            let mut pairs = 0u64;
             for i in bounds(c) {
                 if let Some((lo, hi)) = range(i) {
+                    pairs += range_size(lo, hi);
+                    if pairs > most_pairs {
+                        return None;
+                    }
                     for_each_cell(lo, hi, |cell| h[linear(cell, res)] += 1);
                 }
             }
-            h
+            Some(h)
         })
-        .collect();
+        .collect::<Option<_>>()?;
     // Top cell major, chunk minor: `hist[c][t]` becomes chunk c's first slot in top cell t.
     let mut begin = Vec::with_capacity(top_cells + 1);
     let mut total = 0usize;
@@ -392,7 +444,7 @@ fn group_by_top_cell(
         }
     }
     begin.push(total);
-    if total as u64 >= 1 << 36 {
+    if total as u64 >= 1 << 36 || total as u64 > most_pairs {
         return None;
     }
     // Every slot is written by exactly one chunk; relaxed atomic stores are plain stores.
@@ -413,6 +465,14 @@ fn group_by_top_cell(
     });
     let refs = out.into_iter().map(AtomicU32::into_inner).collect();
     Some((begin, refs))
+}
+
+/// The number of cells of the inclusive index range (none if it is empty on some axis).
+#[inline]
+fn range_size(lo: [u32; 3], hi: [u32; 3]) -> u64 {
+    (0..3)
+        .map(|a| (hi[a] as u64 + 1).saturating_sub(lo[a] as u64))
+        .product()
 }
 
 /// Calls `f` on every cell of the inclusive index range, x fastest.
