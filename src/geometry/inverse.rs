@@ -339,25 +339,33 @@ pub fn outside_hull(corners: &[DVec3; 8], target: DVec3) -> bool {
 }
 
 /// [`outside_hull`] for corners relative to corner 0 and a target relative to it.
+///
+/// A face's slab separates the target when its projection `t` exceeds every corner's `v` by
+/// the margin (`t > v + margin` for all eight, which is `t > max v + margin`, rounding being
+/// monotone), or falls short of every one. The corners are compared one at a time and the
+/// face is left at the first corner on each side of `t`: a target inside the hull, the usual
+/// case, is settled for each face after a few corners rather than all eight.
 fn hull_separates(rel: &[DVec3; 8], size: f64, target: DVec3) -> bool {
     let pad = 1e-8 * size;
-    for f in HULL_FACES {
+    'faces: for f in HULL_FACES {
         let [a, b, c, d] = f.map(|k| rel[k]);
         let n = (c - a).cross(d - b);
         let len = n.length();
         if !(len > 0.0 && len.is_finite()) {
             continue;
         }
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        let t = n.dot(target);
+        let margin = pad * len;
+        let (mut above, mut below) = (true, true);
         for x in rel {
             let v = n.dot(*x);
-            lo = lo.min(v);
-            hi = hi.max(v);
+            above &= t > v + margin;
+            below &= t < v - margin;
+            if !(above || below) {
+                continue 'faces;
+            }
         }
-        let t = n.dot(target);
-        if t > hi + pad * len || t < lo - pad * len {
-            return true;
-        }
+        return true;
     }
     false
 }
@@ -684,6 +692,60 @@ mod tests {
     use super::*;
     use crate::geometry::containment::param_inside;
     use crate::geometry::trilinear::{map, CORNER_PARAMETERS};
+    use proptest::prelude::*;
+
+    /// The slab test as first written: each face's whole slab of corner projections, then
+    /// the target against it.
+    fn hull_separates_eager(rel: &[DVec3; 8], size: f64, target: DVec3) -> bool {
+        let pad = 1e-8 * size;
+        HULL_FACES.iter().any(|f| {
+            let [a, b, c, d] = f.map(|k| rel[k]);
+            let n = (c - a).cross(d - b);
+            let len = n.length();
+            if !(len > 0.0 && len.is_finite()) {
+                return false;
+            }
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for x in rel {
+                let v = n.dot(*x);
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+            let t = n.dot(target);
+            t > hi + pad * len || t < lo - pad * len
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2048))]
+
+        /// The lazy slab test answers as the eager one, for distorted cells (collapsed
+        /// corners included) and targets inside, near and beyond them.
+        #[test]
+        fn lazy_hull_test_equals_eager(
+            moves in proptest::array::uniform8(proptest::array::uniform3(-0.45f64..0.45)),
+            collapse in proptest::option::of((0usize..8, 0usize..8)),
+            target in proptest::array::uniform3(-0.6f64..1.6),
+            scale in prop_oneof![Just(1.0), Just(1e-6), Just(1e6)],
+        ) {
+            let mut c = CORNER_PARAMETERS.map(DVec3::from_array);
+            for (x, m) in c.iter_mut().zip(moves) {
+                *x += DVec3::from_array(m);
+            }
+            if let Some((i, j)) = collapse {
+                c[i] = c[j];
+            }
+            let c = c.map(|x| x * scale);
+            let rel = relative_corners(&c);
+            let size = 1.7 * scale;
+            let t = DVec3::from_array(target) * scale - c[0];
+            prop_assert_eq!(hull_separates(&rel, size, t), hull_separates_eager(&rel, size, t));
+            // On a corner or a face centre, exactly: the margins decide.
+            for x in [rel[6], (rel[1] + rel[2] + rel[5] + rel[6]) * 0.25] {
+                prop_assert_eq!(hull_separates(&rel, size, x), hull_separates_eager(&rel, size, x));
+            }
+        }
+    }
 
     fn cell() -> [DVec3; 8] {
         let mut c = CORNER_PARAMETERS.map(DVec3::from_array);
