@@ -23,7 +23,7 @@
 use glam::DVec3;
 
 use super::bounds::{cell_bounds, Aabb};
-use super::inverse::{invert, outside_hull, InverseStats};
+use super::inverse::{invert_within_hull, InverseStats};
 
 /// Parametric slack of the acceptance test (see the module documentation).
 pub const CONTAINMENT_TOLERANCE: f64 = 1e-9;
@@ -62,10 +62,7 @@ pub fn locate_in_cell_with_stats(
     // Without a guess the point is often a structure's candidate outside the cell: the
     // corners' hull rejects most such points for the price of a few dot products, where the
     // inverse map of a point outside the cell may take many damped Newton steps.
-    if guess.is_none() && outside_hull(corners, p) {
-        return None;
-    }
-    let inv = invert(corners, p, guess);
+    let inv = invert_within_hull(corners, p, guess)?;
     *stats += inv.stats;
     inv.param().filter(|&q| param_inside(q))
 }

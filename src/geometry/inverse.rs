@@ -197,6 +197,14 @@ impl PreparedCell {
     /// Prepares `corners` in place of the cell held (no prepared data is copied); on an error
     /// the cell held is not usable, and [`PreparedCell::invert`] reports it degenerate.
     pub fn prepare(&mut self, corners: &[DVec3; 8]) -> Result<(), InverseFailure> {
+        self.prepare_frame(corners)?;
+        self.poly = Monomials::new(&self.rel);
+        Ok(())
+    }
+
+    /// The first part of [`PreparedCell::prepare`]: the corners rebased and the size, enough
+    /// for the hull test; the monomials are left as they were.
+    fn prepare_frame(&mut self, corners: &[DVec3; 8]) -> Result<(), InverseFailure> {
         self.size = 0.0;
         if corners.iter().any(|c| !c.is_finite()) {
             return Err(InverseFailure::NonFinite);
@@ -212,7 +220,6 @@ impl PreparedCell {
             return Err(InverseFailure::Degenerate);
         }
         self.x0 = corners[0];
-        self.poly = Monomials::new(&self.rel);
         self.size = size;
         Ok(())
     }
@@ -556,6 +563,38 @@ pub fn invert(corners: &[DVec3; 8], target: DVec3, guess: Option<DVec3>) -> Inve
     }
 }
 
+/// [`invert`], except that without a guess a target outside the corners' hull
+/// ([`outside_hull`]) is `None`, with no inversion: what a point location's candidate test
+/// does, the cell rebased once for both the hull test and the inversion.
+///
+/// ```
+/// use cylvol::geometry::inverse::{invert, invert_within_hull};
+/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
+/// use glam::DVec3;
+/// let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+/// let inside = DVec3::new(0.5, 0.5, 0.99);
+/// assert_eq!(invert_within_hull(&cube, inside, None), Some(invert(&cube, inside, None)));
+/// assert_eq!(invert_within_hull(&cube, DVec3::new(0.5, 0.5, 1.01), None), None);
+/// ```
+pub fn invert_within_hull(
+    corners: &[DVec3; 8],
+    target: DVec3,
+    guess: Option<DVec3>,
+) -> Option<Inversion> {
+    if !target.is_finite() || guess.is_some_and(|g| !g.is_finite()) {
+        return Some(failed(InverseFailure::NonFinite));
+    }
+    let mut cell = PreparedCell::default();
+    if let Err(e) = cell.prepare_frame(corners) {
+        return Some(failed(e));
+    }
+    if guess.is_none() && hull_separates(&cell.rel, cell.size, target - cell.x0) {
+        return None;
+    }
+    cell.poly = Monomials::new(&cell.rel);
+    Some(cell.invert(target, guess))
+}
+
 /// An inversion that failed before any work.
 fn failed(e: InverseFailure) -> Inversion {
     Inversion {
@@ -744,6 +783,29 @@ mod tests {
             for x in [rel[6], (rel[1] + rel[2] + rel[5] + rel[6]) * 0.25] {
                 prop_assert_eq!(hull_separates(&rel, size, x), hull_separates_eager(&rel, size, x));
             }
+        }
+
+        /// The candidate test preparing the cell once answers as the hull test followed by
+        /// the inversion, each preparing it, for cells degenerate or not and any guess.
+        #[test]
+        fn invert_within_hull_is_hull_then_invert(
+            moves in proptest::array::uniform8(proptest::array::uniform3(-0.45f64..0.45)),
+            collapse in 0usize..3,
+            target in proptest::array::uniform3(-0.6f64..1.6),
+            guess in proptest::option::of(proptest::array::uniform3(0.0f64..1.0)),
+        ) {
+            let mut c = CORNER_PARAMETERS.map(DVec3::from_array);
+            for (x, m) in c.iter_mut().zip(moves) {
+                *x += DVec3::from_array(m);
+            }
+            match collapse {
+                1 => c = [c[0]; 8],
+                2 => c[3] = DVec3::NAN,
+                _ => {}
+            }
+            let (p, g) = (DVec3::from_array(target), guess.map(DVec3::from_array));
+            let expected = (g.is_some() || !outside_hull(&c, p)).then(|| invert(&c, p, g));
+            prop_assert_eq!(invert_within_hull(&c, p, g), expected);
         }
     }
 
