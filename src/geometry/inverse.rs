@@ -335,14 +335,9 @@ fn newton_step(j: &DMat3, r: DVec3) -> DVec3 {
 /// assert!(!outside_hull(&cube, DVec3::new(0.5, 0.5, 0.99)));
 /// ```
 pub fn outside_hull(corners: &[DVec3; 8], target: DVec3) -> bool {
-    let rel = relative_corners(corners);
-    let (mut bmin, mut bmax) = (DVec3::ZERO, DVec3::ZERO);
-    for c in &rel {
-        bmin = bmin.min(*c);
-        bmax = bmax.max(*c);
-    }
-    let size = (bmax - bmin).length();
-    size.is_finite() && hull_separates(&rel, size, target - corners[0])
+    // A cell that cannot be prepared (non-finite or all one point) separates nothing.
+    let mut cell = PreparedCell::default();
+    cell.prepare_frame(corners).is_ok() && hull_separates(&cell.rel, cell.size, target - cell.x0)
 }
 
 /// [`outside_hull`] for corners relative to corner 0 and a target relative to it.

@@ -450,7 +450,7 @@ impl<B: BvhBounds> Ctx<B> {
             let mut bins = [[EMPTY_BIN; K]; 3];
             for it in chunk {
                 let (lo, hi) = (it.lo(), it.hi());
-                let at = binning.bins_of((lo + hi) * 0.5);
+                let at = binning.bins_of(it.centre());
                 for (a, bins) in bins.iter_mut().enumerate() {
                     if live & (1 << a) != 0 {
                         let b = &mut bins[at[a]];

@@ -87,6 +87,16 @@ fn corners_empty(lo: &[f32; 3], hi: &[f32; 3]) -> bool {
 /// The corners of an empty bound.
 const EMPTY_CORNERS: ([f32; 3], [f32; 3]) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
 
+/// The corners as they are, or [`EMPTY_CORNERS`] where they hold no point.
+#[inline]
+fn corners_or_empty(lo: [f32; 3], hi: [f32; 3]) -> ([f32; 3], [f32; 3]) {
+    if corners_empty(&lo, &hi) {
+        EMPTY_CORNERS
+    } else {
+        (lo, hi)
+    }
+}
+
 /// The largest `f32` not above `x` (NaN stays NaN).
 #[inline]
 pub(crate) fn f32_down(x: f64) -> f32 {
@@ -260,19 +270,11 @@ impl BvhBounds for Aabb {
     }
 
     fn compact_corners(c: &BoxF32) -> ([f32; 3], [f32; 3]) {
-        if corners_empty(&c.min, &c.max) {
-            EMPTY_CORNERS
-        } else {
-            (c.min, c.max)
-        }
+        corners_or_empty(c.min, c.max)
     }
 
     fn compact_from_corners(lo: [f32; 3], hi: [f32; 3]) -> BoxF32 {
-        let (min, max) = if corners_empty(&lo, &hi) {
-            EMPTY_CORNERS
-        } else {
-            (lo, hi)
-        };
+        let (min, max) = corners_or_empty(lo, hi);
         BoxF32 { min, max }
     }
 }
@@ -489,13 +491,7 @@ impl BvhBounds for CylBounds {
     }
 
     fn compact_corners(c: &SectorF32) -> ([f32; 3], [f32; 3]) {
-        let lo = [c.r[0], c.theta[0], c.h[0]];
-        let hi = [c.r[1], c.theta[1], c.h[1]];
-        if corners_empty(&lo, &hi) {
-            EMPTY_CORNERS
-        } else {
-            (lo, hi)
-        }
+        corners_or_empty([c.r[0], c.theta[0], c.h[0]], [c.r[1], c.theta[1], c.h[1]])
     }
 
     fn compact_from_corners(lo: [f32; 3], hi: [f32; 3]) -> SectorF32 {

@@ -168,6 +168,9 @@ fn attempt(
     grid.top_inv = inverse_size(extent, top_res);
     let top_cells = top_res.iter().map(|&r| r as usize).product::<usize>();
 
+    // References allowed at each level.
+    let most_refs = budget(count, REFS_PER_PIECE, REFS_FLOOR);
+
     // Round one: the pieces of every top cell, in piece order (a stable counting sort).
     let valid = |b: &Aabb| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
     let top_inv = grid.top_inv;
@@ -184,7 +187,7 @@ fn attempt(
             })
         },
         top_res,
-        budget(count, REFS_PER_PIECE, REFS_FLOOR),
+        most_refs,
     )
     .ok_or(Overflow::Top)?;
 
@@ -219,7 +222,6 @@ fn attempt(
         return Err(Overflow::Leaves);
     }
     grid.top = top;
-    let most_refs = budget(count, REFS_PER_PIECE, REFS_FLOOR);
     let (refs, leaf_begin) =
         fill_leaves(&grid, pieces, &top_begin, &top_refs, most_refs).ok_or(Overflow::Leaves)?;
     drop(top_refs);
