@@ -195,10 +195,9 @@ impl Accel {
     /// The cell containing `p` and its parametric coordinates there, or `None` when no cell
     /// holds it; the work goes into `counters`.
     pub fn locate(&self, mesh: &Mesh, p: DVec3, counters: &mut Counters) -> Option<(u32, DVec3)> {
-        let q = self.coordinates.of(p);
         let mut tests = 0u64;
         let mut param = DVec3::ZERO;
-        let cell = self.structure.find(q, counters, |c| {
+        let accept = |c: u32| {
             tests += 1;
             match locate_in_cell(&mesh.cell_corners(c as usize), p, None) {
                 Some(found) => {
@@ -207,7 +206,14 @@ impl Accel {
                 }
                 None => false,
             }
-        });
+        };
+        let cell = match (&self.structure, &self.coordinates) {
+            // The sector BVH compares pseudo-angles: made from the point with no atan2.
+            (Structure::CylBvh(b), Coordinates::Cylindrical(frame)) => {
+                b.find_stored(frame.to_pseudo_cylindrical(p), counters, accept)
+            }
+            (structure, coordinates) => structure.find(coordinates.of(p), counters, accept),
+        };
         counters.hex_tests += tests;
         cell.map(|c| (c, param))
     }

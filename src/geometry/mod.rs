@@ -16,6 +16,7 @@ pub mod containment;
 pub mod cylindrical;
 pub mod inverse;
 pub mod patch;
+pub mod pseudo_angle;
 pub mod trilinear;
 
 pub use bounds::{cell_bounds, Aabb};

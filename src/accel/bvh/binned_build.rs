@@ -9,7 +9,6 @@ use rayon::prelude::*;
 use super::bounds::BvhBounds;
 use super::{Bvh, BvhParams, Node, Ref, MAX_DEPTH};
 use crate::accel::space::Pieces;
-use crate::geometry::bounds::Aabb;
 
 /// Most SAH bins per axis.
 pub(crate) const MAX_BINS: usize = 32;
@@ -213,13 +212,13 @@ impl Corners {
     }
 
     /// The surface area, in world units, of the bound these corners stand for (the
-    /// heuristic's `A`; sectors measure their arc's span, which the padding of stored arcs
-    /// widens by far less than their `f32` rounding).
+    /// heuristic's `A`, [`BvhBounds::corners_area`]; the padding of stored arcs widens them
+    /// by far less than their `f32` rounding).
     fn area<B: BvhBounds>(&self) -> f64 {
         if !self.lo.cmple(self.hi).all() {
             return 0.0;
         }
-        B::linear_area(&Aabb::new(self.lo.as_dvec3(), self.hi.as_dvec3()))
+        B::corners_area(self.lo.to_array(), self.hi.to_array())
     }
 }
 

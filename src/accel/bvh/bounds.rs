@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use crate::geometry::bounds::Aabb;
 use crate::geometry::cylindrical::{CylBounds, ThetaInterval, ANGLE_SLACK};
+use crate::geometry::pseudo_angle::{angle_of_pseudo, arc_width, pseudo_of_angle, TURN};
 
 /// Angular padding (radians) of every stored sector arc, at each end: far above the rounding
 /// of unwrapping and of reducing a query angle, far below any cell's angular size.
@@ -50,6 +51,11 @@ pub trait BvhBounds: Copy + Send + Sync + Debug + 'static {
     /// The surface area, in world units, of the bound a linear box stands for (equal to
     /// `delinearize(lin).surface_area()`, computed without reducing angles).
     fn linear_area(lin: &Aabb) -> f64;
+    /// The surface area in world units of the bound stored corners stand for
+    /// ([`BvhBounds::compact_corners`], as the build takes them): for boxes,
+    /// [`BvhBounds::linear_area`]; for sectors, the same with the arc's width estimated from
+    /// its pseudo-angles ([`crate::geometry::pseudo_angle::arc_width`]).
+    fn corners_area(lo: [f32; 3], hi: [f32; 3]) -> f64;
     /// The true surface area in world units.
     fn surface_area(&self) -> f64;
     /// Whether the point (in the structure's coordinates) lies in the bound.
@@ -58,7 +64,11 @@ pub trait BvhBounds: Copy + Send + Sync + Debug + 'static {
     fn compact(lin: &Aabb, frame: &LinearFrame) -> Self::Compact;
     /// The bound a compact form stands for (for statistics; rounding of the anchor aside).
     fn expand(c: &Self::Compact, frame: &LinearFrame) -> Self;
-    /// Whether a compact bound contains the query `q_rel = q − frame.anchor`.
+    /// A point in the bound's coordinates (`(x, y, z)`; `(r, θ, h)`) as the stored bounds
+    /// compare it (`(x, y, z)`; `(r, φ, h)` with `φ` the pseudo-angle of `θ`).
+    fn stored_coordinates(q: DVec3) -> DVec3;
+    /// Whether a compact bound contains the query `q_rel = q − frame.anchor`, `q` in the
+    /// stored bounds' coordinates ([`BvhBounds::stored_coordinates`]).
     fn compact_contains(c: &Self::Compact, q_rel: DVec3) -> bool;
     /// Whether compact `outer` contains compact `inner` (exact comparison of stored values).
     fn compact_encloses(outer: &Self::Compact, inner: &Self::Compact) -> bool;
@@ -144,14 +154,17 @@ pub struct BoxF32 {
     pub max: [f32; 3],
 }
 
-/// A sector stored as `f32`: `r`, the unwrapped arc `[θ_lo, θ_hi]` (absolute angles,
-/// `θ_lo ∈ [−π, 3π]`, `θ_hi − θ_lo ≥ 2π` for the whole circle) and `h` relative to the anchor.
+/// A sector stored as `f32`: `r`, the unwrapped arc as pseudo-angles `[φ_lo, φ_hi]`
+/// ([`crate::geometry::pseudo_angle`]: absolute, a turn is 4, `φ_lo ∈ [−2, 6]`,
+/// `φ_hi − φ_lo ≥ 4` for the whole circle) and `h` relative to the anchor. A query compares
+/// its own pseudo-angle with them, so it needs no `atan2`.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 #[repr(C)]
 pub struct SectorF32 {
     /// `[r_min, r_max]` (rounded outward).
     pub r: [f32; 2],
-    /// `[θ_lo, θ_hi]` (rounded outward after padding by [`THETA_PAD`]).
+    /// `[φ_lo, φ_hi]`: the pseudo-angles of the arc's ends padded by [`THETA_PAD`] radians,
+    /// rounded outward.
     pub theta: [f32; 2],
     /// `[h_min, h_max]` relative to the anchor (rounded outward).
     pub h: [f32; 2],
@@ -204,6 +217,14 @@ impl BvhBounds for Aabb {
         lin.surface_area()
     }
 
+    fn corners_area(lo: [f32; 3], hi: [f32; 3]) -> f64 {
+        let lin = Aabb::new(
+            DVec3::from_array(lo.map(f64::from)),
+            DVec3::from_array(hi.map(f64::from)),
+        );
+        lin.surface_area()
+    }
+
     fn surface_area(&self) -> f64 {
         Aabb::surface_area(self)
     }
@@ -232,6 +253,11 @@ impl BvhBounds for Aabb {
             DVec3::new(c.min[0] as f64, c.min[1] as f64, c.min[2] as f64) + frame.anchor,
             DVec3::new(c.max[0] as f64, c.max[1] as f64, c.max[2] as f64) + frame.anchor,
         )
+    }
+
+    #[inline(always)]
+    fn stored_coordinates(q: DVec3) -> DVec3 {
+        q
     }
 
     #[inline(always)]
@@ -373,6 +399,20 @@ impl BvhBounds for CylBounds {
         sector_area(lin)
     }
 
+    fn corners_area(lo: [f32; 3], hi: [f32; 3]) -> f64 {
+        let width = arc_width(lo[1] as f64, hi[1] as f64);
+        // A whole turn keeps its span, so that the area leaves out the planar sides.
+        let span = if hi[1] as f64 - lo[1] as f64 >= TURN {
+            TAU
+        } else {
+            width
+        };
+        sector_area(&Aabb::new(
+            DVec3::new(lo[0] as f64, 0.0, lo[2] as f64),
+            DVec3::new(hi[0] as f64, span, hi[2] as f64),
+        ))
+    }
+
     fn surface_area(&self) -> f64 {
         CylBounds::surface_area(self)
     }
@@ -385,9 +425,10 @@ impl BvhBounds for CylBounds {
         if lin.is_empty() {
             return EMPTY_SECTOR;
         }
-        // Unwrapped, not reduced: monotone in the linear box, so nesting is kept bit for bit.
-        let lo = frame.theta0 + lin.min.y - THETA_PAD;
-        let hi = frame.theta0 + lin.max.y + THETA_PAD;
+        // Unwrapped, not reduced (nodes' bounds are unions of their children's stored
+        // bounds, so they nest bit for bit).
+        let lo = pseudo_of_angle(frame.theta0 + lin.min.y - THETA_PAD);
+        let hi = pseudo_of_angle(frame.theta0 + lin.max.y + THETA_PAD);
         SectorF32 {
             r: [f32_down(lin.min.x.max(0.0)), f32_up(lin.max.x)],
             theta: [f32_down(lo), f32_up(hi)],
@@ -402,14 +443,15 @@ impl BvhBounds for CylBounds {
         if c.r[0] > c.r[1] || c.h[0] > c.h[1] || c.theta[0] > c.theta[1] {
             return CylBounds::EMPTY;
         }
-        let span = c.theta[1] as f64 - c.theta[0] as f64;
-        let full = span >= TAU;
+        let lo = angle_of_pseudo(c.theta[0] as f64);
+        let span = angle_of_pseudo(c.theta[1] as f64) - lo;
+        let full = c.theta[1] as f64 - c.theta[0] as f64 >= TURN || span >= TAU;
         CylBounds {
             r: [c.r[0] as f64, c.r[1] as f64],
             theta: if full {
                 ThetaInterval::FULL
             } else {
-                ThetaInterval::new(c.theta[0] as f64, span)
+                ThetaInterval::new(lo, span)
             },
             h: [
                 c.h[0] as f64 + frame.anchor.z,
@@ -417,6 +459,11 @@ impl BvhBounds for CylBounds {
             ],
             straddles_axis: full && c.r[0] <= 0.0,
         }
+    }
+
+    #[inline(always)]
+    fn stored_coordinates(q: DVec3) -> DVec3 {
+        DVec3::new(q.x, pseudo_of_angle(q.y), q.z)
     }
 
     #[inline(always)]
@@ -435,15 +482,15 @@ impl BvhBounds for CylBounds {
         let t0 = c.theta[0] as f64;
         let mut d = q.y - t0;
         if d < 0.0 {
-            d += TAU;
+            d += TURN;
             if d < 0.0 {
-                d += TAU;
+                d += TURN;
             }
-        } else if d >= TAU {
-            d -= TAU;
+        } else if d >= TURN {
+            d -= TURN;
         }
-        if !(0.0..TAU).contains(&d) {
-            d = d.rem_euclid(TAU);
+        if !(0.0..TURN).contains(&d) {
+            d = d.rem_euclid(TURN);
         }
         d <= c.theta[1] as f64 - t0
     }
@@ -454,7 +501,7 @@ impl BvhBounds for CylBounds {
             && outer.h[0] <= inner.h[0]
             && outer.h[1] >= inner.h[1]
             && ((outer.theta[0] <= inner.theta[0] && outer.theta[1] >= inner.theta[1])
-                || outer.theta[1] as f64 - outer.theta[0] as f64 >= TAU)
+                || outer.theta[1] as f64 - outer.theta[0] as f64 >= TURN)
     }
 
     fn compact_holds(c: &SectorF32, b: &Self, frame: &LinearFrame) -> bool {
@@ -467,14 +514,20 @@ impl BvhBounds for CylBounds {
             && b.h[1] - frame.anchor.z <= c.h[1] as f64;
         let t0 = c.theta[0] as f64;
         let span = c.theta[1] as f64 - t0;
-        let theta = if span >= TAU {
+        let theta = if span >= TURN {
             true
         } else if b.theta.is_full() {
             false
         } else {
-            // The arc and the slack `ThetaInterval::contains` allows on either side.
-            let off = (b.theta.start() - ANGLE_SLACK - t0).rem_euclid(TAU);
-            off + b.theta.width() + 2.0 * ANGLE_SLACK <= span
+            // The arc and the slack `ThetaInterval::contains` allows on either side, in
+            // pseudo-angle.
+            let start = b.theta.start() - ANGLE_SLACK;
+            let (lo, hi) = (
+                pseudo_of_angle(start),
+                pseudo_of_angle(start + b.theta.width() + 2.0 * ANGLE_SLACK),
+            );
+            let off = (lo - t0).rem_euclid(TURN);
+            off + (hi - lo) <= span
         };
         rz && theta
     }
@@ -567,7 +620,7 @@ mod tests {
         assert!(lin.min.y.abs() < 1e-15 && (lin.max.y - (TAU - 6.0)).abs() < 1e-12);
         let c = CylBounds::compact(&lin, &frame);
         assert!(CylBounds::compact_holds(&c, &b, &frame));
-        let q = |t: f64| DVec3::new(1.5, t, 0.5 - frame.anchor.z);
+        let q = |t: f64| CylBounds::stored_coordinates(DVec3::new(1.5, t, 0.5 - frame.anchor.z));
         assert!(CylBounds::compact_contains(&c, q(PI)));
         assert!(CylBounds::compact_contains(&c, q(-3.05)));
         assert!(!CylBounds::compact_contains(&c, q(0.0)));

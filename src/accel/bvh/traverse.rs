@@ -22,6 +22,20 @@ impl<B: BvhBounds> Bvh<B> {
         counters: &mut Counters,
         accept: impl FnMut(u32) -> bool,
     ) -> Option<u32> {
+        self.find_stored(B::stored_coordinates(q), counters, accept)
+    }
+
+    /// [`Bvh::find`] for a point already in the stored bounds' coordinates
+    /// ([`BvhBounds::stored_coordinates`]): `(x, y, z)` for boxes, `(r, φ, h)` for sectors,
+    /// `φ` the pseudo-angle ([`crate::geometry::cylindrical::CylFrame::to_pseudo_cylindrical`]
+    /// makes it without trigonometry).
+    #[inline]
+    pub fn find_stored(
+        &self,
+        q: DVec3,
+        counters: &mut Counters,
+        accept: impl FnMut(u32) -> bool,
+    ) -> Option<u32> {
         let q = q - self.frame.anchor;
         self.find_where(|b| B::compact_contains(b, q), counters, accept)
     }
