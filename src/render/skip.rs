@@ -18,17 +18,14 @@
 //! the ray is intersected with them, so a sample the structure could locate is never skipped,
 //! and the fast path's image keeps the paper path's samples.
 
-use std::f64::consts::PI;
-
 use glam::DVec3;
 
 use crate::accel::bvh::ray::slab;
 use crate::accel::bvh::{
-    arc_narrower_than, arc_trig, ArcTrig, BoxF32, Bvh, BvhBounds, NodeMask, SectorF32,
+    arc_narrower_than_half_turn, arc_trig, ArcTrig, BoxF32, Bvh, BvhBounds, NodeMask, SectorF32,
 };
 use crate::accel::{Accel, Coordinates, Counters, Structure};
 use crate::geometry::cylindrical::CylFrame;
-use crate::geometry::pseudo_angle::TURN;
 
 /// A ray in the structure's frame, ready for its bounds.
 #[derive(Clone, Copy, Debug)]
@@ -108,7 +105,7 @@ impl LocalRay {
         }
         // θ: an arc narrower than π is the intersection of two half-planes through the axis,
         // `cross(e(θ_lo), x) ≥ 0` and `cross(x, e(θ_hi)) ≥ 0` (padded by `pad`).
-        if narrower_than_half_turn(s, trig) {
+        if arc_narrower_than_half_turn(s, trig) {
             let [s0, c0, s1, c1] = match trig {
                 Some(t) => *t,
                 None => arc_trig(s),
@@ -292,23 +289,6 @@ impl<'a> Skipper<'a> {
             }
             _ => true,
         }
-    }
-}
-
-/// Whether a stored arc is narrower than `π − 10⁻⁶` (where its two half-planes bound it), by
-/// [`arc_narrower_than`], or, from the arc's sines and cosines where they are known, without
-/// trigonometry: an arc of pseudo-angles at least a quarter turn wide is at least `π/2` wide
-/// and, short of a whole turn, narrower than `2π`, so it is narrower than `π − 10⁻⁶` exactly
-/// where the sine of its width is above `sin 10⁻⁶`.
-#[inline]
-fn narrower_than_half_turn(s: &SectorF32, trig: Option<&ArcTrig>) -> bool {
-    const LIMIT: f64 = PI - 1e-6;
-    let span = s.theta[1] as f64 - s.theta[0] as f64;
-    match trig {
-        Some(&[s0, c0, s1, c1]) if (0.5 * LIMIT..TURN).contains(&span) => {
-            s1 * c0 - c1 * s0 > 1e-6f64.sin()
-        }
-        _ => arc_narrower_than(s, LIMIT),
     }
 }
 

@@ -18,36 +18,41 @@ pub fn arc_trig(s: &SectorF32) -> ArcTrig {
     [s0, c0, s1, c1]
 }
 
-/// Whether a stored sector's arc is narrower than `limit` radians (a whole turn is not).
-/// The pseudo-angle rises by at least a half per radian, so an arc of pseudo-angles narrower
-/// than half of `limit` is narrower than `limit`, which settles most arcs without
-/// trigonometry; the others are measured.
+/// Whether a stored sector's arc is narrower than `π − 10⁻⁶`, where its two half-planes
+/// through the axis bound it (`trig` its [`arc_trig`], if known). The pseudo-angle rises by
+/// at least a half and at most one per radian, so an arc of pseudo-angles narrower than
+/// `(π − 10⁻⁶)/2` is narrow, one of a whole turn is not, and any other is at least `π/2` and
+/// less than `2π` wide: narrow exactly where the sine of its width is above `sin 10⁻⁶`.
 ///
 /// ```
-/// use cylvol::accel::bvh::{arc_narrower_than, SectorF32};
+/// use cylvol::accel::bvh::{arc_narrower_than_half_turn, SectorF32};
 /// use cylvol::geometry::pseudo_angle::pseudo_of_angle;
 /// let arc = |a: f64, b: f64| SectorF32 {
 ///     r: [1.0, 2.0],
 ///     theta: [pseudo_of_angle(a) as f32, pseudo_of_angle(b) as f32],
 ///     h: [0.0, 1.0],
 /// };
-/// assert!(arc_narrower_than(&arc(0.1, 0.3), 1.0));
-/// assert!(arc_narrower_than(&arc(-3.0, 0.0), 3.1));
-/// assert!(!arc_narrower_than(&arc(-3.0, 0.2), 3.1));
-/// assert!(!arc_narrower_than(&arc(-3.2, 3.2), 3.1));
+/// assert!(arc_narrower_than_half_turn(&arc(0.1, 0.3), None));
+/// assert!(arc_narrower_than_half_turn(&arc(-3.0, 0.0), None));
+/// assert!(!arc_narrower_than_half_turn(&arc(-3.0, 0.2), None));
+/// assert!(!arc_narrower_than_half_turn(&arc(-3.2, 3.2), None));
 /// ```
 #[inline]
-pub fn arc_narrower_than(s: &SectorF32, limit: f64) -> bool {
-    let (lo, hi) = (s.theta[0] as f64, s.theta[1] as f64);
-    let span = hi - lo;
-    if span < 0.5 * limit * (1.0 - 1e-9) {
+pub fn arc_narrower_than_half_turn(s: &SectorF32, trig: Option<&ArcTrig>) -> bool {
+    const LIMIT: f64 = std::f64::consts::PI - 1e-6;
+    let span = s.theta[1] as f64 - s.theta[0] as f64;
+    if span < 0.5 * LIMIT {
         return true;
     }
     // NaN and whole turns are not narrow.
     if span >= TURN || span.is_nan() {
         return false;
     }
-    angle_of_pseudo(hi) - angle_of_pseudo(lo) < limit
+    let [s0, c0, s1, c1] = match trig {
+        Some(t) => *t,
+        None => arc_trig(s),
+    };
+    s1 * c0 - c1 * s0 > 1e-6f64.sin()
 }
 
 /// [`arc_trig`] of every node of a cylindrical BVH, in node order.

@@ -218,11 +218,10 @@ impl BvhBounds for Aabb {
     }
 
     fn corners_area(lo: [f32; 3], hi: [f32; 3]) -> f64 {
-        let lin = Aabb::new(
+        Self::linear_area(&Aabb::new(
             DVec3::from_array(lo.map(f64::from)),
             DVec3::from_array(hi.map(f64::from)),
-        );
-        lin.surface_area()
+        ))
     }
 
     fn surface_area(&self) -> f64 {
@@ -400,13 +399,8 @@ impl BvhBounds for CylBounds {
     }
 
     fn corners_area(lo: [f32; 3], hi: [f32; 3]) -> f64 {
-        let width = arc_width(lo[1] as f64, hi[1] as f64);
-        // A whole turn keeps its span, so that the area leaves out the planar sides.
-        let span = if hi[1] as f64 - lo[1] as f64 >= TURN {
-            TAU
-        } else {
-            width
-        };
+        // A whole turn's width is 2π, so that the area leaves out the planar sides.
+        let span = arc_width(lo[1] as f64, hi[1] as f64);
         sector_area(&Aabb::new(
             DVec3::new(lo[0] as f64, 0.0, lo[2] as f64),
             DVec3::new(hi[0] as f64, span, hi[2] as f64),

@@ -64,7 +64,7 @@ mod validation;
 
 use std::marker::PhantomData;
 
-pub use arcs::{arc_narrower_than, arc_trig, ArcTrig, NodeArcs};
+pub use arcs::{arc_narrower_than_half_turn, arc_trig, ArcTrig, NodeArcs};
 pub use binned_build::build_bvh;
 pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32, THETA_PAD};
 pub use mask::NodeMask;
