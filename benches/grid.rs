@@ -77,7 +77,7 @@ fn tests_per_lookup(mesh: &Mesh, grid: &TwoLevelGrid, pts: &[DVec3]) -> (f64, f6
     let mut tests = 0u64;
     let mut found = 0usize;
     for &p in pts {
-        let f = grid.find(coords.of(p), &mut counters, |c| {
+        let f = grid.find(coords.query(p), &mut counters, |c| {
             tests += 1;
             locate_in_cell(&mesh.cell_corners(c as usize), p, None).is_some()
         });

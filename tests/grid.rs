@@ -198,12 +198,14 @@ proptest! {
         grid.assert_well_formed(&boxes);
         for (x, y, z) in points {
             let p = DVec3::new(x, y, z);
-            let q = coords.of(p);
+            // The sectors hold (r, θ, h); the grid is queried in (r, φ, h).
+            let (r, theta, h) = frame.to_cylindrical(p);
+            let q = coords.query(p);
             let brute: BTreeSet<u32> = cyl
                 .bounds
                 .iter()
                 .zip(&cyl.cells)
-                .filter(|(b, _)| b.contains(q.x, q.y, q.z))
+                .filter(|(b, _)| b.contains(r, theta, h))
                 .map(|(_, &c)| c)
                 .collect();
             let (set, _) = offered(&grid, q);
@@ -401,7 +403,7 @@ fn check_location(
                 boxes.bounds[c].contains(p)
                     && locate_in_cell(&mesh.cell_corners(c), p, None).is_some()
             });
-            let found = grid.find(coords.of(p), &mut counters, |c| {
+            let found = grid.find(coords.query(p), &mut counters, |c| {
                 tests += 1;
                 locate_in_cell(&mesh.cell_corners(c as usize), p, None).is_some()
             });

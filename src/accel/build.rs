@@ -207,13 +207,9 @@ impl Accel {
                 None => false,
             }
         };
-        let cell = match (&self.structure, &self.coordinates) {
-            // The sector BVH compares pseudo-angles: made from the point with no atan2.
-            (Structure::CylBvh(b), Coordinates::Cylindrical(frame)) => {
-                b.find_stored(frame.to_pseudo_cylindrical(p), counters, accept)
-            }
-            (structure, coordinates) => structure.find(coordinates.of(p), counters, accept),
-        };
+        let cell = self
+            .structure
+            .find(self.coordinates.query(p), counters, accept);
         counters.hex_tests += tests;
         cell.map(|c| (c, param))
     }

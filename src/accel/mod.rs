@@ -113,7 +113,7 @@ impl AddAssign for Counters {
 /// One of the four structures, built.
 #[derive(Clone, Debug)]
 pub enum Structure {
-    /// A grid over boxes in `(x, y, z)` or `(r, θ, h)`.
+    /// A grid over boxes in `(x, y, z)` or `(r, φ, h)`.
     Grid(TwoLevelGrid),
     /// A BVH of boxes.
     CartBvh(Bvh<Aabb>),
@@ -122,8 +122,8 @@ pub enum Structure {
 }
 
 impl Structure {
-    /// Offers the cells whose pieces contain `q` (a point already in the structure's
-    /// coordinates) to `accept` until it returns `true`; returns that cell.
+    /// Offers the cells whose pieces contain `q` (a point as the structure compares it,
+    /// [`Coordinates::query`]) to `accept` until it returns `true`; returns that cell.
     #[inline]
     pub fn find(
         &self,
@@ -133,8 +133,8 @@ impl Structure {
     ) -> Option<u32> {
         match self {
             Structure::Grid(g) => g.find(q, counters, accept),
-            Structure::CartBvh(b) => b.find(q, counters, accept),
-            Structure::CylBvh(b) => b.find(q, counters, accept),
+            Structure::CartBvh(b) => b.find_stored(q, counters, accept),
+            Structure::CylBvh(b) => b.find_stored(q, counters, accept),
         }
     }
 }

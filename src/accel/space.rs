@@ -14,6 +14,10 @@
 //! the seam and the grid's θ range is the sector's own. For a full ring some cells cross it: a
 //! BVH keeps their arcs whole ([`crate::geometry::cylindrical::ThetaInterval`] unions on the
 //! circle); a grid references them on both sides ([`linear_boxes`]).
+//!
+//! **Queries** compare pseudo-angles ([`crate::geometry::pseudo_angle`]) instead of angles:
+//! `(r, φ, h)` ([`Coordinates::query`]) takes one division where `(r, θ, h)` takes an `atan2`,
+//! and both cylindrical structures store their arcs' ends as padded pseudo-angles.
 
 use std::f64::consts::{PI, TAU};
 
@@ -26,22 +30,34 @@ use crate::geometry::containment::{reject_box, CONTAINMENT_TOLERANCE};
 use crate::geometry::cylindrical::{
     cylindrical_bounds, normalize_angle, straddle_sectors, CylBounds, CylFrame, ThetaInterval,
 };
+use crate::geometry::pseudo_angle::padded_pseudo_arc;
 use crate::Mesh;
 
 /// Sectors a cell straddling the axis is cut into, by default.
 pub const DEFAULT_STRADDLE_SECTORS: usize = 8;
 
-/// The coordinates of a structure: points are mapped by [`Coordinates::of`] before a query.
+/// The coordinates of a structure: points are mapped by [`Coordinates::query`] before a
+/// query.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Coordinates {
     /// `(x, y, z)` as given.
     Cartesian,
-    /// `(r, θ, h)` in this frame, `θ ∈ (−π, π]`.
+    /// `(r, θ, h)` in this frame, `θ ∈ (−π, π]`; the structures compare `(r, φ, h)`, `φ` the
+    /// angle's pseudo-angle.
     Cylindrical(CylFrame),
 }
 
 impl Coordinates {
-    /// The point in these coordinates.
+    /// The point in these coordinates: `(x, y, z)`, or `(r, θ, h)` with `θ ∈ (−π, π]`.
+    ///
+    /// ```
+    /// use cylvol::accel::Coordinates;
+    /// use cylvol::geometry::cylindrical::CylFrame;
+    /// use glam::DVec3;
+    /// let c = Coordinates::Cylindrical(CylFrame::new(DVec3::ZERO, DVec3::Z).unwrap());
+    /// let q = c.of(DVec3::new(0.0, 2.0, 5.0));
+    /// assert!((q - DVec3::new(2.0, std::f64::consts::FRAC_PI_2, 5.0)).length() < 1e-15);
+    /// ```
     #[inline]
     pub fn of(&self, p: DVec3) -> DVec3 {
         match self {
@@ -50,6 +66,26 @@ impl Coordinates {
                 let (r, theta, h) = frame.to_cylindrical(p);
                 DVec3::new(r, theta, h)
             }
+        }
+    }
+
+    /// The point as the structures compare it ([`Structure::find`](super::Structure::find)
+    /// takes it): `(x, y, z)`, or `(r, φ, h)` with `φ ∈ (−2, 2]` the pseudo-angle of θ
+    /// ([`crate::geometry::pseudo_angle`]), made with one division instead of an `atan2`.
+    ///
+    /// ```
+    /// use cylvol::accel::Coordinates;
+    /// use cylvol::geometry::cylindrical::CylFrame;
+    /// use glam::DVec3;
+    /// let c = Coordinates::Cylindrical(CylFrame::new(DVec3::ZERO, DVec3::Z).unwrap());
+    /// assert_eq!(c.query(DVec3::new(0.0, 2.0, 5.0)), DVec3::new(2.0, 1.0, 5.0));
+    /// assert_eq!(Coordinates::Cartesian.query(DVec3::ONE), DVec3::ONE);
+    /// ```
+    #[inline]
+    pub fn query(&self, p: DVec3) -> DVec3 {
+        match self {
+            Coordinates::Cartesian => p,
+            Coordinates::Cylindrical(frame) => frame.to_pseudo_cylindrical(p),
         }
     }
 }
@@ -252,7 +288,9 @@ pub fn seam_frame(axis: &Axis, pieces: Pieces<CylBounds>) -> Option<(CylFrame, P
     Some((rotated, Pieces { bounds, cells }))
 }
 
-/// Sector pieces as boxes in `(r, θ, h)` with θ in `[−π, π]`: an arc crossing the seam gives
+/// Sector pieces as boxes in `(r, φ, h)`, the coordinates [`Coordinates::query`] makes: an arc
+/// `[θ₀, θ₁]` within `[−π, π]` becomes `[φ₀, φ₁]`, its pseudo-angles padded by
+/// [`THETA_PAD`](crate::geometry::pseudo_angle::THETA_PAD) ([`padded_pseudo_arc`]), so about `[−2, 2]`; an arc crossing the seam gives
 /// two boxes (the cell is referenced on both sides). For the grids.
 pub fn linear_boxes(pieces: &Pieces<CylBounds>) -> Pieces<Aabb> {
     const CHUNK: usize = 1 << 14;
@@ -282,6 +320,7 @@ pub fn linear_boxes(pieces: &Pieces<CylBounds>) -> Pieces<Aabb> {
         let mut j = 0;
         for (b, &cell) in bounds[from.clone()].iter().zip(&cells[from]) {
             for [lo, hi] in b.theta.ranges() {
+                let [lo, hi] = padded_pseudo_arc(lo, hi);
                 out_b[j] = Aabb::new(
                     DVec3::new(b.r[0], lo, b.h[0]),
                     DVec3::new(b.r[1], hi, b.h[1]),

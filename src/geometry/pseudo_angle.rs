@@ -17,6 +17,32 @@ use std::f64::consts::{FRAC_2_PI, FRAC_PI_2, TAU};
 /// One turn in pseudo-angle (`2π` radians).
 pub const TURN: f64 = 4.0;
 
+/// Angular padding (radians) of an arc's ends before they become pseudo-angles
+/// ([`padded_pseudo_arc`]): far above the rounding of unwrapping an angle and of making a
+/// query's pseudo-angle, far below any cell's angular size.
+pub const THETA_PAD: f64 = 1e-12;
+
+/// The pseudo-angles of the arc `[lo, hi]` (radians, unwrapped: `hi` may pass `π`), each end
+/// first padded outward by [`THETA_PAD`]. A direction whose angle lies in the arc has its
+/// pseudo-angle ([`pseudo_angle`], plus [`TURN`] per turn beyond `(−π, π]`) in the result:
+/// the padding covers the rounding of both.
+///
+/// ```
+/// use cylvol::geometry::pseudo_angle::{padded_pseudo_arc, pseudo_angle};
+/// use std::f64::consts::{FRAC_PI_2, PI};
+/// let [lo, hi] = padded_pseudo_arc(-PI, FRAC_PI_2);
+/// assert!(lo < -2.0 && lo > -2.0 - 1e-11 && hi > 1.0 && hi < 1.0 + 1e-11);
+/// let p = pseudo_angle(1.0, 0.0); // θ = π/2 exactly, at the arc's end
+/// assert!(lo <= p && p <= hi);
+/// ```
+#[inline]
+pub fn padded_pseudo_arc(lo: f64, hi: f64) -> [f64; 2] {
+    [
+        pseudo_of_angle(lo - THETA_PAD),
+        pseudo_of_angle(hi + THETA_PAD),
+    ]
+}
+
 /// The pseudo-angle of the direction `(x, y)`, in `(−2, 2]`: increasing with
 /// `atan2(y, x)` taken in `(−π, π]` (`y = −0` with `x < 0` is `θ = π`, pseudo-angle 2), and
 /// 0 for the zero vector.

@@ -279,7 +279,7 @@ impl<'a> Skipper<'a> {
     pub fn may_hold(&self, p: DVec3, counters: &mut Counters) -> bool {
         match self.accel.structure() {
             Structure::Grid(g) => {
-                let q = self.accel.coordinates().of(p);
+                let q = self.accel.coordinates().query(p);
                 if !g.domain().contains(q) {
                     return false;
                 }

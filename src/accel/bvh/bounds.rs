@@ -10,11 +10,9 @@ use rayon::prelude::*;
 
 use crate::geometry::bounds::Aabb;
 use crate::geometry::cylindrical::{CylBounds, ThetaInterval, ANGLE_SLACK};
-use crate::geometry::pseudo_angle::{angle_of_pseudo, arc_width, pseudo_of_angle, TURN};
-
-/// Angular padding (radians) of every stored sector arc, at each end: far above the rounding
-/// of unwrapping and of reducing a query angle, far below any cell's angular size.
-pub const THETA_PAD: f64 = 1e-12;
+use crate::geometry::pseudo_angle::{
+    angle_of_pseudo, arc_width, padded_pseudo_arc, pseudo_of_angle, THETA_PAD, TURN,
+};
 
 /// Where a BVH's linear build coordinates and stored bounds are measured from.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -421,8 +419,7 @@ impl BvhBounds for CylBounds {
         }
         // Unwrapped, not reduced (nodes' bounds are unions of their children's stored
         // bounds, so they nest bit for bit).
-        let lo = pseudo_of_angle(frame.theta0 + lin.min.y - THETA_PAD);
-        let hi = pseudo_of_angle(frame.theta0 + lin.max.y + THETA_PAD);
+        let [lo, hi] = padded_pseudo_arc(frame.theta0 + lin.min.y, frame.theta0 + lin.max.y);
         SectorF32 {
             r: [f32_down(lin.min.x.max(0.0)), f32_up(lin.max.x)],
             theta: [f32_down(lo), f32_up(hi)],

@@ -27,7 +27,8 @@
 //!   All `f32` bounds are rounded **outward** from the `f64` bounds, relative to an anchor
 //!   (the root's centre; for sectors only `h` is shifted), so a mesh far from the origin keeps
 //!   tight bounds and every stored bound still contains its `f64` bound exactly. θ is stored
-//!   as an unwrapped `[θ₀ + lo, θ₀ + hi]`, padded by [`THETA_PAD`], so a parent's stored arc
+//!   as an unwrapped `[θ₀ + lo, θ₀ + hi]`, padded by
+//!   [`THETA_PAD`](crate::geometry::pseudo_angle::THETA_PAD), so a parent's stored arc
 //!   contains its children's bit for bit.
 //! - **Traversal** ([`Bvh::find`]): a small fixed stack; each node popped is tested against the
 //!   query and counted (`internal_visits` or `leaf_visits`); in a leaf, each piece whose stored
@@ -66,7 +67,7 @@ use std::marker::PhantomData;
 
 pub use arcs::{arc_narrower_than_half_turn, arc_trig, ArcTrig, NodeArcs};
 pub use binned_build::build_bvh;
-pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32, THETA_PAD};
+pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32};
 pub use mask::NodeMask;
 pub use stats::BvhStats;
 

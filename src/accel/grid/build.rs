@@ -35,7 +35,7 @@ const CHUNK: usize = 4096;
 const HISTOGRAM_BUDGET: usize = 1 << 24;
 
 /// Builds a two-level grid over boxes given in `coordinates` (for cylindrical coordinates,
-/// `(r, θ, h)` boxes as [`crate::accel::space::linear_boxes`] makes them). Empty or non-finite
+/// `(r, φ, h)` boxes as [`crate::accel::space::linear_boxes`] makes them). Empty or non-finite
 /// boxes are left out. Never panics; densities that would overflow the 32-bit ranges, or the
 /// grid's memory budget, are lowered until the grid fits. The budget, per piece: 16 top cells,
 /// 64 leaf cells and 512 references at each level (a few thousand cells and a million

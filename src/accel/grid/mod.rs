@@ -1,9 +1,12 @@
 //! Sort-based two-level grids (Kalojanov & Slusallek 2009; Kalojanov, Billeter & Slusallek
-//! 2011), in Cartesian `(x, y, z)` or cylindrical `(r, θ, h)` coordinates.
+//! 2011), in Cartesian `(x, y, z)` or cylindrical `(r, φ, h)` coordinates, `φ` the
+//! pseudo-angle of θ ([`crate::geometry::pseudo_angle`]).
 //!
 //! # Structure
-//! The grid indexes boxes ([`Pieces<Aabb>`](crate::accel::space::Pieces)) given in its own coordinates — for a cylindrical
-//! grid the `(r, θ, h)` boxes of [`super::space::linear_boxes`], θ in `[−π, π]`. The domain is
+//! The grid indexes boxes ([`Pieces<Aabb>`](crate::accel::space::Pieces)) given in its own
+//! coordinates — for a cylindrical grid the `(r, φ, h)` boxes of
+//! [`super::space::linear_boxes`], φ in about `[−2, 2]` (θ in `[−π, π]`), and a query point
+//! comes as [`crate::accel::Coordinates::query`] makes it (no `atan2`). The domain is
 //! the union of the boxes. The top level splits it into `R_x × R_y × R_z` cells by the density
 //! rule ([`GridParams::top_density`]); every non-empty top cell is split again, with its own
 //! resolution from its own number of pieces ([`GridParams::leaf_density`]). A second-level
@@ -128,7 +131,7 @@ pub(crate) struct TopCell {
     pub(crate) res: [u8; 3],
 }
 
-/// A two-level grid over boxes in `(x, y, z)` or `(r, θ, h)`; see the module documentation.
+/// A two-level grid over boxes in `(x, y, z)` or `(r, φ, h)`; see the module documentation.
 #[derive(Clone, Debug)]
 pub struct TwoLevelGrid {
     /// Coordinates and build time (boxed: rarely read, keeps the grid small).

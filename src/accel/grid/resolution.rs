@@ -5,7 +5,10 @@
 //! length along that axis (Kalojanov & Slusallek 2009). In Cartesian coordinates the lengths
 //! are the extents `d_x, d_y, d_z`. In cylindrical ones a region `[r, r + d_r] × [θ, θ + d_θ]
 //! × [h, h + d_h]` has the lengths `d_r`, the arc at mid radius `d_θ (2r + d_r)/2` and `d_h`,
-//! and `V` is their product — exactly the region's volume `d_r d_θ (2r + d_r)/2 d_h`.
+//! and `V` is their product — exactly the region's volume `d_r d_θ (2r + d_r)/2 d_h`. The grid
+//! is uniform in the pseudo-angle φ ([`crate::geometry::pseudo_angle`]), whose extent `d_φ`
+//! stands for `d_θ = d_φ · π/2` on average over the turn (a turn is 4 in φ, `2π` in θ; a cell
+//! of the grid spans between `d_φ` and `2 d_φ` radians, wider near the diagonals).
 //!
 //! A region that is flat along some axis (length zero, or negligible beside the others) gets
 //! one cell along it, and the rule is applied to the remaining axes with the matching power
@@ -17,17 +20,21 @@ use glam::DVec3;
 const FLAT: f64 = 1e-9;
 
 /// The lengths of a region along each axis for the rule: its extents, or with `inner_r` (the
-/// region's inner radius, in cylindrical coordinates) `(d_r, d_θ (2r + d_r)/2, d_h)`.
+/// region's inner radius, in cylindrical coordinates `(r, φ, h)`) `(d_r, d_θ (2r + d_r)/2,
+/// d_h)` with `d_θ = d_φ · π/2`.
 pub(super) fn lengths(extent: DVec3, inner_r: Option<f64>) -> DVec3 {
     match inner_r {
         None => extent,
         Some(r) => DVec3::new(
             extent.x,
-            extent.y * (2.0 * r.max(0.0) + extent.x) / 2.0,
+            extent.y * RADIANS_PER_PSEUDO * (2.0 * r.max(0.0) + extent.x) / 2.0,
             extent.z,
         ),
     }
 }
+
+/// Radians per unit of pseudo-angle, on average over a turn.
+const RADIANS_PER_PSEUDO: f64 = std::f64::consts::TAU / crate::geometry::pseudo_angle::TURN;
 
 /// The resolution `R_i = L_i ∛(λN/V)` (rounded, at least 1, at most `cap` per axis) of a
 /// region with the given lengths holding `count` primitives at density `density`.
@@ -85,8 +92,8 @@ mod tests {
 
     #[test]
     fn cylindrical_lengths_use_mid_radius_arc() {
-        // Annulus r ∈ [1, 3], a quarter turn, height 2: arc at r = 2 is π.
-        let l = lengths(DVec3::new(2.0, std::f64::consts::FRAC_PI_2, 2.0), Some(1.0));
+        // Annulus r ∈ [1, 3], a quarter turn (1 in pseudo-angle), height 2: arc at r = 2 is π.
+        let l = lengths(DVec3::new(2.0, 1.0, 2.0), Some(1.0));
         assert!((l.y - std::f64::consts::PI).abs() < 1e-15);
         // The product is the sector's volume: (r1² − r0²)/2 · dθ · dh = 4 · π/2 · 2.
         let v = l.x * l.y * l.z;
