@@ -98,6 +98,34 @@ fn bench_reports_every_structure_and_path_with_quotient_ratios() {
 }
 
 #[test]
+fn bench_takes_the_fastest_of_several_frames_with_the_same_counters() {
+    let once = json_of(&["bench", "pump-rotor:3000", "--size", "24", "--json"]);
+    let thrice = json_of(&[
+        "bench",
+        "pump-rotor:3000",
+        "--size",
+        "24",
+        "--frames",
+        "3",
+        "--json",
+    ]);
+    assert_eq!(once[0]["frames"], 1);
+    assert_eq!(thrice[0]["frames"], 3);
+    for s in STRUCTURES {
+        for path in ["paper", "fast"] {
+            for k in PATH_KEYS.iter().filter(|&&k| k != "frame_s") {
+                assert_eq!(
+                    once[0]["structures"][s][path][k], thrice[0]["structures"][s][path][k],
+                    "{s} {path} {k}"
+                );
+            }
+            assert!(thrice[0]["structures"][s][path]["frame_s"].as_f64() > Some(0.0));
+        }
+    }
+    fails_with(&["bench", "pump-rotor:2000", "--frames", "0"], "frames");
+}
+
+#[test]
 fn bench_prints_a_table_and_logs_progress() {
     let out = cylvol(&["bench", "pump-rotor:2000", "--size", "24"]);
     assert!(out.status.success());

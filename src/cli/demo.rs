@@ -157,6 +157,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
     let setup = super::bench::BenchSetup {
         width: DEMO_IMAGE,
         height: DEMO_IMAGE,
+        frames: 1,
         view: Some(DEMO_VIEW),
         step: None,
         transfer: Default::default(),
