@@ -208,3 +208,28 @@ fn bad_requests_get_clear_errors() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn a_refinement_beyond_the_machine_s_memory_is_an_error_not_an_abort() {
+    // About a million cells cut 16 × 16 × 16: 4 G cells (within u32), hundreds of GB.
+    let mesh =
+        cylvol::datasets::generate(cylvol::datasets::Dataset::PumpRotor, 1_000_000).expect("rotor");
+    let children = mesh.cell_count() as u64 * u64::from(MAX_REFINEMENT).pow(3);
+    assert!(
+        children <= u64::from(u32::MAX),
+        "{children} cells: over the u32 check instead"
+    );
+    let needed = cylvol::mesh::refined_bytes(&mesh, children);
+    let Some(memory) = cylvol::mesh::physical_memory() else {
+        eprintln!("no /proc/meminfo: the allocator's refusal is the only guard here");
+        return;
+    };
+    if memory >= needed {
+        eprintln!("{memory} bytes of memory hold the {needed} needed: nothing to refuse");
+        return;
+    }
+    match mesh.refined(MAX_REFINEMENT) {
+        Err(Error::Invalid(m)) => assert!(m.contains("GB of memory"), "{m}"),
+        other => panic!("{:?}", other.map(|m| m.cell_count())),
+    }
+}

@@ -16,7 +16,7 @@ pub use cell_kind::{
     vtk_type_name, CellKind, VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_VOXEL, VTK_WEDGE,
 };
 pub use data::{ActiveScalar, Association, Component, DataArray};
-pub use refine::MAX_REFINEMENT;
+pub use refine::{physical_memory, refined_bytes, MAX_REFINEMENT};
 pub use vtk_cells::{cells_from_vtk, ConvertedCells, OffsetStyle};
 
 use glam::DVec3;

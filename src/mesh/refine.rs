@@ -23,6 +23,37 @@ use crate::geometry::trilinear::{weights, CORNER_PARAMETERS};
 /// The largest number of cuts per edge [`Mesh::refined`] accepts.
 pub const MAX_REFINEMENT: u32 = 16;
 
+/// About the bytes [`Mesh::refined`] holds at its peak for `children` cells: per child, its
+/// corner ids and kind, and about one point (coordinates, the weights it is made from, and a
+/// value per component of every point array), plus the copied cell arrays.
+///
+/// ```
+/// use cylvol::datasets::{generate, Dataset};
+/// use cylvol::mesh::refined_bytes;
+/// let mesh = generate(Dataset::PumpRotor, 2_000).unwrap();
+/// let children = mesh.cell_count() as u64 * 8;
+/// assert!(refined_bytes(&mesh, children) > children * 160);
+/// ```
+pub fn refined_bytes(mesh: &Mesh, children: u64) -> u64 {
+    let components = |arrays: &[DataArray]| arrays.iter().map(|a| a.components as u64).sum::<u64>();
+    let value = std::mem::size_of::<f64>() as u64;
+    let per_child = std::mem::size_of::<[u32; 8]>() as u64
+        + std::mem::size_of::<CellKind>() as u64
+        + std::mem::size_of::<DVec3>() as u64
+        + std::mem::size_of::<Blend>() as u64
+        + value * (components(&mesh.point_data) + components(&mesh.cell_data));
+    children.saturating_mul(per_child)
+}
+
+/// The machine's physical memory in bytes (`MemTotal` of `/proc/meminfo`), where the system
+/// says it (`None` elsewhere).
+pub fn physical_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
 /// Where a new point lies: a weighted sum of original points (weights summing to one).
 #[derive(Clone, Copy, Debug)]
 struct Blend {
@@ -219,8 +250,11 @@ impl Mesh {
     /// interpolated and the cell arrays copied, the same active scalar. `n = 1` gives a copy.
     ///
     /// Errors: `n` outside `1..=`[`MAX_REFINEMENT`], a cell that is not a hexahedron
-    /// (wedges, pyramids and tetrahedra would need children of their own kinds), or a result
-    /// with more than `u32::MAX` points or cells.
+    /// (wedges, pyramids and tetrahedra would need children of their own kinds), a result
+    /// with more than `u32::MAX` points or cells, or one that needs more memory than the
+    /// machine has ([`refined_bytes`] against the physical memory, where the system says it;
+    /// the cell and point arrays are reserved up front, so an allocator that refuses them
+    /// gives an error too, never an abort).
     ///
     /// ```
     /// use cylvol::datasets::{generate, Dataset};
@@ -248,10 +282,37 @@ impl Mesh {
                 self.cell_count()
             )));
         }
+        let needed = refined_bytes(self, children);
+        if let Some(memory) = physical_memory() {
+            if needed > memory {
+                return Err(Error::Invalid(format!(
+                    "refining {} cells by {n} makes {children} cells, which need about {:.1} GB; \
+                     this machine has {:.1} GB of memory",
+                    self.cell_count(),
+                    needed as f64 / 1e9,
+                    memory as f64 / 1e9
+                )));
+            }
+        }
+        let refused = |what: &str| {
+            Error::Invalid(format!(
+                "refining {} cells by {n} makes {children} cells: memory for their {what} \
+                 was refused (about {:.1} GB in all)",
+                self.cell_count(),
+                needed as f64 / 1e9
+            ))
+        };
         let side = n as usize + 1;
         let mut index: HashMap<Key, u32> = HashMap::new();
+        // About one new point per child.
         let mut blends: Vec<Blend> = Vec::new();
-        let mut cells: Vec<[u32; 8]> = Vec::with_capacity(children as usize);
+        blends
+            .try_reserve_exact(children as usize)
+            .map_err(|_| refused("points"))?;
+        let mut cells: Vec<[u32; 8]> = Vec::new();
+        cells
+            .try_reserve_exact(children as usize)
+            .map_err(|_| refused("cells"))?;
         let nodes: Vec<Node> = (0..side * side * side)
             .map(|slot| {
                 let g = [
