@@ -46,10 +46,11 @@ fn lookups<B: BvhBounds>(
     let mut found = 0;
     let t = Instant::now();
     for p in points {
-        let q = coords.of(*p);
+        // As the renderer queries: (r, φ, h) for sectors, no atan2.
+        let q = coords.query(*p);
         let mut hex = 0u64;
         if bvh
-            .find(q, &mut c, |cell| {
+            .find_stored(q, &mut c, |cell| {
                 hex += 1;
                 locate_in_cell(&mesh.cell_corners(cell as usize), *p, None).is_some()
             })
