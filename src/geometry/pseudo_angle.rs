@@ -175,7 +175,9 @@ fn quarter_angles() -> &'static [f64] {
 
 /// The unwrapped angle of a pseudo-angle, interpolated linearly in [`quarter_angles`]: each
 /// quarter turn adds `π/2` (the pseudo-angle is the same function of the place in every
-/// quarter). Within `2.5e-7` radians (`h²/8` times the largest second derivative, 2).
+/// quarter). Within `2.5e-7` radians (`h²/8` times the largest second derivative, 2). It is
+/// [`angle_of_pseudo`] without that function's `atan2`, for the millions of widths a build
+/// measures; anything that needs the angle to the last bit calls `angle_of_pseudo`.
 #[inline]
 fn unwrapped_angle(phi: f64) -> f64 {
     let quarter = phi.floor();
