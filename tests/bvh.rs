@@ -264,6 +264,82 @@ proptest! {
     }
 }
 
+/// The ray's interval in `b` on `[t0, t1]` by the textbook slabs (a zero direction component
+/// tests the origin), `None` where it misses.
+fn ray_in_box(b: &Aabb, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (t0, t1);
+    for a in 0..3 {
+        if d[a] == 0.0 {
+            if o[a] < b.min[a] || o[a] > b.max[a] {
+                return None;
+            }
+        } else {
+            let (s, e) = ((b.min[a] - o[a]) / d[a], (b.max[a] - o[a]) / d[a]);
+            lo = lo.max(s.min(e));
+            hi = hi.min(s.max(e));
+        }
+    }
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// A direction component: any, or a zero of either sign (rays parallel to box faces).
+fn arb_component() -> impl Strategy<Value = f64> {
+    prop_oneof![-1.0f64..1.0, Just(0.0), Just(-0.0)]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// `first_along` finds the first box a ray meets, as brute force does: never later (the
+    /// stored boxes are rounded outwards and padded), and its answer lies on its piece's box
+    /// (within that rounding). Rays parallel to the boxes' faces, and along them (the origin
+    /// on a face's plane), included.
+    #[test]
+    fn rays_meet_the_first_box_brute_force_meets(
+        bounds in prop::collection::vec(arb_box(), 1..200),
+        rays in prop::collection::vec(
+            (prop::array::uniform3(-12.0f64..12.0), [arb_component(), arb_component(), arb_component()], any::<prop::sample::Index>(), 0usize..4),
+            1..30,
+        ),
+        t1 in prop_oneof![Just(f64::INFINITY), 1.0f64..40.0],
+    ) {
+        let pieces = pieces_of(bounds);
+        for (_, params) in BvhParams::PRESETS {
+            let bvh = build_bvh(&pieces, &params);
+            for (o, d, pick, snap) in &rays {
+                let (mut o, d) = (DVec3::from_array(*o), DVec3::from_array(*d));
+                if d.length() < 1e-3 {
+                    continue;
+                }
+                // Snap the origin onto a box's face plane along one axis.
+                if *snap < 3 {
+                    o[*snap] = pick.get(&pieces.bounds).min[*snap];
+                }
+                let want = pieces
+                    .bounds
+                    .iter()
+                    .filter_map(|b| ray_in_box(b, o, d, 0.0, t1))
+                    .map(|s| s.0)
+                    .fold(f64::INFINITY, f64::min);
+                let mut counters = Counters::default();
+                let got = bvh.first_along(o, d, 0.0, t1, &mut counters, |_, lo, hi| Some((lo, hi)));
+                if want.is_finite() {
+                    let (e, _, _) = got.expect("a box the ray meets is found");
+                    prop_assert!(e <= want + 1e-9, "{e} after {want}");
+                }
+                if let Some((e, x, cell)) = got {
+                    prop_assert!(e <= x && e.is_finite() && x.is_finite());
+                    let p = o + d * e;
+                    let near = pieces.bounds.iter().zip(&pieces.cells).any(|(b, &c)| {
+                        c == cell && b.padded(1e-5 * (1.0 + b.diagonal())).contains(p)
+                    });
+                    prop_assert!(near, "entry {p} is on no box of cell {cell}");
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn empty_and_degenerate_pieces_do_not_break_the_build() {
     let empty: Pieces<Aabb> = Pieces::default();

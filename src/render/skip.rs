@@ -20,7 +20,7 @@
 
 use glam::DVec3;
 
-use crate::accel::bvh::ray::slab;
+use crate::accel::bvh::ray::{box_span, clip_to_slab, reciprocal};
 use crate::accel::bvh::{
     arc_narrower_than_half_turn, arc_trig, ArcTrig, BoxF32, Bvh, BvhBounds, NodeMask, SectorF32,
 };
@@ -30,12 +30,15 @@ use crate::geometry::cylindrical::CylFrame;
 /// A ray in the structure's frame, ready for its bounds.
 #[derive(Clone, Copy, Debug)]
 enum LocalRay {
-    /// Origin relative to the BVH's anchor, direction.
-    Boxes { o: DVec3, d: DVec3, pad: f64 },
+    /// Origin relative to the BVH's anchor, the direction's reciprocal
+    /// ([`reciprocal`]).
+    Boxes { o: DVec3, inv: DVec3, pad: f64 },
     /// In the cylindrical frame: `(x, y)` across the axis, `h` relative to the anchor.
     Sectors {
         o: DVec3,
         d: DVec3,
+        /// The reciprocal of `d.z` ([`reciprocal`]).
+        inv_h: f64,
         pad: f64,
         /// `r²` along the ray, `a t² + 2 b t + c`, with `1/a`.
         quad: [f64; 4],
@@ -46,18 +49,6 @@ enum LocalRay {
 type Span = (f64, f64);
 
 impl LocalRay {
-    /// The smallest `t` in `[t0, t1]` inside the (padded) bound, if any.
-    #[inline]
-    fn entry_box(o: DVec3, d: DVec3, pad: f64, b: &BoxF32, t0: f64, t1: f64) -> Option<Span> {
-        let (mut lo, mut hi) = (t0, t1);
-        for a in 0..3 {
-            let (s, e) = slab(o[a], d[a], b.min[a] as f64 - pad, b.max[a] as f64 + pad);
-            lo = lo.max(s);
-            hi = hi.min(e);
-        }
-        (lo <= hi).then_some((lo, hi))
-    }
-
     /// The entry into a sector; `quad` the ray's `r²` polynomial (see [`LocalRay::Sectors`]),
     /// `trig` the arc's sines and cosines if known.
     #[inline]
@@ -65,6 +56,7 @@ impl LocalRay {
     fn entry_sector(
         o: DVec3,
         d: DVec3,
+        inv_h: f64,
         pad: f64,
         quad: [f64; 4],
         s: &SectorF32,
@@ -75,9 +67,8 @@ impl LocalRay {
         if s.r[0] > s.r[1] || s.h[0] > s.h[1] {
             return None;
         }
-        let (hs, he) = slab(o.z, d.z, s.h[0] as f64 - pad, s.h[1] as f64 + pad);
-        let mut lo = t0.max(hs);
-        let mut hi = t1.min(he);
+        let (h0, h1) = (s.h[0] as f64 - pad, s.h[1] as f64 + pad);
+        let (mut lo, mut hi) = clip_to_slab(o.z, inv_h, h0, h1, (t0, t1));
         if lo > hi {
             return None;
         }
@@ -258,7 +249,7 @@ impl<'a> Skipper<'a> {
             (Structure::CartBvh(b), _) => {
                 let ray = LocalRay::Boxes {
                     o: origin - b.frame().anchor,
-                    d: dir,
+                    inv: reciprocal(dir),
                     pad: b.query_pad(),
                 };
                 Some(first_hit(b, ray, &[], t0, t1, counters, node, cell))
@@ -305,7 +296,14 @@ fn sector_ray<B: BvhBounds<Compact = SectorF32>>(
     });
     let a = d.x * d.x + d.y * d.y;
     let quad = [a, o.x * d.x + o.y * d.y, o.x * o.x + o.y * o.y, 1.0 / a];
-    LocalRay::Sectors { o, d, pad, quad }
+    let inv_h = reciprocal(d).z;
+    LocalRay::Sectors {
+        o,
+        d,
+        inv_h,
+        pad,
+        quad,
+    }
 }
 
 /// Bounds a [`LocalRay`] can enter.
@@ -318,7 +316,7 @@ impl Enter for BoxF32 {
     #[inline]
     fn enter(&self, ray: &LocalRay, _trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<Span> {
         match *ray {
-            LocalRay::Boxes { o, d, pad } => LocalRay::entry_box(o, d, pad, self, t0, t1),
+            LocalRay::Boxes { o, inv, pad } => box_span(o, inv, pad, self.min, self.max, t0, t1),
             LocalRay::Sectors { .. } => Some((t0, t0)),
         }
     }
@@ -328,9 +326,13 @@ impl Enter for SectorF32 {
     #[inline]
     fn enter(&self, ray: &LocalRay, trig: Option<&ArcTrig>, t0: f64, t1: f64) -> Option<Span> {
         match *ray {
-            LocalRay::Sectors { o, d, pad, quad } => {
-                LocalRay::entry_sector(o, d, pad, quad, self, trig, t0, t1)
-            }
+            LocalRay::Sectors {
+                o,
+                d,
+                inv_h,
+                pad,
+                quad,
+            } => LocalRay::entry_sector(o, d, inv_h, pad, quad, self, trig, t0, t1),
             LocalRay::Boxes { .. } => Some((t0, t0)),
         }
     }

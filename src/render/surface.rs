@@ -21,6 +21,7 @@
 use glam::DVec3;
 
 use super::raycast::Neighbours;
+use crate::accel::bvh::ray::clip_to_slab;
 use crate::accel::bvh::{build_bvh, Bvh, BvhParams};
 use crate::accel::space::Pieces;
 use crate::accel::Counters;
@@ -97,15 +98,13 @@ impl Slab {
         v >= self.lo - pad && v <= self.hi + pad
     }
 
-    /// The ray's interval in the slab, `None` where it misses.
-    fn span(&self, origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
-        let (s, e) = crate::accel::bvh::ray::slab(
-            self.n.dot(origin - self.a),
-            self.n.dot(dir),
-            self.lo,
-            self.hi,
-        );
-        (s <= e).then_some((s, e))
+    /// The part of the ray interval `span` (finite: the ray's interval in the face's box) in
+    /// the slab (empty, start above end, where the ray misses it there; see
+    /// [`clip_to_slab`]).
+    #[inline]
+    fn clip(&self, origin: DVec3, dir: DVec3, span: (f64, f64)) -> (f64, f64) {
+        let inv = 1.0 / (self.n.dot(dir) + 0.0);
+        clip_to_slab(self.n.dot(origin - self.a), inv, self.lo, self.hi, span)
     }
 }
 
@@ -349,8 +348,7 @@ impl BoundarySurface {
         hi: f64,
     ) -> Option<((u32, u8), f64, f64)> {
         let face = *self.faces.get(i as usize)?;
-        let (s, e) = self.slabs.get(i as usize)?.span(origin, dir)?;
-        let (lo, hi) = (lo.max(s), hi.min(e));
+        let (lo, hi) = self.slabs.get(i as usize)?.clip(origin, dir, (lo, hi));
         (lo <= hi).then_some((face, lo, hi))
     }
 
@@ -492,12 +490,16 @@ mod tests {
             DVec3::new(1.0, 1.0, 1.0),
             DVec3::new(0.0, 1.0, 1.0),
         ];
-        let (s, e) = Slab::of(&square)
-            .span(DVec3::new(0.5, 0.5, 0.0), DVec3::Z)
-            .unwrap();
+        let all = (f64::NEG_INFINITY, f64::INFINITY);
+        let (s, e) = Slab::of(&square).clip(DVec3::new(0.5, 0.5, 0.0), DVec3::Z, all);
         assert!((s - 1.0).abs() < 1e-8 && (e - 1.0).abs() < 1e-8 && s <= 1.0 && e >= 1.0);
-        // Parallel to the face, off its plane: missed.
-        assert_eq!(Slab::of(&square).span(DVec3::ZERO, DVec3::X), None);
+        // Parallel to the face, off its plane: missed; in it: the whole interval (finite, as
+        // the face's box gives it).
+        let box_span = (-5.0, 5.0);
+        let (s, e) = Slab::of(&square).clip(DVec3::ZERO, DVec3::X, box_span);
+        assert!(s > e, "{s} {e}");
+        let on = Slab::of(&square).clip(DVec3::new(0.0, 0.0, 1.0), DVec3::X, box_span);
+        assert_eq!(on, box_span);
     }
 
     #[test]
@@ -515,7 +517,8 @@ mod tests {
                 + twisted[2] * u * v
                 + twisted[3] * (1.0 - u) * v;
             let d = DVec3::new(0.3, -0.2, 1.0).normalize();
-            let (s, e) = Slab::of(&twisted).span(p - d * 2.0, d).unwrap();
+            let all = (f64::NEG_INFINITY, f64::INFINITY);
+            let (s, e) = Slab::of(&twisted).clip(p - d * 2.0, d, all);
             assert!(s <= 2.0 && e >= 2.0, "{u} {v}: {s} {e}");
         }
     }

@@ -7,41 +7,56 @@ use super::{BoxF32, Bvh, BvhBounds, MAX_DEPTH};
 use crate::accel::Counters;
 use crate::geometry::bounds::Aabb;
 
-/// The ray's `t`-interval inside `[lo, hi]` along one axis (origin `o`, direction `d`);
-/// empty (`lo > hi`) where it misses.
+/// The reciprocal of a ray direction for [`clip_to_slab`] and [`box_span`]: `1 / d` per
+/// axis, with both zeros taken as `+0` (`-0 + 0 = +0`), so that a component of zero gives
+/// `+∞`.
 #[inline]
-pub(crate) fn slab(o: f64, d: f64, lo: f64, hi: f64) -> (f64, f64) {
-    if d == 0.0 {
-        if o >= lo && o <= hi {
-            (f64::NEG_INFINITY, f64::INFINITY)
-        } else {
-            (f64::INFINITY, f64::NEG_INFINITY)
-        }
-    } else {
-        let inv = 1.0 / d;
-        let (a, b) = ((lo - o) * inv, (hi - o) * inv);
-        (a.min(b), a.max(b))
-    }
+pub(crate) fn reciprocal(d: DVec3) -> DVec3 {
+    DVec3::ONE / (d + DVec3::ZERO)
 }
 
-/// The ray's interval in a stored box padded by `pad`, clipped to `[t0, t1]`.
-#[inline]
-fn box_span(
+/// The part of the ray interval `span` inside the slab `[lo, hi]` along one axis, for the
+/// ray's origin `o` and the [`reciprocal`] `inv` of its direction along that axis (empty,
+/// start above end, where it misses).
+///
+/// Plain comparisons, not `f64::min` and `max` (whose `NaN` handling costs several
+/// instructions each, and these run for every node a ray query visits): a `NaN` (`0 · ∞`,
+/// the ray parallel to the slab and on one of its planes) fails every comparison and leaves
+/// `span` as it was, which is conservative; a direction of zero keeps `span` inside the slab
+/// and empties it outside, as a test of the origin against the slab would (for a finite
+/// `span`: outside, the slab's ends are both `+∞` or both `−∞`, so an infinite end of `span`
+/// may be left equal to the other).
+#[inline(always)]
+pub(crate) fn clip_to_slab(o: f64, inv: f64, lo: f64, hi: f64, span: (f64, f64)) -> (f64, f64) {
+    let (s, e) = ((lo - o) * inv, (hi - o) * inv);
+    let (near, far) = if e < s { (e, s) } else { (s, e) };
+    (
+        if near > span.0 { near } else { span.0 },
+        if far < span.1 { far } else { span.1 },
+    )
+}
+
+/// The ray's interval in a stored box padded by `pad`, clipped to `[t0, t1]`, for the ray's
+/// origin `o` and the [`reciprocal`] `inv` of its direction; `None` where it misses, even
+/// with an infinite `t0` or `t1` (see [`clip_to_slab`]): along an axis the ray is parallel
+/// to and outside of, the interval is pushed to `±∞`, and the finite end from an axis it is
+/// not parallel to then empties it.
+#[inline(always)]
+pub(crate) fn box_span(
     o: DVec3,
-    d: DVec3,
+    inv: DVec3,
     pad: f64,
     min: [f32; 3],
     max: [f32; 3],
     t0: f64,
     t1: f64,
 ) -> Option<(f64, f64)> {
-    let (mut lo, mut hi) = (t0, t1);
+    let mut span = (t0, t1);
     for a in 0..3 {
-        let (s, e) = slab(o[a], d[a], min[a] as f64 - pad, max[a] as f64 + pad);
-        lo = lo.max(s);
-        hi = hi.min(e);
+        let (lo, hi) = (min[a] as f64 - pad, max[a] as f64 + pad);
+        span = clip_to_slab(o[a], inv[a], lo, hi, span);
     }
-    (lo <= hi).then_some((lo, hi))
+    (span.0 <= span.1).then_some(span)
 }
 
 impl<B: BvhBounds> Bvh<B> {
@@ -163,7 +178,8 @@ impl Bvh<Aabb> {
     ) -> Option<(f64, f64, u32)> {
         let o = origin - self.frame.anchor;
         let pad = self.query_pad();
-        let span = |b: &BoxF32, hi: f64| box_span(o, dir, pad, b.min, b.max, t0, hi);
+        let inv = reciprocal(dir);
+        let span = |b: &BoxF32, hi: f64| box_span(o, inv, pad, b.min, b.max, t0, hi);
         self.closest_hit(
             t0,
             t1,
@@ -171,5 +187,83 @@ impl Bvh<Aabb> {
             |_, b, hi| span(b, hi).map(|s| s.0),
             |b, cell, hi| span(b, hi).and_then(|(lo, x)| hit(cell, lo, x)),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The textbook slab: a division per plane, `f64::min` and `max`, and a zero direction
+    /// tested by the origin.
+    fn textbook(o: f64, d: f64, lo: f64, hi: f64, span: (f64, f64)) -> (f64, f64) {
+        if d == 0.0 {
+            return if o >= lo && o <= hi {
+                span
+            } else {
+                (f64::INFINITY, f64::NEG_INFINITY)
+            };
+        }
+        let (s, e) = ((lo - o) / d, (hi - o) / d);
+        (span.0.max(s.min(e)), span.1.min(s.max(e)))
+    }
+
+    #[test]
+    fn a_zero_direction_tests_the_origin_either_sign() {
+        let within = |(s, e): (f64, f64)| s <= e;
+        for zero in [0.0, -0.0] {
+            let inv = reciprocal(DVec3::new(zero, 1.0, 1.0)).x;
+            assert_eq!(inv, f64::INFINITY);
+            assert_eq!(clip_to_slab(0.5, inv, 0.0, 1.0, (0.0, 2.0)), (0.0, 2.0));
+            assert!(!within(clip_to_slab(-0.5, inv, 0.0, 1.0, (-3.0, 2.0))));
+            assert!(!within(clip_to_slab(1.5, inv, 0.0, 1.0, (-3.0, 2.0))));
+            // On either plane (0 · ∞ is NaN): the interval is kept, never lost.
+            assert_eq!(clip_to_slab(0.0, inv, 0.0, 1.0, (0.0, 2.0)), (0.0, 2.0));
+            assert_eq!(clip_to_slab(1.0, inv, 0.0, 1.0, (0.0, 2.0)), (0.0, 2.0));
+        }
+    }
+
+    #[test]
+    fn a_box_beside_a_parallel_ray_is_missed_over_the_whole_line() {
+        let all = (f64::NEG_INFINITY, f64::INFINITY);
+        let (min, max) = ([0.0f32; 3], [1.0f32; 3]);
+        for zero in [0.0, -0.0] {
+            let inv = reciprocal(DVec3::new(1.0, zero, -zero));
+            for y in [-0.5, 1.5] {
+                let o = DVec3::new(-2.0, y, 0.5);
+                assert_eq!(box_span(o, inv, 1e-9, min, max, all.0, all.1), None);
+                assert_eq!(box_span(o, inv, 1e-9, min, max, 0.0, all.1), None);
+            }
+            let o = DVec3::new(-2.0, 0.5, 0.5);
+            let (s, e) = box_span(o, inv, 0.0, min, max, all.0, all.1).unwrap();
+            assert!(
+                (s - 2.0).abs() < 1e-15 && (e - 3.0).abs() < 1e-15,
+                "{s} {e}"
+            );
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn clip_to_slab_is_the_textbook_slab(
+            o in -10.0f64..10.0,
+            d in prop_oneof![-2.0f64..2.0, Just(0.0), Just(-0.0), Just(1e-300)],
+            lo in -5.0f64..5.0,
+            width in prop_oneof![0.0f64..4.0, Just(0.0)],
+            span in (-20.0f64..20.0, 0.0f64..40.0),
+        ) {
+            let (hi, span) = (lo + width, (span.0, span.0 + span.1));
+            let got = clip_to_slab(o, 1.0 / (d + 0.0), lo, hi, span);
+            let want = textbook(o, d, lo, hi, span);
+            // Multiplying by the reciprocal rounds twice: within a few ulps of the quotient.
+            let close = |a: f64, b: f64| a == b || (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+            if want.0 <= want.1 {
+                prop_assert!(close(got.0, want.0) && close(got.1, want.1), "{got:?} {want:?}");
+            } else {
+                // Missed, or met only within rounding of one end.
+                prop_assert!(got.0 > got.1 || close(got.0, got.1), "{got:?} {want:?}");
+            }
+        }
     }
 }
