@@ -52,19 +52,19 @@ impl Aabb {
         !(self.min.x <= self.max.x && self.min.y <= self.max.y && self.min.z <= self.max.z)
     }
 
-    /// The smallest box holding both.
+    /// The smallest box holding both (a NaN bound of `other` is ignored).
     pub fn union(&self, other: &Aabb) -> Aabb {
         Aabb {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
+            min: lower(self.min, other.min),
+            max: higher(self.max, other.max),
         }
     }
 
-    /// The smallest box holding this one and the point.
+    /// The smallest box holding this one and the point (a NaN coordinate of `p` is ignored).
     pub fn grow(&self, p: DVec3) -> Aabb {
         Aabb {
-            min: self.min.min(p),
-            max: self.max.max(p),
+            min: lower(self.min, p),
+            max: higher(self.max, p),
         }
     }
 
@@ -122,6 +122,22 @@ impl Aabb {
     }
 }
 
+/// `m` lowered to `p` where `p` is below it, per component; a NaN in `p` is ignored.
+///
+/// A comparison, not `f64::min` (whose NaN handling costs several instructions, and boxes are
+/// grown for every candidate cell a point query tests).
+#[inline(always)]
+pub(crate) fn lower(m: DVec3, p: DVec3) -> DVec3 {
+    DVec3::select(p.cmplt(m), p, m)
+}
+
+/// `m` raised to `p` where `p` is above it, per component; a NaN in `p` is ignored (see
+/// [`lower`]).
+#[inline(always)]
+pub(crate) fn higher(m: DVec3, p: DVec3) -> DVec3 {
+    DVec3::select(p.cmpgt(m), p, m)
+}
+
 /// The Cartesian bounds of a (possibly collapsed) trilinear cell: exactly the box of its
 /// corners.
 pub fn cell_bounds(corners: &[DVec3; 8]) -> Aabb {
@@ -144,6 +160,22 @@ mod tests {
         assert_eq!(e.union(&b), b);
         assert!(!e.overlaps(&b));
         assert!(!b.contains(DVec3::NAN));
+    }
+
+    #[test]
+    fn growing_ignores_nan_coordinates() {
+        let b = Aabb::from_points(&[DVec3::ZERO, DVec3::new(1.0, f64::NAN, -2.0)]);
+        assert_eq!(
+            b,
+            Aabb::new(DVec3::new(0.0, 0.0, -2.0), DVec3::new(1.0, 0.0, 0.0))
+        );
+        let nan = Aabb::new(DVec3::NAN, DVec3::NAN);
+        assert_eq!(b.union(&nan), b);
+        // Every other point as f64::min and max would take it.
+        let points = [DVec3::new(-0.0, 3.0, 1e300), DVec3::new(0.0, -3.0, -1e-300)];
+        let b = Aabb::from_points(&points);
+        assert_eq!(b.min, points[0].min(points[1]));
+        assert_eq!(b.max, points[0].max(points[1]));
     }
 
     #[test]

@@ -42,6 +42,7 @@
 use glam::{DMat3, DVec3};
 use std::ops::AddAssign;
 
+use super::bounds::{higher, lower};
 use super::trilinear::{corner_jacobian_determinants, relative_corners, Monomials};
 
 /// Newton stops once the physical residual is at most this times the cell size.
@@ -211,9 +212,8 @@ impl PreparedCell {
         }
         self.rel = relative_corners(corners);
         let (mut bmin, mut bmax) = (DVec3::ZERO, DVec3::ZERO);
-        for c in &self.rel {
-            bmin = bmin.min(*c);
-            bmax = bmax.max(*c);
+        for &c in &self.rel {
+            (bmin, bmax) = (lower(bmin, c), higher(bmax, c));
         }
         let size = (bmax - bmin).length();
         if !(size > 0.0 && size.is_finite()) {
