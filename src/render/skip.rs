@@ -67,6 +67,9 @@ impl LocalRay {
         if s.r[0] > s.r[1] || s.h[0] > s.h[1] {
             return None;
         }
+        // (A ray across the axis, outside the `h` slab, may leave a one-point interval at ±∞
+        // with an infinite `t0` or `t1`; the `r` bound below, finite for such a ray, empties
+        // it.)
         let (h0, h1) = (s.h[0] as f64 - pad, s.h[1] as f64 + pad);
         let (mut lo, mut hi) = clip_to_slab(o.z, inv_h, h0, h1, (t0, t1));
         if lo > hi {
