@@ -42,7 +42,7 @@
 use glam::{DMat3, DVec3};
 use std::ops::AddAssign;
 
-use super::bounds::{higher, lower};
+use super::bounds::cell_bounds;
 use super::trilinear::{corner_jacobian_determinants, relative_corners, Monomials};
 
 /// Newton stops once the physical residual is at most this times the cell size.
@@ -211,11 +211,7 @@ impl PreparedCell {
             return Err(InverseFailure::NonFinite);
         }
         self.rel = relative_corners(corners);
-        let (mut bmin, mut bmax) = (DVec3::ZERO, DVec3::ZERO);
-        for &c in &self.rel {
-            (bmin, bmax) = (lower(bmin, c), higher(bmax, c));
-        }
-        let size = (bmax - bmin).length();
+        let size = cell_bounds(&self.rel).diagonal();
         if !(size > 0.0 && size.is_finite()) {
             return Err(InverseFailure::Degenerate);
         }

@@ -83,6 +83,8 @@ pub fn exit_face_except(
     let t_ref = (x0 - o).dot(d) / dd;
     let r = (o + d * t_ref - x0).as_vec3a();
     let dir = d.as_vec3a();
+    // Rebased corners written out: `relative_corners(corners).map(..)` (two array maps)
+    // makes the whole call about a third slower.
     let rel = [
         Vec3A::ZERO,
         (corners[1] - x0).as_vec3a(),
