@@ -10,8 +10,12 @@ times, their peak resident memory (ru_maxrss of the worker), the image differenc
 the two final frames, and the ratios VTK ÷ cylvol.
 
 Usage (Debian's python3-vtk9 and the build tree's cylvol package):
-    cargo build --release && bash vtk_plugin/run_tests.sh      # or just build vtk_plugin
     /usr/bin/python3 scripts/bench_vtk.py                      # mixer and rotor:200000
+Before measuring, the script brings what it measures up to date with the sources: `cargo build
+--release` (the cylvol command that generates meshes) and `cmake --build build/vtk_plugin`
+(configured first if need be; it rebuilds libcylvol.a through cargo and relinks the module), so
+the figures are never those of a stale module. --no-build skips both; with --pythonpath the
+package given is used as it is (only the cylvol command is built).
     /usr/bin/python3 scripts/bench_vtk.py mixer rotor:2100000 --size 512 --frames 3
 Datasets: mixer, hexa, comb, post (from ../shared/data), mixer:N or hexa:N (that mesh with every
 hexahedron cut into N x N x N by `cylvol gen FILE --refine N`; mixer:4 is the 2.15 M-cell mixer of
@@ -277,6 +281,29 @@ def run_worker(mapper, dataset, args, workdir, png, relative_step=1.0, frames=No
             "error": "exit status %d; stderr tail:\n%s" % (proc.returncode, tail)}
 
 
+def build_what_is_measured(args):
+    """Brings the cylvol command and the build tree's VTK module up to date with the sources
+    (cargo and CMake rebuild only what changed), so that a stale module is never measured.
+    Exits with a message if a build fails."""
+    steps = [["cargo", "build", "--release", "--quiet", "--manifest-path",
+              os.path.join(REPO, "Cargo.toml")]]
+    if args.only != "vtk" and args.pythonpath == default_pythonpath():
+        if not os.path.exists(os.path.join(BUILD, "CMakeCache.txt")):
+            steps.append(["cmake", "-S", os.path.join(REPO, "vtk_plugin"), "-B", BUILD,
+                          "-DCMAKE_BUILD_TYPE=Release", "-Wno-dev"])
+        steps.append(["cmake", "--build", BUILD, "-j", str(os.cpu_count() or 2)])
+    for cmd in steps:
+        print("building: %s" % " ".join(cmd), file=sys.stderr, flush=True)
+        done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if done.returncode != 0:
+            sys.stderr.write(done.stdout[-4000:])
+            sys.exit("bench_vtk.py: '%s' failed (exit %d); --no-build measures the build tree "
+                     "as it is" % (" ".join(cmd), done.returncode))
+    if args.pythonpath == "" and args.only != "vtk":
+        # Configured just now: the package's folder is known only after the first build.
+        args.pythonpath = default_pythonpath()
+
+
 def fmt_s(x):
     return "-" if x is None else ("%.3f s" % x)
 
@@ -295,6 +322,9 @@ def main():
     p.add_argument("--no-reference", action="store_true",
                    help="skip the converged cylvol reference (1/8 of the default step) used to measure "
                         "each image's error")
+    p.add_argument("--no-build", action="store_true",
+                   help="measure the build tree as it is (default: cargo build --release and "
+                        "cmake --build build/vtk_plugin first)")
     p.add_argument("--json", action="store_true", help="also print all results as JSON")
     p.add_argument("--keep", help="folder for the generated meshes and the images (default: a temp dir)")
     p.add_argument("--worker", help=argparse.SUPPRESS)
@@ -313,6 +343,8 @@ def main():
     if args.worker:
         worker(args)
         return 0
+    if not args.no_build:
+        build_what_is_measured(args)
 
     workdir = args.keep or tempfile.mkdtemp(prefix="cylvol-bench-vtk-")
     os.makedirs(workdir, exist_ok=True)
