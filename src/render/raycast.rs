@@ -21,7 +21,9 @@
 //! image fall with the square of the step (midpoint rule) rather than linearly. A boundary
 //! missed by the samples (a chord or gap shorter than a step) is not seen. The tests of a
 //! crossing search count in [`RenderStats::hex_tests`] and
-//! [`RenderStats::boundary_refinements`], not in the sample counts. Where the opaque-geometry
+//! [`RenderStats::boundary_refinements`], not in the sample counts; a point outside the box of
+//! the mesh's points (the ray's end on the clip box, typically) is outside with no search.
+//! Where the opaque-geometry
 //! depth stops a ray inside the mesh, the last sample keeps its full step.
 //!
 //! # Interpolation and gradient opacity
@@ -931,6 +933,10 @@ impl<'a> Renderer<'a> {
     /// local search is undecided (a degenerate face, a budget of [`MAX_BOUNDARY_WALK`] cells,
     /// an inverse that fails), the structure answers. Every test is counted in `hex_tests` and
     /// `boundary_refinements`.
+    ///
+    /// A point outside the box of the mesh's points is outside the mesh (every cell lies in the
+    /// convex hull of its corners) and needs no search: the ray's end on the (padded) clip box,
+    /// typically, past a last sample in a cell whose face lies on the box.
     fn boundary_locate(
         &self,
         seg: Segment,
@@ -1089,6 +1095,9 @@ impl<'a> Renderer<'a> {
         let mesh = self.volume.mesh;
         let before = counters.hex_tests;
         let p = seg.origin + seg.dir * seg.t;
+        if p.is_finite() && !self.volume.field.bounds.contains(p) {
+            return None;
+        }
         let found = match self.local_boundary_locate(p, cell, guess, in_start, counters) {
             Local::Inside(c, q) => Some((c, q)),
             Local::Outside(_) if !confirm => None,
