@@ -474,3 +474,50 @@ fn render_takes_a_transfer_function_like_vtk_and_skips_what_it_makes_transparent
         assert!(!Path::new(&out).exists(), "{bad:?} wrote an image");
     }
 }
+
+/// `--opacity-convention attenuation` reads the opacity as VTK's unstructured ray caster does,
+/// as an attenuation coefficient (a unit distance lets `e^(−A)` through, more than the
+/// `1 − A` of the default `sampled`): in white, every pixel is at most as bright, the image
+/// darker, from the same samples.
+#[test]
+fn opacity_convention_attenuation_lets_more_through() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let out = out.to_str().unwrap().to_string();
+        let mut args = vec![
+            "render",
+            "pump-rotor:4000",
+            "-o",
+            &out,
+            "--size",
+            "24x24",
+            "--opacity",
+            "0%:0.2,100%:0.9",
+            "--color",
+            "0%:1:1:1",
+            "--unit-distance",
+            "5%",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let stats = json_of(&args)["stats"].clone();
+        let decoder = png::Decoder::new(std::fs::File::open(&out).unwrap());
+        let mut reader = decoder.read_info().unwrap();
+        let mut pixels = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut pixels).unwrap();
+        pixels.truncate(info.buffer_size());
+        (stats, pixels)
+    };
+    let (sampled, bright) = render("sampled.png", &[]);
+    let (attenuation, dim) = render("attenuation.png", &["--opacity-convention", "attenuation"]);
+    assert_eq!(sampled["samples_located"], attenuation["samples_located"]);
+    assert!(bright.iter().zip(&dim).all(|(b, d)| d <= b));
+    let sum = |p: &[u8]| p.chunks(4).map(|c| u64::from(c[0])).sum::<u64>();
+    assert!(
+        sum(&dim) < sum(&bright),
+        "{} vs {}",
+        sum(&dim),
+        sum(&bright)
+    );
+}

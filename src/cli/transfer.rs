@@ -50,7 +50,27 @@ pub struct TransferArgs {
     /// world units or as a percentage of the mesh's bounding-box diagonal (`10%`; default 1 %).
     #[arg(long, value_name = "D", value_parser = parse_abscissa, allow_hyphen_values = true)]
     pub unit_distance: Option<Abscissa>,
+    /// How the opacity is read: `sampled`, the opacity of a unit distance (VTK's image-data
+    /// mappers; the default), or `attenuation`, an attenuation coefficient per unit distance
+    /// (VTK's unstructured ray caster, and vtkCylVolMapper by default): a unit of distance
+    /// then lets `e^(−A)` through.
+    #[arg(long, value_enum, value_name = "CONVENTION", default_value_t = OpacityConvention::Sampled)]
+    pub opacity_convention: OpacityConvention,
 }
+
+/// How `--opacity` is read (see [`TransferArgs::opacity_convention`]).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum OpacityConvention {
+    /// The opacity of a unit distance.
+    #[default]
+    Sampled,
+    /// An attenuation coefficient per unit distance.
+    Attenuation,
+}
+
+/// Scalars at which an attenuation is resampled as opacity: as many as vtkCylVolMapper's
+/// tables have, so that both read a transfer function alike.
+const ATTENUATION_ENTRIES: usize = 1024;
 
 impl TransferArgs {
     /// The transfer function over the scalar range `range` of a mesh whose bounding-box
@@ -82,6 +102,9 @@ impl TransferArgs {
                 )));
             }
             tf.unit_distance = d;
+        }
+        if self.opacity_convention == OpacityConvention::Attenuation {
+            tf = tf.attenuation_as_opacity(range[0], range[1], ATTENUATION_ENTRIES);
         }
         Ok(tf)
     }
@@ -176,6 +199,7 @@ mod tests {
             opacity: Some(parse_opacity("0%:0,35%:0.1,17.5:0.5,100%:1").unwrap()),
             color: Some(parse_color("0%:0.1:0.2:0.9,100%:0.9:0.1:0.1").unwrap()),
             unit_distance: Some(Abscissa::Value(2.5)),
+            opacity_convention: OpacityConvention::Sampled,
         };
         let tf = args.apply(default_tf(), [10.0, 20.0], 7.0).unwrap();
         assert_eq!(
@@ -193,6 +217,18 @@ mod tests {
         };
         let tf = tenth.apply(default_tf(), [10.0, 20.0], 7.0).unwrap();
         assert!((tf.unit_distance - 0.7).abs() < 1e-15);
+        // Read as attenuation: resampled over the range as the VTK mapper's tables are.
+        let attenuation = TransferArgs {
+            opacity_convention: OpacityConvention::Attenuation,
+            ..args
+        };
+        let tf = attenuation.apply(default_tf(), [10.0, 20.0], 7.0).unwrap();
+        assert_eq!(tf.opacity.len(), ATTENUATION_ENTRIES);
+        assert_eq!(tf.opacity[0], (10.0, 0.0));
+        assert_eq!(
+            tf.opacity[ATTENUATION_ENTRIES - 1],
+            (20.0, -(-1.0f64).exp_m1())
+        );
     }
 
     #[test]

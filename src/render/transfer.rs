@@ -199,6 +199,39 @@ impl TransferFunction {
         Ok(())
     }
 
+    /// This function with its opacity read as VTK's unstructured ray caster
+    /// (`vtkUnstructuredGridVolumeRayCastMapper`) reads it: as an attenuation coefficient per
+    /// unit distance `a`, of which a unit of distance lets `e^(−a)` through, rather than as
+    /// the opacity of a unit of distance. The opacity is resampled at `entries` evenly spaced
+    /// scalars over `[lo, hi]` (at least 2; as the VTK mapper samples its tables, 1024) and each
+    /// sample `a` becomes `1 − e^(−a)`; the colour and unit distance are kept. A constant
+    /// medium then lets `e^(−a L / unit)` through over a length `L`, Beer–Lambert's law. An
+    /// empty opacity, or a reversed or non-finite range, is returned unchanged (and
+    /// [`TransferFunction::table`] reports what is wrong with it).
+    ///
+    /// ```
+    /// use cylvol::render::TransferFunction;
+    /// let tf = TransferFunction::constant([1.0, 1.0, 1.0], 1.0, 1.0).attenuation_as_opacity(0.0, 1.0, 4);
+    /// assert!((tf.opacity_at(0.5) - (1.0 - (-1.0f64).exp())).abs() < 1e-15);
+    /// ```
+    pub fn attenuation_as_opacity(&self, lo: f64, hi: f64, entries: usize) -> TransferFunction {
+        if self.opacity.is_empty() || !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return self.clone();
+        }
+        let n = entries.max(2);
+        let opacity = (0..n)
+            .map(|k| {
+                let s = lo + (hi - lo) * k as f64 / (n - 1) as f64;
+                let a = self.opacity_at(s);
+                (s, (-(-a).exp_m1()).clamp(0.0, 1.0))
+            })
+            .collect();
+        TransferFunction {
+            opacity,
+            ..self.clone()
+        }
+    }
+
     /// The colour at scalar `s`.
     pub fn color_at(&self, s: f64) -> [f64; 3] {
         piecewise(&self.color, s)
@@ -406,6 +439,36 @@ mod tests {
         assert!(GradientOpacity::new(&[(1.0, 0.0), (0.0, 1.0)]).is_err());
         assert!(GradientOpacity::new(&[(0.0, 1.5)]).is_err());
         assert!(GradientOpacity::new(&[(f64::NAN, 1.0)]).is_err());
+    }
+
+    /// Read as attenuation, a constant medium follows Beer–Lambert: the step's opacity is
+    /// `1 − e^(−a · step / unit)` whatever the step; a ramp is converted sample by sample and
+    /// keeps its colour; what cannot be resampled is returned as it is.
+    #[test]
+    fn attenuation_read_as_opacity() {
+        let (a, unit) = (2.5, 0.4);
+        let tf = TransferFunction::constant([0.2, 0.4, 0.6], a, 1.0);
+        // Out of the [0, 1] opacity range of `table`, but a valid attenuation coefficient.
+        assert!(tf.table(0.0, 1.0, 0.1, 8).is_err());
+        let tf = TransferFunction {
+            unit_distance: unit,
+            ..tf
+        }
+        .attenuation_as_opacity(0.0, 1.0, 16);
+        for step in [0.01, 0.1, 0.4, 3.0] {
+            let t = tf.table(0.0, 1.0, step, 8).unwrap();
+            let expect = 1.0 - (-a * step / unit).exp();
+            assert!((t.lookup(0.3)[3] - expect).abs() < 1e-14, "step {step}");
+        }
+        let ramp = TransferFunction::default_for_range(0.0, 4.0, 0.8, 1.0);
+        let converted = ramp.attenuation_as_opacity(0.0, 4.0, 1024);
+        assert_eq!(converted.opacity.len(), 1024);
+        assert_eq!(converted.color, ramp.color);
+        for (s, a) in &converted.opacity {
+            assert!((a - (1.0 - (-ramp.opacity_at(*s)).exp())).abs() < 1e-15);
+        }
+        assert_eq!(ramp.attenuation_as_opacity(1.0, 0.0, 8), ramp);
+        assert_eq!(ramp.attenuation_as_opacity(0.0, f64::NAN, 8), ramp);
     }
 
     #[test]
