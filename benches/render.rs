@@ -176,5 +176,5 @@ fn vtk_comparison_transfer(lo: f64, hi: f64, diagonal: f64) -> TransferFunction 
     ];
     tf.unit_distance = 0.1 * diagonal;
     // Read as vtkCylVolMapper reads it by default (`--opacity-convention attenuation`).
-    tf.attenuation_as_opacity(lo, hi, 1024)
+    tf.attenuation_as_opacity(lo, hi, cylvol::render::transfer::VTK_MAPPER_TABLE_ENTRIES)
 }

@@ -11,12 +11,12 @@ the two final frames, and the ratios VTK ÷ cylvol.
 
 Usage (Debian's python3-vtk9 and the build tree's cylvol package):
     /usr/bin/python3 scripts/bench_vtk.py                      # mixer and rotor:200000
+    /usr/bin/python3 scripts/bench_vtk.py mixer rotor:2100000 --size 512 --frames 3
 Before measuring, the script brings what it measures up to date with the sources: `cargo build
 --release` (the cylvol command that generates meshes) and `cmake --build build/vtk_plugin`
 (configured first if need be; it rebuilds libcylvol.a through cargo and relinks the module), so
 the figures are never those of a stale module. --no-build skips both; with --pythonpath the
 package given is used as it is (only the cylvol command is built).
-    /usr/bin/python3 scripts/bench_vtk.py mixer rotor:2100000 --size 512 --frames 3
 Datasets: mixer, hexa, comb, post (from ../shared/data), mixer:N or hexa:N (that mesh with every
 hexahedron cut into N x N x N by `cylvol gen FILE --refine N`; mixer:4 is the 2.15 M-cell mixer of
 MISSION.md's reference measurement) or rotor[:CELLS] (generated with `cylvol gen pump-rotor:CELLS`). --json prints the results as JSON as well.

@@ -70,7 +70,7 @@ pub enum OpacityConvention {
 
 /// Scalars at which an attenuation is resampled as opacity: as many as vtkCylVolMapper's
 /// tables have, so that both read a transfer function alike.
-const ATTENUATION_ENTRIES: usize = 1024;
+const ATTENUATION_ENTRIES: usize = cylvol::render::transfer::VTK_MAPPER_TABLE_ENTRIES;
 
 impl TransferArgs {
     /// The transfer function over the scalar range `range` of a mesh whose bounding-box

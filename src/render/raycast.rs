@@ -23,8 +23,8 @@
 //! crossing search count in [`RenderStats::hex_tests`] and
 //! [`RenderStats::boundary_refinements`], not in the sample counts; a point outside the box of
 //! the mesh's points (the ray's end on the clip box, typically) is outside with no search.
-//! Where the opaque-geometry
-//! depth stops a ray inside the mesh, the last sample keeps its full step.
+//! Where the opaque-geometry depth stops a ray inside the mesh, the last sample keeps its full
+//! step.
 //!
 //! # Interpolation and gradient opacity
 //! A located sample's scalar is the trilinear interpolant of its cell's corner values, or with

@@ -109,6 +109,10 @@ impl GradientOpacity {
     }
 }
 
+/// The entries of vtkCylVolMapper's colour and opacity tables (its `kTableSize`): where
+/// [`TransferFunction::attenuation_as_opacity`] resamples to read a function as the mapper does.
+pub const VTK_MAPPER_TABLE_ENTRIES: usize = 1024;
+
 /// A piecewise-linear colour and opacity transfer function.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TransferFunction {
@@ -203,7 +207,7 @@ impl TransferFunction {
     /// (`vtkUnstructuredGridVolumeRayCastMapper`) reads it: as an attenuation coefficient per
     /// unit distance `a`, of which a unit of distance lets `e^(−a)` through, rather than as
     /// the opacity of a unit of distance. The opacity is resampled at `entries` evenly spaced
-    /// scalars over `[lo, hi]` (at least 2; as the VTK mapper samples its tables, 1024) and each
+    /// scalars over `[lo, hi]` (at least 2; [`VTK_MAPPER_TABLE_ENTRIES`] as the mapper does) and each
     /// sample `a` becomes `1 − e^(−a)`; the colour and unit distance are kept. A constant
     /// medium then lets `e^(−a L / unit)` through over a length `L`, Beer–Lambert's law. An
     /// empty opacity, or a reversed or non-finite range, is returned unchanged (and

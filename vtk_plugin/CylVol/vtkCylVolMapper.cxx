@@ -39,6 +39,9 @@ vtkStandardNewMacro(vtkCylVolMapper);
 
 namespace
 {
+// Entries of the colour and opacity tables. cylvol::render::transfer::VTK_MAPPER_TABLE_ENTRIES
+// is the same number, so that `cylvol render --opacity-convention attenuation` reads a transfer
+// function as this mapper does.
 constexpr int kTableSize = 1024;
 
 // Converts any VTK data array into a contiguous array cylvol accepts (f32 or f64). Float
