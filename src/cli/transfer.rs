@@ -7,6 +7,7 @@
 //! increasing scalar order, or the command says which one is out of place. What the options
 //! leave out comes from the default transfer function ([`super::scene::transfer`]).
 
+use cylvol::render::transfer::VTK_MAPPER_TABLE_ENTRIES;
 use cylvol::render::TransferFunction;
 use cylvol::Error;
 
@@ -68,10 +69,6 @@ pub enum OpacityConvention {
     Attenuation,
 }
 
-/// Scalars at which an attenuation is resampled as opacity: as many as vtkCylVolMapper's
-/// tables have, so that both read a transfer function alike.
-const ATTENUATION_ENTRIES: usize = cylvol::render::transfer::VTK_MAPPER_TABLE_ENTRIES;
-
 impl TransferArgs {
     /// The transfer function over the scalar range `range` of a mesh whose bounding-box
     /// diagonal is `diagonal`: the default one (`default_tf`) with whatever the options set in
@@ -104,7 +101,9 @@ impl TransferArgs {
             tf.unit_distance = d;
         }
         if self.opacity_convention == OpacityConvention::Attenuation {
-            tf = tf.attenuation_as_opacity(range[0], range[1], ATTENUATION_ENTRIES);
+            // Resampled at as many scalars as vtkCylVolMapper's tables have, so that both read
+            // a transfer function alike.
+            tf = tf.attenuation_as_opacity(range[0], range[1], VTK_MAPPER_TABLE_ENTRIES);
         }
         Ok(tf)
     }
@@ -223,10 +222,10 @@ mod tests {
             ..args
         };
         let tf = attenuation.apply(default_tf(), [10.0, 20.0], 7.0).unwrap();
-        assert_eq!(tf.opacity.len(), ATTENUATION_ENTRIES);
+        assert_eq!(tf.opacity.len(), VTK_MAPPER_TABLE_ENTRIES);
         assert_eq!(tf.opacity[0], (10.0, 0.0));
         assert_eq!(
-            tf.opacity[ATTENUATION_ENTRIES - 1],
+            tf.opacity[VTK_MAPPER_TABLE_ENTRIES - 1],
             (20.0, -(-1.0f64).exp_m1())
         );
     }

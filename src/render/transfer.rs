@@ -223,10 +223,11 @@ impl TransferFunction {
             return self.clone();
         }
         let n = entries.max(2);
+        let points = self.opacity_points();
         let opacity = (0..n)
             .map(|k| {
                 let s = lo + (hi - lo) * k as f64 / (n - 1) as f64;
-                let a = self.opacity_at(s);
+                let a = piecewise(&points, s)[0];
                 (s, (-(-a).exp_m1()).clamp(0.0, 1.0))
             })
             .collect();
@@ -243,8 +244,12 @@ impl TransferFunction {
 
     /// The opacity per unit distance at scalar `s`.
     pub fn opacity_at(&self, s: f64) -> f64 {
-        let pts: Vec<(f64, [f64; 1])> = self.opacity.iter().map(|&(x, a)| (x, [a])).collect();
-        piecewise(&pts, s)[0]
+        piecewise(&self.opacity_points(), s)[0]
+    }
+
+    /// The opacity points in the form [`piecewise`] takes (made once for many evaluations).
+    fn opacity_points(&self) -> Vec<(f64, [f64; 1])> {
+        self.opacity.iter().map(|&(x, a)| (x, [a])).collect()
     }
 
     /// Samples the function over `[lo, hi]` into `entries` entries, with opacities corrected
@@ -272,7 +277,7 @@ impl TransferFunction {
         }
         let n = entries.max(2);
         let exponent = step / self.unit_distance;
-        let opacity: Vec<(f64, [f64; 1])> = self.opacity.iter().map(|&(x, a)| (x, [a])).collect();
+        let opacity = self.opacity_points();
         let mut rgba = Vec::with_capacity(n);
         let mut unit = Vec::with_capacity(n);
         let mut nonzero_prefix = Vec::with_capacity(n + 1);
