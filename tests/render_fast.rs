@@ -621,7 +621,7 @@ fn the_boundary_surface_finds_the_exit_the_walk_finds() {
                 let walked = boundary_face_crossing(&mesh, &topology, cell as u32, o, d, 0.0, t_to);
                 let surfaced = topology
                     .surface()
-                    .first_face_crossing(&mesh, o, d, 0.0, t_to, &mut Counters::default())
+                    .first_face_crossing(None, &mesh, o, d, 0.0, t_to, &mut Counters::default())
                     .flatten()
                     .map(|(t, _)| t);
                 match (walked, surfaced) {

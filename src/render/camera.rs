@@ -301,6 +301,24 @@ pub trait RaySource: Sync {
     fn size(&self) -> (u32, u32);
     /// The ray through the centre of pixel `(i, j)`: origin and unit direction.
     fn ray(&self, i: u32, j: u32) -> (DVec3, DVec3);
+
+    /// Where `p` lies in the image, in pixels (the centre of pixel `(i, j)` at `(i, j)`), for
+    /// a projection by which every point of the ray of a pixel (at `t ≥ 0`) projects to that
+    /// pixel's centre and the image of a segment is a segment; `None` for a point that cannot
+    /// be projected so (at or behind a perspective eye) or rays with no such projection (the
+    /// default). [`crate::render::ray_faces`] sorts the boundary faces to the image with it.
+    fn project(&self, _p: DVec3) -> Option<(f64, f64)> {
+        None
+    }
+}
+
+/// Pixel coordinates (the centre of pixel `(i, j)` at `(i, j)`, row 0 at the top) of the
+/// normalized device coordinates `(x, y)` of a `width × height` image: the inverse of the
+/// pixel centres' NDC that both ray sources use.
+fn ndc_to_pixel(x: f64, y: f64, width: u32, height: u32) -> Option<(f64, f64)> {
+    let i = (x + 1.0) * 0.5 * width as f64 - 0.5;
+    let j = (1.0 - y) * 0.5 * height as f64 - 0.5;
+    (i.is_finite() && j.is_finite()).then_some((i, j))
 }
 
 impl RaySource for RayGenerator {
@@ -311,6 +329,24 @@ impl RaySource for RayGenerator {
     #[inline]
     fn ray(&self, i: u32, j: u32) -> (DVec3, DVec3) {
         RayGenerator::ray(self, i, j)
+    }
+
+    fn project(&self, p: DVec3) -> Option<(f64, f64)> {
+        let rel = p - self.eye;
+        let f = &self.frame;
+        let (x, y) = if self.parallel {
+            (rel.dot(f.right) / self.half_w, rel.dot(f.up) / self.half_h)
+        } else {
+            let z = rel.dot(f.forward);
+            if z.is_nan() || z <= 0.0 {
+                return None;
+            }
+            (
+                rel.dot(f.right) / (z * self.half_w),
+                rel.dot(f.up) / (z * self.half_h),
+            )
+        };
+        ndc_to_pixel(x, y, self.width, self.height)
     }
 }
 
@@ -449,6 +485,13 @@ impl RaySource for MatrixRays {
         let near = self.point(x, y, -1.0);
         let far = self.point(x, y, 1.0);
         (near, (far - near).normalize_or_zero())
+    }
+    fn project(&self, p: DVec3) -> Option<(f64, f64)> {
+        let c = self.clip * p.extend(1.0);
+        if c.w.is_nan() || c.w <= 0.0 {
+            return None;
+        }
+        ndc_to_pixel(c.x / c.w, c.y / c.w, self.width, self.height)
     }
 }
 

@@ -24,6 +24,7 @@ pub mod camera;
 pub mod image;
 pub mod march;
 pub mod plot;
+pub mod ray_faces;
 pub mod raycast;
 pub mod shading;
 pub mod skip;

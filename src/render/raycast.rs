@@ -93,6 +93,7 @@ use super::boundary::{face_violation, interpolate_crossing, partial_opacity, BIS
 use super::camera::{Camera, RayGenerator, RaySource};
 use super::image::Image;
 use super::march::{boundary_face_crossing, boundary_plane_crossing, March};
+use super::ray_faces::{FaceBins, RayFaces, TileFaces};
 use super::shading::Shading;
 use super::skip::Skipper;
 use super::surface::{face_corners, BoundarySurface};
@@ -660,16 +661,18 @@ pub const MAX_BOUNDARY_WALK: usize = 6;
 /// The part of a ray from a point known to be in the mesh (at `t_inside`) to a point tested
 /// (at `t`), for confirming that the point is outside (see [`Renderer::proven_outside`]).
 #[derive(Clone, Copy, Debug)]
-struct Segment {
+struct Segment<'f> {
     origin: DVec3,
     dir: DVec3,
+    /// The boundary faces the ray meets, where a list was made for it.
+    faces: Option<RayFaces<'f>>,
     t_inside: f64,
     t: f64,
     /// The cell the inside end was located in.
     inside_cell: u32,
 }
 
-impl Segment {
+impl Segment<'_> {
     /// The ends' `t`, in increasing order.
     fn range(&self) -> (f64, f64) {
         (self.t_inside.min(self.t), self.t_inside.max(self.t))
@@ -682,7 +685,7 @@ impl Segment {
 struct Parity<'r> {
     surface: &'r BoundarySurface,
     mesh: &'r Mesh,
-    seg: Segment,
+    seg: Segment<'r>,
     margin: f64,
     crossing: f64,
 }
@@ -865,7 +868,7 @@ impl<'a> Renderer<'a> {
         stats: &mut RenderStats,
     ) -> RayResult {
         let mut hint = None;
-        self.cast_with_hint(origin, dir, t_stop, &mut hint, stats)
+        self.cast_with_hint(origin, dir, t_stop, &mut hint, None, stats)
     }
 
     /// The fast path's location of the sample at `t` on the ray with no previous cell: a march
@@ -939,7 +942,7 @@ impl<'a> Renderer<'a> {
     /// typically, past a last sample in a cell whose face lies on the box.
     fn boundary_locate(
         &self,
-        seg: Segment,
+        seg: Segment<'_>,
         cell: u32,
         guess: DVec3,
         counters: &mut Counters,
@@ -961,18 +964,22 @@ impl<'a> Renderer<'a> {
     /// bound leaves, by their count of crossings (zero, told robustly). Fast path only (the
     /// paper path asks the structure); the surface's node visits are counted in
     /// `surface_visits`.
-    fn proven_outside(&self, seg: Segment, face: (u32, u8), stats: &mut RenderStats) -> bool {
+    fn proven_outside(&self, seg: Segment<'_>, face: (u32, u8), stats: &mut RenderStats) -> bool {
         let Some(parity) = self.parity(seg, face) else {
             return false;
         };
         let mut c = Counters::default();
         let (lo, hi) = seg.range();
-        let crosses =
-            parity
-                .surface
-                .may_cross_other(seg.origin, seg.dir, lo, hi, face, &mut c, |f| {
-                    parity.crossings(f).map_or(true, |c| c.count() > 0)
-                });
+        let crosses = parity.surface.may_cross_other(
+            seg.faces,
+            seg.origin,
+            seg.dir,
+            lo,
+            hi,
+            face,
+            &mut c,
+            |f| parity.crossings(f).map_or(true, |c| c.count() > 0),
+        );
         stats.surface_visits += c.internal_visits + c.leaf_visits;
         !crosses
     }
@@ -984,7 +991,7 @@ impl<'a> Renderer<'a> {
     /// outside.
     fn proven_outside_until(
         &self,
-        seg: Segment,
+        seg: Segment<'_>,
         face: (u32, u8),
         t_end: f64,
         stats: &mut RenderStats,
@@ -995,6 +1002,7 @@ impl<'a> Renderer<'a> {
         let parity = self.parity(seg, face)?;
         let mut c = Counters::default();
         let next = parity.surface.sole_crossing_then_next(
+            seg.faces,
             seg.origin,
             seg.dir,
             seg.t_inside,
@@ -1014,7 +1022,7 @@ impl<'a> Renderer<'a> {
     /// The common part of the proofs by parity: where `face` is crossed exactly once by the
     /// segment (and the path is the fast one, with a boundary surface), what the rest of the
     /// proof needs.
-    fn parity(&self, seg: Segment, face: (u32, u8)) -> Option<Parity<'_>> {
+    fn parity<'s>(&'s self, seg: Segment<'s>, face: (u32, u8)) -> Option<Parity<'s>> {
         if self.options.path != RenderPath::Fast {
             return None;
         }
@@ -1050,7 +1058,7 @@ impl<'a> Renderer<'a> {
     /// answer outside must be proved the same way.
     fn exit_locate(
         &self,
-        seg: Segment,
+        seg: Segment<'_>,
         face: (u32, u8),
         guess: DVec3,
         t_end: f64,
@@ -1084,7 +1092,7 @@ impl<'a> Renderer<'a> {
     #[allow(clippy::too_many_arguments)]
     fn boundary_locate_from(
         &self,
-        seg: Segment,
+        seg: Segment<'_>,
         cell: u32,
         guess: DVec3,
         confirm: bool,
@@ -1217,8 +1225,10 @@ impl<'a> Renderer<'a> {
 
     /// Whether the point at `t` of the ray is in the mesh, by a boundary search from the
     /// bracket's inside end; the bracket's end on the same side moves to `t`.
+    #[allow(clippy::too_many_arguments)]
     fn probe(
         &self,
+        faces: Option<RayFaces<'_>>,
         origin: DVec3,
         dir: DVec3,
         t: f64,
@@ -1236,6 +1246,7 @@ impl<'a> Renderer<'a> {
         let seg = Segment {
             origin,
             dir,
+            faces,
             t_inside: b.t_inside,
             t,
             inside_cell: b.inside.0,
@@ -1278,6 +1289,7 @@ impl<'a> Renderer<'a> {
     #[allow(clippy::too_many_arguments)]
     fn crossing(
         &self,
+        faces: Option<RayFaces<'_>>,
         origin: DVec3,
         dir: DVec3,
         t_outside: f64,
@@ -1293,6 +1305,7 @@ impl<'a> Renderer<'a> {
             if let Some(surface) = self.neighbours.surface() {
                 let mut c = Counters::default();
                 let first = surface.first_face_crossing(
+                    faces,
                     self.volume.mesh,
                     origin,
                     dir,
@@ -1340,10 +1353,10 @@ impl<'a> Renderer<'a> {
                 t > b.t_inside.min(b.t_outside) && t < b.t_inside.max(b.t_outside)
             };
             if strictly_within(lo, &b)
-                && self.probe(origin, dir, lo, &mut b, counters, stats)
+                && self.probe(faces, origin, dir, lo, &mut b, counters, stats)
                 && strictly_within(hi, &b)
             {
-                self.probe(origin, dir, hi, &mut b, counters, stats);
+                self.probe(faces, origin, dir, hi, &mut b, counters, stats);
             }
         }
         // At most BISECTIONS halvings (the bound also ends the loop should rounding stall it).
@@ -1352,7 +1365,7 @@ impl<'a> Renderer<'a> {
                 break;
             }
             let mid = 0.5 * (b.t_outside + b.t_inside);
-            self.probe(origin, dir, mid, &mut b, counters, stats);
+            self.probe(faces, origin, dir, mid, &mut b, counters, stats);
         }
         let q_out = match b.outside_q {
             Some(q) => Some(q),
@@ -1385,6 +1398,7 @@ impl<'a> Renderer<'a> {
         dir: DVec3,
         t_stop: f64,
         hint: &mut Option<u32>,
+        faces: Option<RayFaces<'_>>,
         stats: &mut RenderStats,
     ) -> RayResult {
         stats.rays += 1;
@@ -1451,7 +1465,9 @@ impl<'a> Renderer<'a> {
                              stats: &mut RenderStats| {
             if let Some(l) = acc.last.take() {
                 let e = known.unwrap_or_else(|| {
-                    self.crossing(origin, dir, t_outside, l.t, l.inside, counters, stats)
+                    self.crossing(
+                        faces, origin, dir, t_outside, l.t, l.inside, counters, stats,
+                    )
                 });
                 acc.exit(l, e, step, opts.depth_opacity);
             }
@@ -1468,7 +1484,14 @@ impl<'a> Renderer<'a> {
         let mut next_surface_crossing = |t_outside: f64| -> (f64, Option<u32>) {
             match surface {
                 Some(s) => {
-                    match s.next_crossing(origin, dir, t_outside, t_out, &mut surface_counters) {
+                    match s.next_crossing(
+                        faces,
+                        origin,
+                        dir,
+                        t_outside,
+                        t_out,
+                        &mut surface_counters,
+                    ) {
                         Some((t, c)) => (t, Some(c)),
                         None => (t_out, None),
                     }
@@ -1541,6 +1564,7 @@ impl<'a> Renderer<'a> {
                             let seg = Segment {
                                 origin,
                                 dir,
+                                faces,
                                 t_inside: prev_t,
                                 t,
                                 inside_cell: c,
@@ -1763,6 +1787,7 @@ impl<'a> Renderer<'a> {
                             Segment {
                                 origin,
                                 dir,
+                                faces,
                                 t_inside: t,
                                 t: t_prev,
                                 inside_cell: cell,
@@ -1775,6 +1800,7 @@ impl<'a> Renderer<'a> {
                         .is_none();
                 outside.then(|| {
                     self.crossing(
+                        faces,
                         origin,
                         dir,
                         t_prev,
@@ -1805,6 +1831,7 @@ impl<'a> Renderer<'a> {
                     let seg = Segment {
                         origin,
                         dir,
+                        faces,
                         t_inside: t,
                         t: t_next,
                         inside_cell: cell,
@@ -1813,8 +1840,16 @@ impl<'a> Renderer<'a> {
                         .boundary_locate(seg, cell, raw_param, &mut counters, stats)
                         .is_none()
                     {
-                        let e =
-                            self.crossing(origin, dir, t_next, t, l.inside, &mut counters, stats);
+                        let e = self.crossing(
+                            faces,
+                            origin,
+                            dir,
+                            t_next,
+                            t,
+                            l.inside,
+                            &mut counters,
+                            stats,
+                        );
                         acc.exit(l, e, step, opts.depth_opacity);
                     }
                 }
@@ -1829,6 +1864,7 @@ impl<'a> Renderer<'a> {
             let seg = Segment {
                 origin,
                 dir,
+                faces,
                 t_inside: l.t,
                 t: t_out,
                 inside_cell: l.inside.0,
@@ -1838,7 +1874,16 @@ impl<'a> Renderer<'a> {
                     .boundary_locate(seg, l.inside.0, l.inside.1, &mut counters, stats)
                     .is_none()
             {
-                let e = self.crossing(origin, dir, t_out, l.t, l.inside, &mut counters, stats);
+                let e = self.crossing(
+                    faces,
+                    origin,
+                    dir,
+                    t_out,
+                    l.t,
+                    l.inside,
+                    &mut counters,
+                    stats,
+                );
                 acc.exit(l, e, step, opts.depth_opacity);
             }
         }
@@ -1911,20 +1956,36 @@ impl<'a> Renderer<'a> {
         let tile = self.options.tile.max(1);
         let (tx, ty) = (w.div_ceil(tile), h.div_ceil(tile));
         let tiles: Vec<(u32, u32)> = (0..ty).flat_map(|y| (0..tx).map(move |x| (x, y))).collect();
+        // The fast path's boundary faces sorted to the image once, for lists per ray in
+        // place of the surface's traversals (see `ray_faces`).
+        let surface = (self.options.path == RenderPath::Fast && !self.nothing_visible())
+            .then(|| self.neighbours.surface())
+            .flatten();
+        let bins = surface.and_then(|s| FaceBins::new(s, rays, tile).map(|b| (s, b)));
         let rendered: Vec<(Vec<RayResult>, RenderStats)> = tiles
             .par_iter()
             .map(|&(x, y)| {
                 let mut stats = RenderStats::default();
-                let mut px = Vec::with_capacity((tile * tile) as usize);
+                let (i_end, j_end) = (((x + 1) * tile).min(w), ((y + 1) * tile).min(h));
+                let tile_width = i_end - x * tile;
+                let tile_rays: Vec<(DVec3, DVec3)> = (y * tile..j_end)
+                    .flat_map(|j| (x * tile..i_end).map(move |i| rays.ray(i, j)))
+                    .collect();
+                let lists = bins
+                    .as_ref()
+                    .map(|(s, b)| TileFaces::new(s, b, (x, y), &tile_rays, tile_width));
+                let mut px = Vec::with_capacity(tile_rays.len());
                 let mut hint = None;
-                for j in y * tile..((y + 1) * tile).min(h) {
-                    for i in x * tile..((x + 1) * tile).min(w) {
-                        let (o, d) = rays.ray(i, j);
-                        let stop = depth_in
-                            .map(|dd| dd[j as usize * w as usize + i as usize] as f64)
-                            .unwrap_or(f64::INFINITY);
-                        px.push(self.cast_with_hint(o, d, stop, &mut hint, &mut stats));
-                    }
+                for (k, &(o, d)) in tile_rays.iter().enumerate() {
+                    let (i, j) = (
+                        x * tile + k as u32 % tile_width,
+                        y * tile + k as u32 / tile_width,
+                    );
+                    let stop = depth_in
+                        .map(|dd| dd[j as usize * w as usize + i as usize] as f64)
+                        .unwrap_or(f64::INFINITY);
+                    let faces = lists.as_ref().and_then(|l| l.of(k, o, d));
+                    px.push(self.cast_with_hint(o, d, stop, &mut hint, faces, &mut stats));
                 }
                 (px, stats)
             })

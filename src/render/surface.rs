@@ -20,9 +20,10 @@
 
 use glam::DVec3;
 
+use super::ray_faces::{RayFace, RayFaces};
 use super::raycast::Neighbours;
-use crate::accel::bvh::ray::clip_to_slab;
-use crate::accel::bvh::{build_bvh, Bvh, BvhParams};
+use crate::accel::bvh::ray::{box_span, clip_to_slab, reciprocal};
+use crate::accel::bvh::{build_bvh, BoxF32, Bvh, BvhParams};
 use crate::accel::space::Pieces;
 use crate::accel::Counters;
 use crate::geometry::bounds::Aabb;
@@ -41,6 +42,53 @@ pub struct BoundarySurface {
     faces: Vec<(u32, u8)>,
     /// The slab of each face, in the same order.
     slabs: Vec<Slab>,
+    /// The stored box of each face (as the BVH's leaves hold it), in the same order.
+    boxes: Vec<BoxF32>,
+}
+
+/// A ray's tests against the faces' stored boxes, as the BVH's traversal makes them
+/// ([`BoundarySurface::ray_query`]).
+#[derive(Clone, Copy, Debug)]
+pub struct FaceBoxQuery<'s> {
+    boxes: &'s [BoxF32],
+    anchor: DVec3,
+    pad: f64,
+}
+
+/// A ray prepared for [`FaceBoxQuery::ray_face`]: its origin relative to the boxes' anchor and
+/// the reciprocal of its direction.
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedRay {
+    origin: DVec3,
+    inv: DVec3,
+}
+
+impl FaceBoxQuery<'_> {
+    /// Prepares the ray `origin + t dir`.
+    #[inline]
+    pub fn prepare(&self, origin: DVec3, dir: DVec3) -> PreparedRay {
+        PreparedRay {
+            origin: origin - self.anchor,
+            inv: reciprocal(dir),
+        }
+    }
+
+    /// The ray's line's interval in face `face`'s stored box (padded as the BVH pads it), the
+    /// same numbers a traversal of the BVH computes; `None` where it misses the box.
+    #[inline]
+    pub fn ray_face(&self, face: u32, ray: &PreparedRay) -> Option<RayFace> {
+        let b = self.boxes.get(face as usize)?;
+        box_span(
+            ray.origin,
+            ray.inv,
+            self.pad,
+            b.min,
+            b.max,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+        )
+        .map(|(entry, exit)| RayFace { entry, exit, face })
+    }
 }
 
 /// The slab between the extreme projections of a face's corners on its normal (padded):
@@ -151,10 +199,24 @@ impl BoundarySurface {
             .par_iter()
             .map(|&(c, f)| Slab::of(&face_corners(mesh, c, f)))
             .collect();
+        let bvh = build_bvh(&pieces, &BvhParams::default());
+        let mut boxes = vec![
+            BoxF32 {
+                min: [0.0; 3],
+                max: [0.0; 3],
+            };
+            faces.len()
+        ];
+        for r in &bvh.refs {
+            if let Some(b) = boxes.get_mut(r.cell as usize) {
+                *b = r.bounds;
+            }
+        }
         BoundarySurface {
-            bvh: build_bvh(&pieces, &BvhParams::default()),
+            bvh,
             faces,
             slabs,
+            boxes,
         }
     }
 
@@ -168,19 +230,92 @@ impl BoundarySurface {
         &self.faces
     }
 
+    /// The box of face `i` (an index into [`BoundarySurface::faces`]) as queries test it: its
+    /// stored box, padded, in world coordinates (a point-degenerate box where there is no
+    /// such face).
+    pub fn face_box(&self, i: usize) -> (DVec3, DVec3) {
+        let Some(b) = self.boxes.get(i) else {
+            return (DVec3::ZERO, DVec3::ZERO);
+        };
+        let pad = DVec3::splat(self.bvh.query_pad());
+        let anchor = self.bvh.frame.anchor;
+        let world = |c: [f32; 3]| anchor + DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64);
+        (world(b.min) - pad, world(b.max) + pad)
+    }
+
+    /// The tests of rays against the faces' boxes that the queries' traversals make, for
+    /// lists of the faces a ray meets ([`crate::render::ray_faces`]).
+    pub fn ray_query(&self) -> FaceBoxQuery<'_> {
+        FaceBoxQuery {
+            boxes: &self.boxes,
+            anchor: self.bvh.frame.anchor,
+            pad: self.bvh.query_pad(),
+        }
+    }
+
+    /// [`Bvh::first_along`] over the faces, or where `faces` were made for this ray (or its
+    /// reverse), over that list: the same faces offered with the same intervals, nearest
+    /// first (see [`crate::render::ray_faces`]).
+    #[allow(clippy::too_many_arguments)]
+    fn along(
+        &self,
+        faces: Option<RayFaces<'_>>,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        counters: &mut Counters,
+        mut hit: impl FnMut(u32, f64, f64) -> Option<(f64, f64)>,
+    ) -> Option<(f64, f64, u32)> {
+        let faces = faces.filter(|f| f.origin == origin && (f.dir == dir || f.dir == -dir));
+        let Some(faces) = faces else {
+            return self.bvh.first_along(origin, dir, t0, t1, counters, hit);
+        };
+        let mut best: Option<(f64, f64, u32)> = None;
+        let mut hi = t1;
+        let mut offer = |face: u32, entry: f64, exit: f64, hi: &mut f64| {
+            let (lo, x) = (entry.max(t0), exit.min(*hi));
+            if lo <= x {
+                counters.leaf_visits += 1;
+                if let Some((e, x)) = hit(face, lo, x) {
+                    if e <= *hi && best.map_or(true, |b| e < b.0) {
+                        best = Some((e, x, face));
+                        *hi = e;
+                    }
+                }
+            }
+        };
+        if faces.dir == dir {
+            for f in faces.list {
+                if f.entry > hi {
+                    break;
+                }
+                offer(f.face, f.entry, f.exit, &mut hi);
+            }
+        } else {
+            // Backwards: the interval along `-dir` is the negated one (exactly: the
+            // reciprocal and the products change sign only).
+            for f in faces.list.iter().rev() {
+                offer(f.face, -f.exit, -f.entry, &mut hi);
+            }
+        }
+        best
+    }
+
     /// The first `t ∈ [t0, t1]` at which the ray `origin + t dir` may cross the boundary
     /// (see the module documentation), with the cell of that face; `None` if it crosses none
     /// on that interval. If the ray is outside the mesh at `t0`, it is outside on
     /// `[t0, t)`. Node visits are counted in `counters`.
     pub fn next_crossing(
         &self,
+        faces: Option<RayFaces<'_>>,
         origin: DVec3,
         dir: DVec3,
         t0: f64,
         t1: f64,
         counters: &mut Counters,
     ) -> Option<(f64, u32)> {
-        self.first_crossing(origin, dir, t0, t1, &mut |_| true, counters)
+        self.first_crossing(faces, origin, dir, t0, t1, &mut |_| true, counters)
             .map(|(t, (c, _))| (t, c))
     }
 
@@ -205,16 +340,17 @@ impl BoundarySurface {
     /// let b = cylvol::geometry::bounds::Aabb::from_points(mesh.points());
     /// let (o, d) = (b.center() - DVec3::X * 10.0 * b.diagonal(), DVec3::X);
     /// let mut counters = Counters::default();
-    /// let (t, cell) = surface.next_crossing(o, d, 0.0, 1e9, &mut counters).unwrap();
+    /// let (t, cell) = surface.next_crossing(None, o, d, 0.0, 1e9, &mut counters).unwrap();
     /// let face = *surface.faces().iter().find(|f| f.0 == cell).unwrap();
-    /// assert!(surface.may_cross_other(o, d, 0.0, 1e9, face, &mut counters, |_| true));
+    /// assert!(surface.may_cross_other(None, o, d, 0.0, 1e9, face, &mut counters, |_| true));
     /// // Before the first crossing there is none; where the refinement says so, none at all.
-    /// assert!(!surface.may_cross_other(o, d, 0.0, 0.5 * t, face, &mut counters, |_| true));
-    /// assert!(!surface.may_cross_other(o, d, 0.0, 1e9, face, &mut counters, |_| false));
+    /// assert!(!surface.may_cross_other(None, o, d, 0.0, 0.5 * t, face, &mut counters, |_| true));
+    /// assert!(!surface.may_cross_other(None, o, d, 0.0, 1e9, face, &mut counters, |_| false));
     /// ```
     #[allow(clippy::too_many_arguments)]
     pub fn may_cross_other(
         &self,
+        faces: Option<RayFaces<'_>>,
         origin: DVec3,
         dir: DVec3,
         ta: f64,
@@ -224,8 +360,16 @@ impl BoundarySurface {
         mut may_cross: impl FnMut((u32, u8)) -> bool,
     ) -> bool {
         let mut refine = |f: (u32, u8)| f != face && may_cross(f);
-        self.first_crossing(origin, dir, ta.min(tb), ta.max(tb), &mut refine, counters)
-            .is_some()
+        self.first_crossing(
+            faces,
+            origin,
+            dir,
+            ta.min(tb),
+            ta.max(tb),
+            &mut refine,
+            counters,
+        )
+        .is_some()
     }
 
     /// For a ray in the mesh at `t_from` that crosses the boundary face `face` (its
@@ -248,20 +392,21 @@ impl BoundarySurface {
     /// let b = cylvol::geometry::bounds::Aabb::from_points(mesh.points());
     /// let (o, d) = (b.center() - DVec3::X * 10.0 * b.diagonal(), DVec3::X);
     /// let mut c = Counters::default();
-    /// let (t, cell) = surface.next_crossing(o, d, 0.0, 1e9, &mut c).unwrap();
+    /// let (t, cell) = surface.next_crossing(None, o, d, 0.0, 1e9, &mut c).unwrap();
     /// let face = *surface.faces().iter().find(|f| f.0 == cell).unwrap();
     /// // With no other face counted as crossed, the next crossing from a point is the one
     /// // next_crossing gives.
     /// let from = 0.5 * t;
-    /// let next = surface.sole_crossing_then_next(o, d, 0.0, from, 1e9, face, &mut c, |_| false);
-    /// assert_eq!(next, Some(surface.next_crossing(o, d, from, 1e9, &mut c)));
+    /// let next = surface.sole_crossing_then_next(None, o, d, 0.0, from, 1e9, face, &mut c, |_| false);
+    /// assert_eq!(next, Some(surface.next_crossing(None, o, d, from, 1e9, &mut c)));
     /// // With every face that may be crossed counted as crossed, no answer past the first.
     /// let after = 0.5 * (t + 1e9);
-    /// assert_eq!(surface.sole_crossing_then_next(o, d, 0.0, after, 1e9, face, &mut c, |_| true), None);
+    /// assert_eq!(surface.sole_crossing_then_next(None, o, d, 0.0, after, 1e9, face, &mut c, |_| true), None);
     /// ```
     #[allow(clippy::too_many_arguments)]
     pub fn sole_crossing_then_next(
         &self,
+        faces: Option<RayFaces<'_>>,
         origin: DVec3,
         dir: DVec3,
         t_from: f64,
@@ -272,17 +417,15 @@ impl BoundarySurface {
         mut may_cross: impl FnMut((u32, u8)) -> bool,
     ) -> Option<Option<(f64, u32)>> {
         let mut other = false;
-        let hit = self
-            .bvh
-            .first_along(origin, dir, t_from, t_end, counters, |i, lo, hi| {
-                let (f, lo, hi) = self.face_span(i, origin, dir, lo, hi)?;
-                if lo < t && f != face && may_cross(f) {
-                    // Settled: the closest hit is now before `t`, which ends the traversal.
-                    other = true;
-                    return Some((lo, hi));
-                }
-                (hi >= t).then_some((lo.max(t), hi))
-            });
+        let hit = self.along(faces, origin, dir, t_from, t_end, counters, |i, lo, hi| {
+            let (f, lo, hi) = self.face_span(i, origin, dir, lo, hi)?;
+            if lo < t && f != face && may_cross(f) {
+                // Settled: the closest hit is now before `t`, which ends the traversal.
+                other = true;
+                return Some((lo, hi));
+            }
+            (hi >= t).then_some((lo.max(t), hi))
+        });
         if other {
             return None;
         }
@@ -302,6 +445,7 @@ impl BoundarySurface {
     #[allow(clippy::too_many_arguments)]
     pub fn first_face_crossing(
         &self,
+        faces: Option<RayFaces<'_>>,
         mesh: &Mesh,
         origin: DVec3,
         dir: DVec3,
@@ -317,18 +461,16 @@ impl BoundarySurface {
         };
         let (s_from, s_to) = (sign * t_from, sign * t_to);
         let mut undecided = false;
-        let hit = self
-            .bvh
-            .first_along(origin, d, s_from, s_to, counters, |i, lo, hi| {
-                let ((c, f), _, _) = self.face_span(i, origin, d, lo, hi)?;
-                match segment_crossings(&face_corners(mesh, c, f), origin, d, s_from, s_to, 0.0) {
-                    Some(x) => x.ts().first().map(|&s| (s, s)),
-                    None => {
-                        undecided = true;
-                        None
-                    }
+        let hit = self.along(faces, origin, d, s_from, s_to, counters, |i, lo, hi| {
+            let ((c, f), _, _) = self.face_span(i, origin, d, lo, hi)?;
+            match segment_crossings(&face_corners(mesh, c, f), origin, d, s_from, s_to, 0.0) {
+                Some(x) => x.ts().first().map(|&s| (s, s)),
+                None => {
+                    undecided = true;
+                    None
                 }
-            });
+            }
+        });
         if undecided {
             return None;
         }
@@ -355,8 +497,10 @@ impl BoundarySurface {
     /// The first `t ∈ [t0, t1]` at which the ray may cross a boundary face for which
     /// `keep` holds (asked only of faces whose bound the ray meets there), with that face's
     /// `(cell, face)`.
+    #[allow(clippy::too_many_arguments)]
     fn first_crossing(
         &self,
+        faces: Option<RayFaces<'_>>,
         origin: DVec3,
         dir: DVec3,
         t0: f64,
@@ -364,12 +508,11 @@ impl BoundarySurface {
         keep: &mut dyn FnMut((u32, u8)) -> bool,
         counters: &mut Counters,
     ) -> Option<(f64, (u32, u8))> {
-        self.bvh
-            .first_along(origin, dir, t0, t1, counters, |i, lo, hi| {
-                let (face, lo, hi) = self.face_span(i, origin, dir, lo, hi)?;
-                keep(face).then_some((lo, hi))
-            })
-            .and_then(|(t, _, i)| self.faces.get(i as usize).map(|&f| (t, f)))
+        self.along(faces, origin, dir, t0, t1, counters, |i, lo, hi| {
+            let (face, lo, hi) = self.face_span(i, origin, dir, lo, hi)?;
+            keep(face).then_some((lo, hi))
+        })
+        .and_then(|(t, _, i)| self.faces.get(i as usize).map(|&f| (t, f)))
     }
 
     /// For each of `points` (the probes near one face, say), whether a boundary face other
