@@ -61,7 +61,10 @@
 //!   line's crossings of a bilinear patch, [`crate::geometry::patch`]) and no other boundary
 //!   face (the surface's bound, then the same count), so no cell is tested and the structure
 //!   is not asked, and the exit's crossing is that face's; the same proof confirms the
-//!   boundary searches' "outside" at the ray's ends. A sample whose cell's scalar range the
+//!   boundary searches' "outside" at the ray's ends. Where the rays have a projection
+//!   ([`super::camera::RaySource::project`]), the surface's queries scan a list per ray of
+//!   the faces whose boxes it meets, made once a frame by projecting the faces to the image
+//!   ([`super::ray_faces`]), instead of traversing the surface's BVH. A sample whose cell's scalar range the
 //!   transfer function maps to zero opacity everywhere is skipped without interpolation (it
 //!   would add nothing); with a BVH, the ray then jumps to the next bound of a piece of a cell
 //!   that is not so ([`super::skip::Skipper::next_visible`] over the nodes that hold one,
@@ -310,8 +313,9 @@ pub struct RenderStats {
     /// each face plane by more than that face's deviation from it. Counted in
     /// `samples_located` and `samples_skipped`, not in `hex_tests`.
     pub plane_certified: u64,
-    /// Nodes of the boundary surface's BVH visited to skip the space outside the mesh (fast
-    /// path, see [`super::surface`]).
+    /// Nodes of the boundary surface's BVH visited to skip the space outside the mesh, or
+    /// faces offered from a ray's list where the rays have one (fast path, see
+    /// [`super::surface`] and [`super::ray_faces`]).
     pub surface_visits: u64,
     /// Jumps of the fast path over transparent space: from a sample in a transparent cell to
     /// the next bound of a piece of a cell that is not (BVH structures only; the samples
