@@ -92,9 +92,10 @@ impl FaceBins {
         let (w, h) = rays.size();
         let tile = tile.max(1);
         let (tiles_x, tiles_y) = (w.div_ceil(tile), h.div_ceil(tile));
-        let projected: Vec<Option<Option<[i32; 4]>>> = (0..surface.face_count())
+        let query = surface.ray_query();
+        let projected: Vec<Option<Option<[i32; 4]>>> = (0..query.face_count() as u32)
             .into_par_iter()
-            .map(|f| pixel_bounds(surface.face_box(f), rays))
+            .map(|f| query.world_box(f).and_then(|b| pixel_bounds(b, rays)))
             .collect();
         let mut bins: Vec<Vec<(u32, [i32; 4])>> = vec![Vec::new(); (tiles_x * tiles_y) as usize];
         let mut unprojected = Vec::new();
@@ -124,11 +125,6 @@ impl FaceBins {
             bins,
             unprojected,
         })
-    }
-
-    /// The number of faces filed (a face counted once per tile it is filed under).
-    pub fn filed(&self) -> usize {
-        self.bins.iter().map(Vec::len).sum()
     }
 
     /// The faces offered to every ray.
@@ -186,7 +182,8 @@ impl TileFaces {
         let th = rays.len().div_ceil(tw);
         let query = surface.ray_query();
         let prepared: Vec<_> = rays.iter().map(|&(o, d)| query.prepare(o, d)).collect();
-        let mut lists: Vec<Vec<RayFace>> = vec![Vec::new(); rays.len()];
+        // Every (pixel, face) pair found, then sorted by pixel and entry: one allocation.
+        let mut pairs: Vec<(u32, RayFace)> = Vec::new();
         let bin = bins
             .bins
             .get((ty * bins.tiles_x + tx) as usize)
@@ -200,26 +197,27 @@ impl TileFaces {
                 for i in i0..=i1 {
                     let k = j * tw + i;
                     if let Some(r) = prepared.get(k).and_then(|p| query.ray_face(f, p)) {
-                        lists[k].push(r);
+                        pairs.push((k as u32, r));
                     }
                 }
             }
         }
-        let mut start = Vec::with_capacity(rays.len() + 1);
-        let mut faces = Vec::with_capacity(lists.iter().map(Vec::len).sum());
-        start.push(0);
-        for (k, mut list) in lists.into_iter().enumerate() {
-            if let Some(p) = prepared.get(k) {
-                list.extend(
-                    bins.unprojected
-                        .iter()
-                        .filter_map(|&f| query.ray_face(f, p)),
-                );
-            }
-            list.sort_unstable_by(|a, b| a.entry.total_cmp(&b.entry));
-            faces.extend_from_slice(&list);
-            start.push(faces.len() as u32);
+        for (k, p) in prepared.iter().enumerate() {
+            let offered = bins
+                .unprojected
+                .iter()
+                .filter_map(|&f| query.ray_face(f, p));
+            pairs.extend(offered.map(|r| (k as u32, r)));
         }
+        pairs.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.entry.total_cmp(&b.1.entry)));
+        let mut start = vec![0u32; rays.len() + 1];
+        for &(k, _) in &pairs {
+            start[k as usize + 1] += 1;
+        }
+        for k in 0..rays.len() {
+            start[k + 1] += start[k];
+        }
+        let faces = pairs.into_iter().map(|(_, r)| r).collect();
         TileFaces { start, faces }
     }
 
@@ -231,15 +229,5 @@ impl TileFaces {
             dir,
             list: self.faces.get(a as usize..b as usize)?,
         })
-    }
-
-    /// Faces listed in all (a face counted once per ray).
-    pub fn len(&self) -> usize {
-        self.faces.len()
-    }
-
-    /// Whether no ray of the tile meets any face's box.
-    pub fn is_empty(&self) -> bool {
-        self.faces.is_empty()
     }
 }

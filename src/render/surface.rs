@@ -64,6 +64,20 @@ pub struct PreparedRay {
 }
 
 impl FaceBoxQuery<'_> {
+    /// The number of faces.
+    pub fn face_count(&self) -> usize {
+        self.boxes.len()
+    }
+
+    /// The box of face `face` as the queries test it: its stored box, padded, in world
+    /// coordinates; `None` where there is no such face.
+    pub fn world_box(&self, face: u32) -> Option<(DVec3, DVec3)> {
+        let b = self.boxes.get(face as usize)?;
+        let pad = DVec3::splat(self.pad);
+        let world = |c: [f32; 3]| self.anchor + DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64);
+        Some((world(b.min) - pad, world(b.max) + pad))
+    }
+
     /// Prepares the ray `origin + t dir`.
     #[inline]
     pub fn prepare(&self, origin: DVec3, dir: DVec3) -> PreparedRay {
@@ -228,19 +242,6 @@ impl BoundarySurface {
     /// The `(cell, face)` of each boundary face (face 0–5 in hexahedron face order).
     pub fn faces(&self) -> &[(u32, u8)] {
         &self.faces
-    }
-
-    /// The box of face `i` (an index into [`BoundarySurface::faces`]) as queries test it: its
-    /// stored box, padded, in world coordinates (a point-degenerate box where there is no
-    /// such face).
-    pub fn face_box(&self, i: usize) -> (DVec3, DVec3) {
-        let Some(b) = self.boxes.get(i) else {
-            return (DVec3::ZERO, DVec3::ZERO);
-        };
-        let pad = DVec3::splat(self.bvh.query_pad());
-        let anchor = self.bvh.frame.anchor;
-        let world = |c: [f32; 3]| anchor + DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64);
-        (world(b.min) - pad, world(b.max) + pad)
     }
 
     /// The tests of rays against the faces' boxes that the queries' traversals make, for
