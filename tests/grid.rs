@@ -310,6 +310,56 @@ fn absurd_densities_stay_within_the_memory_budget() {
     }
 }
 
+/// Grid cells follow the pieces' mean shape: stretching every piece and the space they lie in
+/// along an axis gives the same grid (the same cells, references and candidates), where cubic
+/// grid cells would be cut across the stretched pieces. A lattice of 16 × 8 × 4 unit cubes,
+/// and the same lattice stretched 8× along x and ¼ along z (powers of two, so exactly), at
+/// densities that give several leaf cells per top cell.
+#[test]
+fn grid_cells_follow_the_pieces_shape() {
+    let lattice = |scale: DVec3| {
+        let mut bounds = Vec::new();
+        for i in 0..16 {
+            for j in 0..8 {
+                for k in 0..4 {
+                    let lo = DVec3::new(i as f64, j as f64, k as f64);
+                    bounds.push(Aabb::new(lo * scale, (lo + DVec3::ONE) * scale));
+                }
+            }
+        }
+        Pieces {
+            cells: (0..bounds.len() as u32).collect(),
+            bounds,
+        }
+    };
+    let params = GridParams {
+        top_density: 1.0 / 16.0,
+        leaf_density: 0.5,
+    };
+    let scale = DVec3::new(8.0, 1.0, 0.25);
+    let cubes = build_grid(Coordinates::Cartesian, &lattice(DVec3::ONE), &params);
+    let stretched_pieces = lattice(scale);
+    let stretched = build_grid(Coordinates::Cartesian, &stretched_pieces, &params);
+    stretched.assert_well_formed(&stretched_pieces);
+    let (a, b) = (cubes.stats(), stretched.stats());
+    assert!(a.leaf_cells > a.top_cells, "{a:?}");
+    assert_eq!(
+        (a.top_cells, a.leaf_cells, a.references),
+        (b.top_cells, b.leaf_cells, b.references)
+    );
+    let mut rng = Rng(0x5eed);
+    let mut offered_cubes = 0;
+    for _ in 0..500 {
+        let q = DVec3::new(16.0 * rng.next(), 8.0 * rng.next(), 4.0 * rng.next());
+        let here = cubes.candidates(q);
+        assert_eq!(here, stretched.candidates(q * scale), "at {q}");
+        offered_cubes += here.len();
+    }
+    // Unit cubes in grid cells shaped like them: a point is offered the few cubes its leaf
+    // cell meets (at most 8 on average here), not a slab of them.
+    assert!(offered_cubes <= 8 * 500, "{offered_cubes} candidates");
+}
+
 // ---------------------------------------------------------------------------------------------
 // Point location on meshes against brute force over all cells.
 

@@ -6,7 +6,7 @@ use std::time::Instant;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::resolution::{lengths, resolution};
+use super::resolution::{resolution, shaped_lengths};
 use super::{cell_of, inverse_size, linear, GridParams, Meta, TopCell, TwoLevelGrid};
 use crate::accel::space::{Coordinates, Pieces};
 use crate::geometry::bounds::Aabb;
@@ -74,11 +74,18 @@ pub fn build_grid(
         .min(pieces.cells.len())
         .min(u32::MAX as usize);
     let valid = |b: &Aabb| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
-    let (domain, count) = pieces.bounds[..n]
+    let (domain, count, extents, weights) = pieces.bounds[..n]
         .par_iter()
         .filter(|b| valid(b))
-        .map(|b| (*b, 1usize))
-        .reduce(|| (Aabb::EMPTY, 0), |a, b| (a.0.union(&b.0), a.1 + b.1));
+        .map(|b| {
+            let w = volume_weight(b, cylindrical);
+            (*b, 1usize, b.extent() * w, w)
+        })
+        .reduce(
+            || (Aabb::EMPTY, 0, DVec3::ZERO, 0.0),
+            |a, b| (a.0.union(&b.0), a.1 + b.1, a.2 + b.2, a.3 + b.3),
+        );
+    let piece_extent = extents / weights;
 
     let mut top_density = params.top_density;
     let mut leaf_density = params.leaf_density;
@@ -89,7 +96,7 @@ pub fn build_grid(
             pieces,
             n,
             domain,
-            count,
+            (count, piece_extent),
             top_density,
             leaf_density,
         );
@@ -103,6 +110,19 @@ pub fn build_grid(
             Err(Overflow::Leaves) if leaf_density > 1e-6 => leaf_density /= 4.0,
             Err(_) => top_density /= 4.0,
         }
+    }
+}
+
+/// The weight of a piece in its region's mean extent: the share of the region's volume its
+/// queries come from. In cylindrical coordinates `(r, φ, h)` a box at radius `r` holds `r`
+/// times the volume of the same box at radius 1, so it weighs its mid-radius (the pieces near
+/// the axis, which span wide angles, hold little volume); in Cartesian ones every piece
+/// weighs 1.
+fn volume_weight(b: &Aabb, cylindrical: bool) -> f64 {
+    if cylindrical {
+        0.5 * (b.min.x + b.max.x).max(0.0)
+    } else {
+        1.0
     }
 }
 
@@ -130,7 +150,7 @@ fn attempt(
     pieces: &Pieces<Aabb>,
     n: usize,
     domain: Aabb,
-    count: usize,
+    (count, piece_extent): (usize, DVec3),
     top_density: f64,
     leaf_density: f64,
 ) -> Result<TwoLevelGrid, Overflow> {
@@ -154,7 +174,7 @@ fn attempt(
     let extent = domain.extent();
     let inner_r = cylindrical.then_some(domain.min.x);
     let mut top_res = resolution(
-        lengths(extent, inner_r),
+        shaped_lengths(extent, inner_r, piece_extent),
         count as f64,
         top_density.max(0.0),
         TOP_CAP,
@@ -201,8 +221,18 @@ fn attempt(
             }
             let tc = grid.top_coords(t);
             let inner = inner_r.map(|_| domain.min.x + tc[0] as f64 * grid.top_size.x);
+            // The mean extent of its pieces, each clipped to the top cell's size.
+            let (sum, weights) = top_refs[top_begin[t]..top_begin[t + 1]].iter().fold(
+                (DVec3::ZERO, 0.0),
+                |(sum, weights), &i| {
+                    let b = &pieces.bounds[i as usize];
+                    let w = volume_weight(b, cylindrical);
+                    (sum + b.extent().min(grid.top_size) * w, weights + w)
+                },
+            );
+            let mean = sum / weights;
             let res = resolution(
-                lengths(grid.top_size, inner),
+                shaped_lengths(grid.top_size, inner, mean),
                 n_t as f64,
                 leaf_density.max(0.0),
                 LEAF_CAP,

@@ -14,6 +14,18 @@
 //! it. Memory: a `u32` per reference, a `u32` range start per leaf cell (its end is the next
 //! one's start) and 8 bytes per top cell (its first leaf cell and its resolution).
 //!
+//! # Cell shape
+//! Both levels shape their cells like the mean piece they hold rather than as cubes
+//! (`shaped_lengths` in `resolution.rs`): a grid cell then meets the fewest pieces for its volume.
+//! The mean is each piece's extent along each axis (at the second level clipped to the top
+//! cell), weighted by the share of the volume the piece's queries come from — in cylindrical
+//! coordinates its mid-radius, so the wide-angled pieces near the axis, which hold little
+//! volume, do not coarsen the grid's angles for all the rest. Measured on the pump datasets
+//! and the real meshes (`cylvol bench`, 256², hexahedra tested per sample on the paper
+//! path), both grids test fewer cells than with cubic cells — the Cartesian grid 1–31 %
+//! fewer, the cylindrical one 4–16 % — in less memory (the full pump rotor: 54.9 and 52.1
+//! bytes a cell against 62.2 and 60.8, `cylvol stats pump-rotor`).
+//!
 //! # Build
 //! Two rounds of the sort-based construction: emit a `(grid cell, id)` pair for every grid cell
 //! a box overlaps — counted per primitive in parallel, prefix-summed, then filled in parallel
@@ -76,8 +88,8 @@ pub struct GridParams {
 
 impl GridParams {
     /// The measured default, chosen for memory: at most about 64 bytes per mesh cell on the pump
-    /// datasets and the real meshes (pump-rotor 300 k: ≈ 55–60 bytes, ≈ 0.5 grid cells and
-    /// ≈ 14 references per mesh cell, ≈ 18–21 candidates offered per point location). Finer
+    /// datasets and the real meshes (pump-rotor 300 k: ≈ 50 bytes, ≈ 0.5 grid cells and
+    /// ≈ 12 references per mesh cell, ≈ 17–19 candidates offered per point location). Finer
     /// grids buy few tests for much memory on meshes with thin, stretched cells (pump-rotor
     /// 300 k: 4× the memory for 30 % fewer tests, 17× for 60 % fewer), so coarse is the default
     /// and [`GridParams::FAST`] the option.
@@ -86,15 +98,15 @@ impl GridParams {
         leaf_density: 0.2,
     };
 
-    /// Finer cells, fewer hexahedra tested, ten times the memory (pump-rotor 300 k: ≈ 650
-    /// bytes per mesh cell, ≈ 7 tests per location).
+    /// Finer cells, fewer hexahedra tested, ten times the memory (pump-rotor 300 k: ≈ 590
+    /// bytes per mesh cell, ≈ 6–7 tests per location).
     pub const FAST: GridParams = GridParams {
         top_density: 1.0 / 4.0,
         leaf_density: 2.0,
     };
 
-    /// Fewer, larger cells: the least memory (pump-rotor 300 k: ≈ 45 bytes per mesh cell,
-    /// ≈ 22–25 tests per location).
+    /// Fewer, larger cells: the least memory (pump-rotor 300 k: ≈ 38 bytes per mesh cell,
+    /// ≈ 21–24 tests per location).
     pub const COMPACT: GridParams = GridParams {
         top_density: 1.0 / 64.0,
         leaf_density: 0.125,

@@ -10,6 +10,10 @@
 //! stands for `d_θ = d_φ · π/2` on average over the turn (a turn is 4 in φ, `2π` in θ; a cell
 //! of the grid spans between `d_φ` and `2 d_φ` radians, wider near the diagonals).
 //!
+//! The grid builds pass a region's lengths measured in its pieces instead
+//! ([`shaped_lengths`]: `d_i / p_i` with `p_i` the pieces' mean extent), so that its cells are
+//! shaped like the mean piece rather than cubic — in both coordinate systems.
+//!
 //! A region that is flat along some axis (length zero, or negligible beside the others) gets
 //! one cell along it, and the rule is applied to the remaining axes with the matching power
 //! (`(λN/A)^{1/2}` for an area `A`), so a planar mesh still gets a sensible grid.
@@ -31,6 +35,25 @@ pub(super) fn lengths(extent: DVec3, inner_r: Option<f64>) -> DVec3 {
             extent.z,
         ),
     }
+}
+
+/// The lengths of a region for the rule when its pieces' mean extent along each axis is known:
+/// the region's extent measured in pieces, `d_i / p_i`. The rule then gives grid cells shaped
+/// like the mean piece (`R_i ∝ d_i / p_i`) rather than cubes: a grid cell of sides `G_i` meets
+/// about `Π (1 + G_i / p_i)` pieces of sides `p_i` laid side by side, which for a given number
+/// of grid cells (a given `Π G_i`) is least when `G_i / p_i` is the same along every axis.
+/// Cells of a turbomachine mesh follow its axis, radius and angle, so in cylindrical
+/// coordinates the pieces' extents are as unequal as the cells' sides; a Cartesian grid is
+/// shaped the same way.
+///
+/// Falls back to [`lengths`] where the mean extent is not positive and finite along every axis
+/// the region is not flat along (a piece's extent below `1e-6` of its largest is raised to it).
+pub(super) fn shaped_lengths(extent: DVec3, inner_r: Option<f64>, piece_extent: DVec3) -> DVec3 {
+    let largest = piece_extent.max_element();
+    if !(largest > 0.0 && largest.is_finite() && piece_extent.cmpge(DVec3::ZERO).all()) {
+        return lengths(extent, inner_r);
+    }
+    extent / piece_extent.max(DVec3::splat(1e-6 * largest))
 }
 
 /// Radians per unit of pseudo-angle, on average over a turn.
@@ -88,6 +111,32 @@ mod tests {
             [10, 10, 1]
         );
         assert_eq!(resolution(DVec3::splat(1.0), 1e12, 1.0, 64), [64, 64, 64]);
+    }
+
+    #[test]
+    fn shaped_lengths_count_pieces_along_each_axis() {
+        let l = shaped_lengths(DVec3::new(8.0, 2.0, 1.0), None, DVec3::new(4.0, 0.5, 0.25));
+        assert_eq!(l, DVec3::new(2.0, 4.0, 4.0));
+        // Pieces 8:1:1 in a cube of their length: cells 8:1:1 as well.
+        let r = resolution(
+            shaped_lengths(DVec3::splat(8.0), None, DVec3::new(8.0, 1.0, 1.0)),
+            64.0,
+            1.0,
+            64,
+        );
+        assert_eq!(r, [1, 8, 8]);
+        // Flat pieces along one axis are raised to 1e-6 of the largest extent.
+        let l = shaped_lengths(DVec3::ONE, None, DVec3::new(1.0, 0.0, 1.0));
+        assert_eq!(l, DVec3::new(1.0, 1e6, 1.0));
+        // No usable mean extent: the region's plain lengths.
+        for bad in [
+            DVec3::ZERO,
+            DVec3::splat(f64::NAN),
+            DVec3::new(1.0, -1.0, 1.0),
+        ] {
+            let l = shaped_lengths(DVec3::new(2.0, 1.0, 2.0), Some(1.0), bad);
+            assert_eq!(l, lengths(DVec3::new(2.0, 1.0, 2.0), Some(1.0)));
+        }
     }
 
     #[test]
