@@ -11,7 +11,10 @@
 //! through the structure, as the talk measured; `fast` is the project's best path (previous
 //! cell, face neighbours, transparent cells skipped). `frame_s` is the wall time of the
 //! render alone (rays in parallel on all cores), the fastest of `--frames` renders (default
-//! 1; the work counters are the same in every render, and checked to be); `build_s` the
+//! 1; the work counters are the same in every render, and checked to be), made in rounds that
+//! render every structure and path once each, so that the machine's drifts in speed (this
+//! project's 2-core machines drift by 20 % within minutes) fall on all of them alike rather
+//! than on whichever renders during a slow spell; `build_s` the
 //! structure's build. The face neighbours the fast path walks are built once per mesh
 //! (`neighbours_s`).
 //!
@@ -49,8 +52,8 @@ pub struct BenchArgs {
     /// Image side N (an N×N image).
     #[arg(long, default_value = "512", value_parser = scene::parse_side)]
     size: u32,
-    /// Renders per structure and path; `frame_s` is the fastest (less noise from other work
-    /// on the machine).
+    /// Renders per structure and path, in rounds of one each; `frame_s` is the fastest (less
+    /// noise from other work on the machine).
     #[arg(long, default_value = "1", value_parser = clap::value_parser!(u32).range(1..=100))]
     frames: u32,
     /// Camera preset AZIMUTH,ELEVATION,ZOOM in degrees, degrees and a factor.
@@ -93,27 +96,11 @@ pub struct BenchSetup {
     pub transfer: TransferArgs,
 }
 
-/// Renders `frames` times (at least once): the first image and counters, and the fastest wall
-/// time. The counters of every render must be the first's (the render is deterministic).
-fn fastest_frame(
-    renderer: &Renderer,
-    camera: &Camera,
-    frames: u32,
-) -> Result<(Image, RenderStats, f64), Error> {
+/// One render timed: the image, counters and wall seconds.
+fn timed_render(renderer: &Renderer, camera: &Camera) -> Result<(Image, RenderStats, f64), Error> {
     let started = Instant::now();
     let (image, stats) = renderer.render(camera, None)?;
-    let mut best = started.elapsed().as_secs_f64();
-    for _ in 1..frames {
-        let started = Instant::now();
-        let (_, again) = renderer.render(camera, None)?;
-        best = best.min(started.elapsed().as_secs_f64());
-        if again != stats {
-            return Err(Error::Invalid(format!(
-                "bench: a second render counted different work ({again:?} after {stats:?})"
-            )));
-        }
-    }
-    Ok((image, stats, best))
+    Ok((image, stats, started.elapsed().as_secs_f64()))
 }
 
 fn path_json(stats: &RenderStats, frame_s: f64) -> Value {
@@ -178,47 +165,81 @@ pub fn bench_mesh(
         .contains(&RenderPath::Fast)
         .then(|| scene::neighbours(mesh, &built[0]));
     let neighbours_s = started.elapsed().as_secs_f64();
-    let mut structures = Map::new();
-    let mut images = Vec::new();
-    let bar = progress_bar((built.len() * paths.len()) as u64, label);
+    let bar = progress_bar(
+        (built.len() * paths.len()) as u64 * setup.frames.max(1) as u64,
+        label,
+    );
     // Gathered once for the four structures.
     let field = ScalarField::gather(mesh)?;
-    for accel in built {
-        let kind = accel.kind();
-        let build_s = accel.stats().build_s();
-        let volume = Volume::with_field(mesh, accel, &field)?;
+    let volumes = built
+        .iter()
+        .map(|accel| Volume::with_field(mesh, accel, &field))
+        .collect::<Result<Vec<_>, Error>>()?;
+    // Every structure and path's renderer, made before any frame is timed.
+    let mut runs = Vec::new();
+    for volume in &volumes {
         let range = volume.scalar_range();
         let transfer =
             setup
                 .transfer
                 .apply(scene::transfer(mesh, range), range, scene::diagonal(mesh))?;
-        let mut entry = Map::new();
-        entry.insert("build_s".into(), json!(build_s));
         for &path in paths {
             let mut options = RenderOptions::new(width, height, step);
             options.path = path;
-            let mut renderer = Renderer::new(&volume, &transfer, &options)?;
+            let mut renderer = Renderer::new(volume, &transfer, &options)?;
             if let (RenderPath::Fast, Some(n)) = (path, &neighbours) {
                 renderer = renderer.with_neighbours(n);
             }
-            let (image, stats, frame_s) = fastest_frame(&renderer, &camera, setup.frames)?;
-            bar.suspend(|| {
-                log(format_args!(
-                    "{label}: {kind} built in {build_s:.2} s, {} path {frame_s:.3} s: {} samples, {} hexahedra tested, {} internal / {} leaf visits",
-                    path.name(),
-                    stats.samples,
-                    stats.hex_tests,
-                    stats.internal_visits,
-                    stats.leaf_visits
-                ))
-            });
-            bar.inc(1);
-            entry.insert(path.name().into(), path_json(&stats, frame_s));
-            if path == RenderPath::Fast {
-                images.push((kind, image));
-            }
+            runs.push((volume.accel().kind(), path, renderer));
         }
-        structures.insert(kind.name().into(), Value::Object(entry));
+    }
+    // Rounds of one render each, so that the machine's drifts in speed fall on every
+    // structure and path alike; the first round's images and counters are kept, and every
+    // later render must count the same work (the render is deterministic).
+    let mut first: Vec<(Image, RenderStats, f64)> = Vec::with_capacity(runs.len());
+    for round in 0..setup.frames.max(1) {
+        for (i, (kind, path, renderer)) in runs.iter().enumerate() {
+            let (image, stats, frame_s) = timed_render(renderer, &camera)?;
+            bar.inc(1);
+            if round == 0 {
+                first.push((image, stats, frame_s));
+                continue;
+            }
+            let kept = &mut first[i];
+            if stats != kept.1 {
+                return Err(Error::Invalid(format!(
+                    "bench: {kind} {} path: a second render counted different work ({stats:?} after {:?})",
+                    path.name(),
+                    kept.1
+                )));
+            }
+            kept.2 = kept.2.min(frame_s);
+        }
+    }
+    let mut structures = Map::new();
+    let mut images = Vec::new();
+    for ((kind, path, _), (image, stats, frame_s)) in runs.iter().zip(first) {
+        let build_s = built
+            .iter()
+            .find(|a| a.kind() == *kind)
+            .map_or(0.0, |a| a.stats().build_s());
+        bar.suspend(|| {
+            log(format_args!(
+                "{label}: {kind} built in {build_s:.2} s, {} path {frame_s:.3} s: {} samples, {} hexahedra tested, {} internal / {} leaf visits",
+                path.name(),
+                stats.samples,
+                stats.hex_tests,
+                stats.internal_visits,
+                stats.leaf_visits
+            ))
+        });
+        let entry = structures
+            .entry(kind.name())
+            .or_insert_with(|| json!({ "build_s": build_s }));
+        entry[path.name()] = path_json(&stats, frame_s);
+        if *path == RenderPath::Fast {
+            images.push((*kind, image));
+        }
     }
     bar.finish_and_clear();
     let ratios = ratios(&structures);
