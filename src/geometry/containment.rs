@@ -23,7 +23,7 @@
 use glam::DVec3;
 
 use super::bounds::{cell_bounds, Aabb};
-use super::inverse::{invert_within_hull, InverseStats};
+use super::inverse::{locate_within_hull, InverseStats};
 
 /// Parametric slack of the acceptance test (see the module documentation).
 pub const CONTAINMENT_TOLERANCE: f64 = 1e-9;
@@ -45,10 +45,13 @@ pub fn param_inside(p: DVec3) -> bool {
 }
 
 /// The parametric coordinates of `p` in the cell if it lies in the cell (to the tolerance),
-/// adding the inverse map's cost to `stats`. A point outside the padded box, or (without a
-/// `guess`) outside the corners' hull ([`super::inverse::outside_hull`]), is rejected before
-/// the inverse map. `guess` seeds Newton (see
-/// [`super::inverse::invert`]). The coordinates returned may lie up to
+/// adding the inverse map's cost to `stats`. A point outside the padded box is rejected
+/// before the inverse map, and (without a `guess`) one outside the corners' hull
+/// ([`super::inverse::outside_hull`]) after Newton's first step
+/// ([`super::inverse::locate_within_hull`]). `guess` seeds Newton (see
+/// [`super::inverse::invert`]); Newton stops once the containment is settled
+/// ([`super::inverse::PreparedCell::locate`]), so the coordinates are within about
+/// [`super::inverse::LOCATE_STEP`] of the exact ones. The coordinates returned may lie up to
 /// [`CONTAINMENT_TOLERANCE`] outside `[0, 1]³`; clamp them before interpolating if needed.
 pub fn locate_in_cell_with_stats(
     corners: &[DVec3; 8],
@@ -61,8 +64,9 @@ pub fn locate_in_cell_with_stats(
     }
     // Without a guess the point is often a structure's candidate outside the cell: the
     // corners' hull rejects most such points for the price of a few dot products, where the
-    // inverse map of a point outside the cell may take many damped Newton steps.
-    let inv = invert_within_hull(corners, p, guess)?;
+    // inverse map of a point outside the cell may take many damped Newton steps; it is tested
+    // once Newton's first steps leave the cell's parameter cube.
+    let inv = locate_within_hull(corners, p, guess);
     *stats += inv.stats;
     inv.param().filter(|&q| param_inside(q))
 }

@@ -250,6 +250,18 @@ impl PreparedCell {
     }
 
     fn inversion(&self, target: DVec3, guess: Option<DVec3>, early: bool) -> Inversion {
+        self.inversion_hull(target, guess, early, false)
+    }
+
+    /// The inversion; with `hull_at_cube`, the corners' hull is tested the first time an
+    /// iterate would leave the unit cube (rather than the search box).
+    fn inversion_hull(
+        &self,
+        target: DVec3,
+        guess: Option<DVec3>,
+        early: bool,
+        hull_at_cube: bool,
+    ) -> Inversion {
         let mut stats = InverseStats {
             inversions: 1,
             ..Default::default()
@@ -259,7 +271,7 @@ impl PreparedCell {
         } else if self.size <= 0.0 || self.size.is_nan() {
             Err(InverseFailure::Degenerate)
         } else {
-            solve(self, target, guess, early, &mut stats)
+            solve(self, target, guess, (early, hull_at_cube), &mut stats)
         };
         if outcome.is_err() {
             stats.failures += 1;
@@ -275,6 +287,9 @@ struct Problem<'a> {
     accept: f64,
     /// Stop Newton early where the containment is settled ([`PreparedCell::locate`]).
     early: bool,
+    /// Test the corners' hull the first time an iterate of the main search would leave the
+    /// unit cube, not only where one meets the search box ([`locate_within_hull`]).
+    hull_at_cube: bool,
 }
 
 struct NewtonEnd {
@@ -420,7 +435,8 @@ impl Problem<'_> {
             for _ in 0..=MAX_HALVINGS {
                 let free = p + d * t;
                 let q = free.clamp(DVec3::splat(lo), DVec3::splat(hi));
-                if hull_unchecked && q != free {
+                if hull_unchecked && (q != free || (self.hull_at_cube && !in_cube(free, 0.0, 1.0)))
+                {
                     hull_unchecked = false;
                     if self.outside_hull() {
                         return NewtonEnd {
@@ -554,36 +570,41 @@ pub fn invert(corners: &[DVec3; 8], target: DVec3, guess: Option<DVec3>) -> Inve
     }
 }
 
-/// [`invert`], except that without a guess a target outside the corners' hull
-/// ([`outside_hull`]) is `None`, with no inversion: what a point location's candidate test
-/// does, the cell rebased once for both the hull test and the inversion.
+/// A point location's candidate test: [`PreparedCell::locate`] of `target` in the cell,
+/// prepared here, except that a target outside the corners' hull ([`outside_hull`]) may be
+/// answered [`InverseFailure::NotFound`] before the inversion ends.
+///
+/// Without a guess the target is often a structure's candidate outside the cell, where the
+/// hull rejects it for the price of a few dot products, while the inverse map of such a point
+/// may take many damped Newton steps; but for the candidate that holds the target, the hull
+/// test is wasted work. So the hull is tested the first time an iterate of Newton from the
+/// centre would leave the unit cube: a target in the cell, whose iterates usually stay in the
+/// cube, is never hull-tested, and one outside, whose iterates must leave it to converge, is
+/// hull-tested after one step. With a guess (a warm start, usually in the cell) the hull is
+/// tested only where an iterate meets the search box, as [`PreparedCell::locate`] does.
+/// Where the hull does not separate the target, the Newton steps are the same as
+/// `locate`'s, so is the answer; where it does, the answer is `NotFound`.
 ///
 /// ```
-/// use cylvol::geometry::inverse::{invert, invert_within_hull};
+/// use cylvol::geometry::inverse::{locate_within_hull, InverseFailure, PreparedCell};
 /// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
 /// use glam::DVec3;
 /// let cube = CORNER_PARAMETERS.map(DVec3::from_array);
 /// let inside = DVec3::new(0.5, 0.5, 0.99);
-/// assert_eq!(invert_within_hull(&cube, inside, None), Some(invert(&cube, inside, None)));
-/// assert_eq!(invert_within_hull(&cube, DVec3::new(0.5, 0.5, 1.01), None), None);
+/// let prepared = PreparedCell::new(&cube).unwrap();
+/// assert_eq!(locate_within_hull(&cube, inside, None), prepared.locate(inside, None));
+/// let outside = locate_within_hull(&cube, DVec3::new(0.5, 0.5, 1.01), None);
+/// assert_eq!(outside.outcome.unwrap_err(), InverseFailure::NotFound);
 /// ```
-pub fn invert_within_hull(
-    corners: &[DVec3; 8],
-    target: DVec3,
-    guess: Option<DVec3>,
-) -> Option<Inversion> {
+pub fn locate_within_hull(corners: &[DVec3; 8], target: DVec3, guess: Option<DVec3>) -> Inversion {
     if !target.is_finite() || guess.is_some_and(|g| !g.is_finite()) {
-        return Some(failed(InverseFailure::NonFinite));
+        return failed(InverseFailure::NonFinite);
     }
     let mut cell = PreparedCell::default();
-    if let Err(e) = cell.prepare_frame(corners) {
-        return Some(failed(e));
+    if let Err(e) = cell.prepare(corners) {
+        return failed(e);
     }
-    if guess.is_none() && hull_separates(&cell.rel, cell.size, target - cell.x0) {
-        return None;
-    }
-    cell.poly = Monomials::new(&cell.rel);
-    Some(cell.invert(target, guess))
+    cell.inversion_hull(target, guess, true, guess.is_none())
 }
 
 /// An inversion that failed before any work.
@@ -602,7 +623,7 @@ fn solve(
     cell: &PreparedCell,
     target: DVec3,
     guess: Option<DVec3>,
-    early: bool,
+    (early, hull_at_cube): (bool, bool),
     stats: &mut InverseStats,
 ) -> Result<Solution, InverseFailure> {
     let size = cell.size;
@@ -612,6 +633,7 @@ fn solve(
         stop: STOP_TOLERANCE * size,
         accept: ACCEPT_TOLERANCE * size,
         early,
+        hull_at_cube,
     };
     let start = guess.unwrap_or(DVec3::splat(0.5));
     let end = prob.newton(
@@ -776,10 +798,10 @@ mod tests {
             }
         }
 
-        /// The candidate test preparing the cell once answers as the hull test followed by
-        /// the inversion, each preparing it, for cells degenerate or not and any guess.
+        /// The candidate test answers as `PreparedCell::locate`, except `NotFound` for a
+        /// target outside the corners' hull, for cells degenerate or not and any guess.
         #[test]
-        fn invert_within_hull_is_hull_then_invert(
+        fn locate_within_hull_is_locate_or_outside_hull(
             moves in proptest::array::uniform8(proptest::array::uniform3(-0.45f64..0.45)),
             collapse in 0usize..3,
             target in proptest::array::uniform3(-0.6f64..1.6),
@@ -795,8 +817,16 @@ mod tests {
                 _ => {}
             }
             let (p, g) = (DVec3::from_array(target), guess.map(DVec3::from_array));
-            let expected = (g.is_some() || !outside_hull(&c, p)).then(|| invert(&c, p, g));
-            prop_assert_eq!(invert_within_hull(&c, p, g), expected);
+            let got = locate_within_hull(&c, p, g);
+            let located = match PreparedCell::new(&c) {
+                Ok(cell) => cell.locate(p, g),
+                Err(e) => failed(e),
+            };
+            if g.is_none() && outside_hull(&c, p) {
+                prop_assert_eq!(got.outcome, Err(InverseFailure::NotFound));
+            } else {
+                prop_assert_eq!(got.outcome, located.outcome);
+            }
         }
     }
 
