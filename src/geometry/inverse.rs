@@ -644,6 +644,11 @@ fn solve(
         true,
         stats,
     );
+    // A candidate test's target beyond the hull is not in the cell, whatever the cell: no
+    // need to look for a degenerate one.
+    if prob.hull_at_cube && end.beyond_hull {
+        return Err(InverseFailure::NotFound);
+    }
     // A degenerate (flat) cell has a singular Jacobian everywhere; checking it only when Newton
     // ends somewhere singular (or fails) keeps the check off the common path.
     if end.residual > prob.accept || super::trilinear::is_singular(&end.jacobian) {
