@@ -104,6 +104,7 @@ fn sweep(name: &str, mesh: &Mesh) {
                 let params = GridParams {
                     top_density: top,
                     leaf_density: leaf,
+                    ..GridParams::DEFAULT
                 };
                 let g = build_grid(coords, &b, &params);
                 let s = g.stats();

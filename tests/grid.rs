@@ -6,7 +6,7 @@ use std::collections::BTreeSet;
 use std::f64::consts::PI;
 use std::path::Path;
 
-use cylvol::accel::grid::{build_grid, GridParams, TwoLevelGrid};
+use cylvol::accel::grid::{build_grid, CandidateOrder, GridParams, TwoLevelGrid};
 use cylvol::accel::space::{self, Coordinates, Pieces};
 use cylvol::accel::Counters;
 use cylvol::datasets::{generate, Dataset};
@@ -111,9 +111,16 @@ fn arb_box(lo: [f64; 3], hi: [f64; 3]) -> impl Strategy<Value = Aabb> {
 }
 
 fn arb_params() -> impl Strategy<Value = GridParams> {
-    (0.01f64..4.0, 0.1f64..12.0).prop_map(|(top_density, leaf_density)| GridParams {
-        top_density,
-        leaf_density,
+    (0.01f64..4.0, 0.1f64..12.0, any::<bool>()).prop_map(|(top_density, leaf_density, share)| {
+        GridParams {
+            top_density,
+            leaf_density,
+            order: if share {
+                CandidateOrder::LargestShare
+            } else {
+                CandidateOrder::Cells
+            },
+        }
     })
 }
 
@@ -283,6 +290,7 @@ fn absurd_densities_stay_within_the_memory_budget() {
         let params = GridParams {
             top_density,
             leaf_density,
+            ..GridParams::DEFAULT
         };
         let g = build_grid(Coordinates::Cartesian, &pieces, &params);
         g.assert_well_formed(&pieces);
@@ -335,6 +343,7 @@ fn grid_cells_follow_the_pieces_shape() {
     let params = GridParams {
         top_density: 1.0 / 16.0,
         leaf_density: 0.5,
+        ..GridParams::DEFAULT
     };
     let scale = DVec3::new(8.0, 1.0, 0.25);
     let cubes = build_grid(Coordinates::Cartesian, &lattice(DVec3::ONE), &params);
@@ -358,6 +367,61 @@ fn grid_cells_follow_the_pieces_shape() {
     // Unit cubes in grid cells shaped like them: a point is offered the few cubes its leaf
     // cell meets (at most 8 on average here), not a slab of them.
     assert!(offered_cubes <= 8 * 500, "{offered_cubes} candidates");
+}
+
+/// With [`CandidateOrder::LargestShare`] a leaf cell offers its candidates largest share
+/// first: with leaf cells smaller than a lattice's cubes, a point's first candidate is the
+/// cube that holds it (its box covers the leaf cell), ahead of the cubes whose boxes only
+/// touch the leaf cell — which come first in cell order (the default), wherever they have
+/// smaller ids.
+#[test]
+fn candidates_come_largest_share_first() {
+    let mut bounds = Vec::new();
+    for i in 0..8 {
+        for j in 0..8 {
+            for k in 0..8 {
+                let lo = DVec3::new(i as f64, j as f64, k as f64);
+                bounds.push(Aabb::new(lo, lo + DVec3::ONE));
+            }
+        }
+    }
+    let pieces = Pieces {
+        cells: (0..bounds.len() as u32).collect(),
+        bounds,
+    };
+    let params = GridParams {
+        top_density: 1.0 / 8.0,
+        leaf_density: 27.0,
+        order: CandidateOrder::LargestShare,
+    };
+    let by_share = build_grid(Coordinates::Cartesian, &pieces, &params);
+    by_share.assert_well_formed(&pieces);
+    let by_cell = build_grid(
+        Coordinates::Cartesian,
+        &pieces,
+        &GridParams {
+            order: CandidateOrder::Cells,
+            ..params
+        },
+    );
+    let mut rng = Rng(0xfeed);
+    let (mut first_holds, mut total) = (0, 0);
+    for _ in 0..2000 {
+        let q = DVec3::new(8.0 * rng.next(), 8.0 * rng.next(), 8.0 * rng.next());
+        let offered = by_share.candidates(q);
+        assert!(offered
+            .iter()
+            .any(|&c| pieces.bounds[c as usize].contains(q)));
+        // The same candidates either way; in cell order, sorted.
+        let mut sorted = offered.to_vec();
+        sorted.sort_unstable();
+        assert_eq!(by_cell.candidates(q), sorted);
+        total += 1;
+        if pieces.bounds[offered[0] as usize].contains(q) {
+            first_holds += 1;
+        }
+    }
+    assert!(first_holds * 10 >= total * 9, "{first_holds} of {total}");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -25,7 +25,7 @@ use crate::geometry::cylindrical::CylBounds;
 
 pub use build::{Accel, AccelParams, StructureStats};
 pub use bvh::{Bvh, BvhParams};
-pub use grid::{GridParams, TwoLevelGrid};
+pub use grid::{CandidateOrder, GridParams, TwoLevelGrid};
 pub use space::{Coordinates, Pieces};
 
 /// Which structure.

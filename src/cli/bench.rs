@@ -1,7 +1,7 @@
 //! `cylvol bench INPUT... [--json] [--size N] [--frames F] [--view A,E,Z] [--step S]
-//! [--opacity S:A,...] [--color S:R:G:B,...] [--unit-distance D]`: renders every input
-//! with each of the four structures along both sampling paths and reports the talk's
-//! per-frame figures — samples, hexahedra tested, internal and leaf nodes visited, frame time
+//! [--opacity S:A,...] [--color S:R:G:B,...] [--unit-distance D] [--grid-order cells|share]`:
+//! renders every input with each of the four structures along both sampling paths and reports
+//! the talk's per-frame figures — samples, hexahedra tested, internal and leaf nodes visited, frame time
 //! — with cylindrical ÷ Cartesian ratios.
 //!
 //! Every structure and path renders the same `N × N` image (default 512) with the same camera
@@ -19,7 +19,8 @@
 //! (`neighbours_s`).
 //!
 //! With `--json`, standard output is a JSON array with one object per input: `dataset`,
-//! `cells`, `width`, `height`, `frames`, `step`, `view`, `neighbours_s`, `structures` (`cart-grid`,
+//! `cells`, `width`, `height`, `frames`, `step`, `view`, `neighbours_s`, `grid_order` (the
+//! grids' candidate order, `--grid-order`), `structures` (`cart-grid`,
 //! `cyl-grid`, `cart-bvh`, `cyl-bvh`, each with `build_s`, `paper` and `fast`, each of those
 //! with `samples`, `hex_tests`, `internal_visits`, `leaf_visits`, `frame_s`) and `ratios`
 //! (`grid` and `bvh`, each with `paper` and `fast`, each with the cyl ÷ cart quotients of
@@ -33,7 +34,7 @@ use serde_json::{json, Map, Value};
 
 use super::transfer::TransferArgs;
 use super::{log, scene, InputArgs};
-use cylvol::accel::{Accel, AccelParams, StructureKind};
+use cylvol::accel::{Accel, AccelParams, CandidateOrder, StructureKind};
 use cylvol::axis::Axis;
 use cylvol::render::{
     Camera, Image, RenderOptions, RenderPath, RenderStats, Renderer, ScalarField, Volume,
@@ -68,6 +69,10 @@ pub struct BenchArgs {
     /// Machine axis instead of the detected one (for every input).
     #[arg(long, value_name = "AXIS")]
     axis: Option<Axis>,
+    /// The grids' candidate order: `cells` (cell ids, the talk's grids; the default) or
+    /// `share` (the cells covering most of the grid cell first).
+    #[arg(long, value_name = "cells|share", default_value = "cells")]
+    grid_order: CandidateOrder,
     #[command(flatten)]
     transfer: TransferArgs,
 }
@@ -361,14 +366,20 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
         let mesh = input.load()?;
         let (axis, _) = input.axis(&mesh);
         let label = cylvol::input::Input::parse(spec)?.label();
-        let built = super::stats::build_all(&mesh, &axis, &AccelParams::default())?;
-        let result = bench_mesh(
+        let mut params = AccelParams::default();
+        params.grid.order = args.grid_order;
+        let built = super::stats::build_all(&mesh, &axis, &params)?;
+        let mut result = bench_mesh(
             &mesh,
             &built,
             &label,
             &setup,
             &[RenderPath::Paper, RenderPath::Fast],
         )?;
+        result.report["grid_order"] = json!(match args.grid_order {
+            CandidateOrder::Cells => "cells",
+            CandidateOrder::LargestShare => "share",
+        });
         if !args.json {
             if k > 0 {
                 println!();

@@ -6,7 +6,9 @@ use serde_json::{json, Map, Value};
 
 use super::{log, InputArgs};
 use cylvol::accel::probe::{lookup_cost, points_in_cells};
-use cylvol::accel::{Accel, AccelParams, BvhParams, GridParams, StructureKind, StructureStats};
+use cylvol::accel::{
+    Accel, AccelParams, BvhParams, CandidateOrder, GridParams, StructureKind, StructureStats,
+};
 use cylvol::Error;
 
 /// Arguments of `cylvol stats`.
@@ -27,6 +29,11 @@ pub struct StatsArgs {
     /// BVH parameters: a preset (balanced, fast-build, fine).
     #[arg(long, value_name = "PRESET", default_value = "balanced")]
     bvh: String,
+    /// The grids' candidate order instead of the preset's: `cells` (cell ids, the talk's
+    /// grids; every preset but `fast`) or `share` (the cells covering most of the grid cell
+    /// first).
+    #[arg(long, value_name = "cells|share")]
+    grid_order: Option<CandidateOrder>,
 }
 
 /// The structure parameters `--grid` and `--bvh` name.
@@ -48,6 +55,7 @@ pub fn params_from(grid: &str, bvh: &str) -> Result<AccelParams, Error> {
             GridParams {
                 top_density: top,
                 leaf_density: leaf,
+                ..GridParams::DEFAULT
             }
         }
     };
@@ -116,7 +124,10 @@ fn ratios(cart: &Value, cyl: &Value, keys: &[&str]) -> Value {
 pub fn run(args: &StatsArgs) -> Result<(), Error> {
     let mesh = args.input.load()?;
     let (axis, _) = args.input.axis(&mesh);
-    let params = params_from(&args.grid, &args.bvh)?;
+    let mut params = params_from(&args.grid, &args.bvh)?;
+    if let Some(order) = args.grid_order {
+        params.grid.order = order;
+    }
     let built = build_all(&mesh, &axis, &params)?;
     let points = points_in_cells(&mesh, args.lookups, 0x00C7_1D0F);
     let mut structures = Map::new();

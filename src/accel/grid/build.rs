@@ -7,7 +7,9 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::resolution::{resolution, shaped_lengths};
-use super::{cell_of, inverse_size, linear, GridParams, Meta, TopCell, TwoLevelGrid};
+use super::{
+    cell_of, inverse_size, linear, CandidateOrder, GridParams, Meta, TopCell, TwoLevelGrid,
+};
 use crate::accel::space::{Coordinates, Pieces};
 use crate::geometry::bounds::Aabb;
 
@@ -97,8 +99,8 @@ pub fn build_grid(
             n,
             domain,
             (count, piece_extent),
-            top_density,
-            leaf_density,
+            (top_density, leaf_density),
+            params.order,
         );
         match grid {
             Ok(mut g) => {
@@ -151,8 +153,8 @@ fn attempt(
     n: usize,
     domain: Aabb,
     (count, piece_extent): (usize, DVec3),
-    top_density: f64,
-    leaf_density: f64,
+    (top_density, leaf_density): (f64, f64),
+    order: CandidateOrder,
 ) -> Result<TwoLevelGrid, Overflow> {
     let mut grid = TwoLevelGrid {
         meta: Box::new(Meta {
@@ -252,8 +254,8 @@ fn attempt(
         return Err(Overflow::Leaves);
     }
     grid.top = top;
-    let (refs, leaf_begin) =
-        fill_leaves(&grid, pieces, &top_begin, &top_refs, most_refs).ok_or(Overflow::Leaves)?;
+    let (refs, leaf_begin) = fill_leaves(&grid, pieces, (&top_begin, &top_refs), most_refs, order)
+        .ok_or(Overflow::Leaves)?;
     drop(top_refs);
     grid.leaf_begin = leaf_begin;
     grid.refs = refs;
@@ -272,16 +274,16 @@ fn leaf_range(b: &Aabb, (origin, inv): (DVec3, DVec3), res: [u32; 3]) -> ([u32; 
 
 /// Round two, top cell by top cell in parallel (a top cell's leaf cells and their references
 /// are contiguous, so every top cell fills its own slices): counts the references of each leaf
-/// cell, then writes the cell ids of each leaf cell's pieces, sorted and without duplicates (a
-/// cell reaching one leaf cell through two pieces is kept once), and packs the result.
+/// cell, then writes the cell ids of each leaf cell's pieces without duplicates (a cell
+/// reaching one leaf cell through two pieces is kept once) in `order`, and packs the result.
 /// Returns the references and the leaf cells' starts; `None` if they overflow 32 bits or
 /// number more than `most_refs` (then the counting stops early).
 fn fill_leaves(
     grid: &TwoLevelGrid,
     pieces: &Pieces<Aabb>,
-    top_begin: &[usize],
-    top_refs: &[u32],
+    (top_begin, top_refs): (&[usize], &[u32]),
     most_refs: u64,
+    order: CandidateOrder,
 ) -> Option<(Vec<u32>, Vec<u32>)> {
     let top = &grid.top;
     let leaves = top
@@ -323,7 +325,7 @@ fn fill_leaves(
         return None;
     }
 
-    // References per top cell, each leaf cell's sorted and deduplicated at the front of its
+    // References per top cell, each leaf cell's deduplicated and ordered at the front of its
     // top cell's slice; `counts` becomes the number kept per leaf cell, `kept` per top cell.
     let mut refs = vec![0u32; total];
     let slices = {
@@ -350,28 +352,55 @@ fn fill_leaves(
                 .iter()
                 .map(|&b| b - base)
                 .collect();
+            // Each reference's share of its leaf cell, beside it (for that order only).
+            let by_share = order == CandidateOrder::LargestShare;
+            let leaf_size = grid.top_size / DVec3::new(res[0] as f64, res[1] as f64, res[2] as f64);
+            let mut share = vec![0f32; if by_share { out.len() } else { 0 }];
             for &i in mine {
                 let cell = pieces.cells[i as usize];
-                let (lo, hi) = leaf_range(&pieces.bounds[i as usize], frame, res);
+                let b = &pieces.bounds[i as usize];
+                let (lo, hi) = leaf_range(b, frame, res);
                 for_each_cell(lo, hi, |c| {
                     let k = &mut cursor[linear(c, res)];
                     out[*k] = cell;
+                    if by_share {
+                        share[*k] = overlap_share(b, frame.0, leaf_size, c);
+                    }
                     *k += 1;
                 });
             }
-            // Sort (pieces come in piece order, usually already in cell order) and pack.
+            // Per leaf cell: one reference a cell (with its largest share), in order, packed to
+            // the front of the top cell's slice.
+            let mut pairs: Vec<(u32, f32)> = Vec::new();
             let mut w = 0;
             for (j, count) in counts.iter_mut().enumerate() {
                 let (s, e) = (begin[first + j] - base, begin[first + j + 1] - base);
-                let seg = &mut out[s..e];
-                if !seg.windows(2).all(|p| p[0] <= p[1]) {
-                    seg.sort_unstable();
-                }
                 let w0 = w;
-                for k in s..e {
-                    if k == s || out[k] != out[k - 1] {
-                        out[w] = out[k];
+                if by_share {
+                    pairs.clear();
+                    pairs.extend(out[s..e].iter().copied().zip(share[s..e].iter().copied()));
+                    // Pieces usually come in cell order, one a cell: nothing to drop then.
+                    if !pairs.windows(2).all(|p| p[0].0 < p[1].0) {
+                        pairs.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
+                        pairs.dedup_by_key(|p| p.0);
+                    }
+                    pairs.sort_unstable_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+                    for p in &pairs {
+                        out[w] = p.0;
                         w += 1;
+                    }
+                } else {
+                    // Sort (pieces come in piece order, usually already in cell order), drop
+                    // repeats.
+                    let seg = &mut out[s..e];
+                    if !seg.windows(2).all(|p| p[0] <= p[1]) {
+                        seg.sort_unstable();
+                    }
+                    for k in s..e {
+                        if k == s || out[k] != out[k - 1] {
+                            out[w] = out[k];
+                            w += 1;
+                        }
                     }
                 }
                 *count = w - w0;
@@ -517,4 +546,20 @@ fn for_each_cell(lo: [u32; 3], hi: [u32; 3], mut f: impl FnMut([u32; 3])) {
             }
         }
     }
+}
+
+/// The share of leaf cell `c` (of the leaf frame with origin `origin` and cell size `size`)
+/// that box `b` covers, as a product of the covered fractions along each axis (an axis of
+/// zero size counts as covered).
+fn overlap_share(b: &Aabb, origin: DVec3, size: DVec3, c: [u32; 3]) -> f32 {
+    let mut share = 1.0;
+    for a in 0..3 {
+        if size[a] > 0.0 {
+            let lo = origin[a] + c[a] as f64 * size[a];
+            let hi = lo + size[a];
+            let covered = (b.max[a].min(hi) - b.min[a].max(lo)).clamp(0.0, size[a]);
+            share *= covered / size[a];
+        }
+    }
+    share as f32
 }

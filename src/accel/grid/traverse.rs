@@ -27,8 +27,9 @@ impl TwoLevelGrid {
         Some(top.first as usize + linear(cell_of(q, origin, inv, res), res))
     }
 
-    /// The candidate cells for `q` (in the grid's coordinates): the sorted, distinct ids of the
-    /// cells whose pieces overlap the leaf cell holding `q` (empty outside the domain).
+    /// The candidate cells for `q` (in the grid's coordinates): the distinct ids of the cells
+    /// whose pieces overlap the leaf cell holding `q` (empty outside the domain), in the
+    /// build's [`super::CandidateOrder`].
     pub fn candidates(&self, q: DVec3) -> &[u32] {
         let mut counters = Counters::default();
         self.candidates_counted(q, &mut counters)
