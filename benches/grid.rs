@@ -5,7 +5,6 @@
 //!   cylindrical grids, bytes per mesh cell, references per mesh cell, hexahedra tested per
 //!   lookup (the real cell test on random points inside random cells) and build time.
 //!   `sweep-real` sweeps the real meshes alone.
-//!   `sweep-real`: the real meshes alone.
 //! - `cargo bench --bench grid -- compare [SCALE]`: Cartesian against cylindrical grids on the
 //!   three pump datasets (`SCALE` × their default sizes, default 1): grid cells, references,
 //!   bytes, build time, hexahedra tested per lookup, with default densities and with the

@@ -12,8 +12,9 @@
 //! resolution from its own number of pieces ([`GridParams::leaf_density`]). A second-level
 //! ("leaf") cell holds the distinct **cell ids** of the pieces whose boxes overlap it, in the
 //! order candidates are offered in ([`CandidateOrder`]: increasing ids, as the talk's grids,
-//! or the largest share of the leaf cell first). Memory: a `u32` per reference, a `u32` range start per leaf cell (its end is the next
-//! one's start) and 8 bytes per top cell (its first leaf cell and its resolution).
+//! or the largest share of the leaf cell first). Memory: a `u32` per reference, a `u32` range
+//! start per leaf cell (its end is the next one's start) and 8 bytes per top cell (its first
+//! leaf cell and its resolution).
 //!
 //! # Cell shape
 //! Both levels shape their cells like the mean piece they hold rather than as cubes
@@ -54,12 +55,15 @@
 //!
 //! | λ₁ | λ₂ | grid cells / cell | references / cell | bytes / cell | tests / location |
 //! |---|---|---|---|---|---|
-//! | 1/64 | 0.125 | 0.31 | 10.9 | 45 | 25.4 |
-//! | 1/64 | 0.25 | 0.60 | 16.0 | 66 | 19.5 |
-//! | 1/64 | 1 | 2.34 | 38.7 | 164 | 12.0 |
-//! | 1/16 | 1 | 3.59 | 55.5 | 237 | 10.3 |
-//! | 1/4 | 2 | 12.2 | 150 | 648 | 7.6 |
-//! | 1/4 | 4 | 24.0 | 262 | 1146 | 6.7 |
+//! | 1/64 | 0.125 | 0.29 | 9.4 | 39 | 23.7 |
+//! | 1/64 | 0.25 | 0.57 | 13.9 | 58 | 17.6 |
+//! | 1/64 | 1 | 2.24 | 34.0 | 145 | 10.9 |
+//! | 1/16 | 1 | 3.46 | 50.3 | 215 | 9.2 |
+//! | 1/4 | 2 | 11.4 | 134 | 582 | 7.0 |
+//! | 1/4 | 4 | 22.6 | 238 | 1042 | 6.3 |
+//!
+//! (`cargo bench --bench grid -- sweep`, session 16, cell-id candidate order; session 15's
+//! cubic cells took 9–15 % more memory and 6–11 % more tests at the same densities.)
 //!
 //! The rotor's thin, stretched cells overlap many grid cells whatever their size, so memory
 //! grows much faster than tests fall; the default sits at the ≤ 64 bytes per cell budget.
@@ -86,11 +90,11 @@ pub enum CandidateOrder {
     Cells,
     /// The cells whose pieces' boxes cover the largest share of the leaf cell first (ties in
     /// cell order): a query in the leaf cell lies in a box with a probability near the share
-    /// it covers, so the likeliest candidates are tested first. The cell holding a point is
-    /// then found after one to three others rather than five to nine (`cylvol render --path
-    /// paper`, 256²: the combustor, the mixer, `pump-inlet:300000`), and the grids' hexahedra
-    /// tested fall by 42–65 % on the paper path; a point outside every cell still tests every
-    /// candidate. It changes what the talk's comparison measures — the cylindrical grid's
+    /// it covers, so the likeliest candidates are tested first. The cell holding a sample of
+    /// the paper path is then the 2nd to 4th tested rather than the 5th to 9th (the
+    /// combustor, the mixer, `pump-inlet:300000`), and the grids' hexahedra tested fall by
+    /// 38–62 % (`cylvol bench --grid-order share` against `cells` on the seven meshes); a
+    /// point outside every cell still tests every candidate. It changes what the talk's comparison measures — the cylindrical grid's
     /// fewer candidates matter less once the likeliest come first — so the presets that
     /// reproduce it keep [`CandidateOrder::Cells`].
     LargestShare,
