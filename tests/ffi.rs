@@ -1321,6 +1321,45 @@ fn volume_set_scalars_changes_the_picture_without_a_rebuild() {
     }
 }
 
+/// A volume keeps what a frame derived from its transfer table (transparent cells, visible
+/// nodes) for the next frame of the same table, and drops it for another table or new
+/// scalars: every frame equals the frame of a volume rendering it first.
+#[test]
+fn frames_after_a_change_of_table_equal_first_frames() {
+    let a = cube(4);
+    let m = mesh_with_field(&a);
+    let v = new_volume(m, &cart_bvh_params());
+    let c = look_at([2.5, 1.5, 3.0], [0.5; 3], None);
+    let p = params(16, 16);
+    let transparent_low = Tables {
+        opacity: vec![0.0, 0.0, 0.0, 0.3, 0.9],
+        ..Tables::ramp([0.0, 3.5])
+    };
+    let transparent_high = Tables {
+        opacity: vec![0.9, 0.3, 0.0, 0.0, 0.0],
+        ..Tables::ramp([0.0, 3.5])
+    };
+    let first_of = |t: &Tables| {
+        let fresh = new_volume(m, &cart_bvh_params());
+        let image = render_f32(fresh, &c, &t.c(), &p, None).f32;
+        unsafe { cylvol_volume_free(fresh) };
+        image
+    };
+    for t in [
+        &transparent_low,
+        &transparent_low,
+        &transparent_high,
+        &transparent_low,
+    ] {
+        assert_eq!(render_f32(v, &c, &t.c(), &p, None).f32, first_of(t));
+    }
+    assert_ne!(first_of(&transparent_low), first_of(&transparent_high));
+    unsafe {
+        cylvol_volume_free(v);
+        cylvol_mesh_free(m);
+    }
+}
+
 #[test]
 fn a_constant_medium_gives_the_beer_lambert_alpha_and_misses_give_zero() {
     let a = cube(4);

@@ -597,6 +597,83 @@ fn node_arcs_are_made_once_per_structure_and_kept_across_frames() {
     assert!(cart.node_arcs().trig().is_empty());
 }
 
+/// A renderer takes over the transparent cells and visible nodes an earlier renderer of the
+/// same volume derived from the same transfer table (as the C ABI's next frame does): the
+/// image and work are those of a renderer that made its own. Taken over from a volume with
+/// other scalars but the same table, they change the picture — so they are used, not made
+/// again — and with another table they are dropped.
+#[test]
+fn derived_parts_are_taken_over_for_the_same_table_only() {
+    let mesh = generate(Dataset::PumpRotor, 8_000).expect("dataset");
+    let neighbours = common::closed_neighbours(&mesh);
+    let accel = Accel::build(
+        &mesh,
+        StructureKind::CylBvh,
+        &Axis::Z,
+        &AccelParams::default(),
+    )
+    .expect("build");
+    let size = 32;
+    let camera = Camera::view(mesh.bounds(), size, size, 30.0, 25.0, 1.0);
+    let options = RenderOptions::new(size, size, default_step(&mesh));
+    let volume = Volume::new(&mesh, &accel).expect("volume");
+    let [lo, hi] = volume.scalar_range();
+    let upper_half = TransferFunction {
+        opacity: vec![(lo, 0.0), (0.5 * (lo + hi), 0.0), (hi, 0.8)],
+        ..TransferFunction::default_for_range(lo, hi, 0.8, 0.2)
+    };
+    let lower_half = TransferFunction {
+        opacity: vec![(lo, 0.8), (0.5 * (lo + hi), 0.0), (hi, 0.0)],
+        ..upper_half.clone()
+    };
+    let renderer = |v, tf| {
+        Renderer::new(v, tf, &options)
+            .expect("renderer")
+            .with_neighbours(&neighbours)
+    };
+    let first = renderer(&volume, &upper_half);
+    let (image, stats) = first.render(&camera, None).expect("render");
+    let derived = first.into_derived().expect("made before the rays");
+    // The same table: the same frame.
+    let second = renderer(&volume, &upper_half).with_derived(derived);
+    let (again, again_stats) = second.render(&camera, None).expect("render");
+    assert_eq!(again.rgba, image.rgba);
+    assert_eq!(again_stats, stats);
+    // Another table: dropped, the frame of a renderer that made its own.
+    let derived = second.into_derived().expect("kept");
+    let (own, own_stats) = renderer(&volume, &lower_half)
+        .render(&camera, None)
+        .expect("render");
+    let (taken, taken_stats) = renderer(&volume, &lower_half)
+        .with_derived(derived)
+        .render(&camera, None)
+        .expect("render");
+    assert_eq!(taken.rgba, own.rgba);
+    assert_eq!(taken_stats, own_stats);
+    // Another volume (the scalars in reverse point order) with the first table: what it takes over is
+    // used, so the picture is not its own.
+    let made = renderer(&volume, &upper_half);
+    made.render(&camera, None).expect("render");
+    let derived = made.into_derived().expect("made");
+    let mut reversed = mesh.clone();
+    let (association, values) = mesh.active_scalars().expect("a scalar");
+    assert_eq!(association, cylvol::Association::Point);
+    let flipped = values.iter().rev().copied().collect();
+    reversed
+        .replace_arrays(vec![cylvol::DataArray::scalar("flipped", flipped)], vec![])
+        .expect("arrays");
+    let other = Volume::new(&reversed, &accel).expect("volume");
+    assert_eq!(other.scalar_range(), [lo, hi]);
+    let (own, _) = renderer(&other, &upper_half)
+        .render(&camera, None)
+        .expect("render");
+    let (taken, _) = renderer(&other, &upper_half)
+        .with_derived(derived)
+        .render(&camera, None)
+        .expect("render");
+    assert!(own.max_abs_difference(&taken) > 1e-2, "not taken over");
+}
+
 /// The boundary surface finds the same exit as the walk across the cells: from the centres of
 /// cells of a small rotor (a ring with blades: many boundary faces) along rays in many
 /// directions, forwards and backwards, wherever both can tell, the first boundary crossing is

@@ -397,6 +397,7 @@ pub unsafe extern "C" fn cylvol_render(
                     format!("pixels_len = {pixels_len}, expected {expected} for {w}x{h} RGBA"),
                 ));
             }
+            let earlier = v.derived.take();
             let mesh = v.mesh();
             let (field, lo, hi) = match &v.field {
                 Some(field) => {
@@ -448,7 +449,14 @@ pub unsafe extern "C" fn cylvol_render(
             if options.path == RenderPath::Fast {
                 renderer = renderer.with_neighbours(&v.neighbours);
             }
+            // The last frame's transparent cells and visible nodes, where its table is this
+            // one's (a mapper's next frame): same volume, since they are dropped with the
+            // scalars.
+            if let Some(derived) = earlier {
+                renderer = renderer.with_derived(derived);
+            }
             let (image, stats) = renderer.render_rays(rays.source(), depth.as_deref())?;
+            let derived = renderer.into_derived();
             write_pixels(&image, format, pixels, bottom_up)?;
             if !depth_out.is_null() {
                 let out = arrays::slice_mut(depth_out, n, "depth_out")?;
@@ -460,6 +468,7 @@ pub unsafe extern "C" fn cylvol_render(
                     }
                 }
             }
+            v.derived = derived;
             v.render = (started.elapsed().as_secs_f64(), stats).into();
             Ok(())
         })

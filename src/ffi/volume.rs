@@ -17,8 +17,8 @@ use super::status::{self, c_string, CylvolStatus, Failure};
 use crate::accel::choose::{cylindrical_area_ratio, structure_for_ratio};
 use crate::accel::{Accel, AccelParams, BvhParams, GridParams, StructureKind};
 use crate::axis::{detect_with_report, Axis};
-use crate::render::ScalarField;
 use crate::render::Topology;
+use crate::render::{Derived, ScalarField};
 use crate::Mesh;
 
 /// How to build a volume's structure.
@@ -84,6 +84,10 @@ pub struct CylvolVolume {
     /// The active scalar gathered for rendering (`None` while the mesh has none), kept
     /// across renders and gathered again when the scalars change.
     pub(crate) field: Option<ScalarField>,
+    /// What the last render derived from its transfer table and this volume (transparent
+    /// cells, visible nodes), taken over by the next render of the same table; dropped when
+    /// the scalars change.
+    pub(crate) derived: Option<Derived>,
     pub(crate) default_step: f64,
     pub(crate) build: CylvolBuildStats,
     pub(crate) render: CylvolRenderStats,
@@ -187,6 +191,7 @@ pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<Cylvo
         accel,
         neighbours,
         field,
+        derived: None,
         default_step,
         build,
         render: CylvolRenderStats::default(),
@@ -315,6 +320,7 @@ pub unsafe extern "C" fn cylvol_volume_set_scalars(
             )?;
             replace_scalars(&mut v.mesh, scalars)?;
             v.field = ScalarField::gather(v.mesh()).ok();
+            v.derived = None;
             Ok(())
         })
     }

@@ -629,6 +629,18 @@ impl Accum {
     }
 }
 
+/// What a renderer derives from its transfer table and volume before its rays: the cells the
+/// table makes wholly transparent and the structure's nodes that hold a visible cell
+/// ([`Renderer::into_derived`]). A later renderer of the same volume (same mesh, structure and
+/// scalars) takes them over where its table is the same ([`Renderer::with_derived`]), as a
+/// mapper's next frame does, instead of making them again.
+#[derive(Debug)]
+pub struct Derived {
+    table: TransferTable,
+    transparent: TransparentCells,
+    visible: Option<Option<NodeMask>>,
+}
+
 /// A volume with a transfer table and options: casts rays and renders images.
 pub struct Renderer<'a> {
     volume: &'a Volume<'a>,
@@ -784,6 +796,30 @@ impl<'a> Renderer<'a> {
     /// Uses `neighbours` for the fast path's second test.
     pub fn with_neighbours(mut self, neighbours: &'a dyn Neighbours) -> Renderer<'a> {
         self.neighbours = neighbours;
+        self
+    }
+
+    /// What this renderer derived before its rays (`None` if it made nothing yet), for a later
+    /// renderer of the same volume ([`Renderer::with_derived`]).
+    pub fn into_derived(self) -> Option<Derived> {
+        let transparent = self.transparent.into_inner()?;
+        Some(Derived {
+            table: self.table,
+            transparent,
+            visible: self.visible.into_inner(),
+        })
+    }
+
+    /// Takes over what an earlier renderer of the same volume derived, if its transfer table
+    /// is this renderer's (else `derived` is dropped and this renderer makes its own). The
+    /// caller answers for the volume being the same: the same mesh, structure and scalars.
+    pub fn with_derived(self, derived: Derived) -> Renderer<'a> {
+        if derived.table == self.table {
+            let _ = self.transparent.set(derived.transparent);
+            if let Some(visible) = derived.visible {
+                let _ = self.visible.set(visible);
+            }
+        }
         self
     }
 
