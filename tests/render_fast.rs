@@ -631,6 +631,14 @@ fn derived_parts_are_taken_over_for_the_same_table_only() {
             .expect("renderer")
             .with_neighbours(&neighbours)
     };
+    // The frame of a renderer that makes its own parts, and of one handed `derived`.
+    let own_and_taken = |v, tf, derived| {
+        let render = |r: Renderer| r.render(&camera, None).expect("render");
+        (
+            render(renderer(v, tf)),
+            render(renderer(v, tf).with_derived(derived)),
+        )
+    };
     let first = renderer(&volume, &upper_half);
     let (image, stats) = first.render(&camera, None).expect("render");
     let derived = first.into_derived().expect("made before the rays");
@@ -641,17 +649,11 @@ fn derived_parts_are_taken_over_for_the_same_table_only() {
     assert_eq!(again_stats, stats);
     // Another table: dropped, the frame of a renderer that made its own.
     let derived = second.into_derived().expect("kept");
-    let (own, own_stats) = renderer(&volume, &lower_half)
-        .render(&camera, None)
-        .expect("render");
-    let (taken, taken_stats) = renderer(&volume, &lower_half)
-        .with_derived(derived)
-        .render(&camera, None)
-        .expect("render");
+    let ((own, own_stats), (taken, taken_stats)) = own_and_taken(&volume, &lower_half, derived);
     assert_eq!(taken.rgba, own.rgba);
     assert_eq!(taken_stats, own_stats);
-    // Another volume (the scalars in reverse point order) with the first table: what it takes over is
-    // used, so the picture is not its own.
+    // Another volume (the scalars in reverse point order) with the first table: what it takes
+    // over is used, so the picture is not its own.
     let made = renderer(&volume, &upper_half);
     made.render(&camera, None).expect("render");
     let derived = made.into_derived().expect("made");
@@ -664,13 +666,7 @@ fn derived_parts_are_taken_over_for_the_same_table_only() {
         .expect("arrays");
     let other = Volume::new(&reversed, &accel).expect("volume");
     assert_eq!(other.scalar_range(), [lo, hi]);
-    let (own, _) = renderer(&other, &upper_half)
-        .render(&camera, None)
-        .expect("render");
-    let (taken, _) = renderer(&other, &upper_half)
-        .with_derived(derived)
-        .render(&camera, None)
-        .expect("render");
+    let ((own, _), (taken, _)) = own_and_taken(&other, &upper_half, derived);
     assert!(own.max_abs_difference(&taken) > 1e-2, "not taken over");
 }
 

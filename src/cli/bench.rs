@@ -195,7 +195,8 @@ pub fn bench_mesh(
             if let (RenderPath::Fast, Some(n)) = (path, &neighbours) {
                 renderer = renderer.with_neighbours(n);
             }
-            runs.push((volume.accel().kind(), path, renderer));
+            let accel = volume.accel();
+            runs.push((accel.kind(), accel.stats().build_s(), path, renderer));
         }
     }
     // Rounds of one render each, so that the machine's drifts in speed fall on every
@@ -203,7 +204,7 @@ pub fn bench_mesh(
     // later render must count the same work (the render is deterministic).
     let mut first: Vec<(Image, RenderStats, f64)> = Vec::with_capacity(runs.len());
     for round in 0..setup.frames.max(1) {
-        for (i, (kind, path, renderer)) in runs.iter().enumerate() {
+        for (i, (kind, _, path, renderer)) in runs.iter().enumerate() {
             let (image, stats, frame_s) = timed_render(renderer, &camera)?;
             bar.inc(1);
             if round == 0 {
@@ -223,11 +224,7 @@ pub fn bench_mesh(
     }
     let mut structures = Map::new();
     let mut images = Vec::new();
-    for ((kind, path, _), (image, stats, frame_s)) in runs.iter().zip(first) {
-        let build_s = built
-            .iter()
-            .find(|a| a.kind() == *kind)
-            .map_or(0.0, |a| a.stats().build_s());
+    for ((kind, build_s, path, _), (image, stats, frame_s)) in runs.iter().zip(first) {
         bar.suspend(|| {
             log(format_args!(
                 "{label}: {kind} built in {build_s:.2} s, {} path {frame_s:.3} s: {} samples, {} hexahedra tested, {} internal / {} leaf visits",
@@ -376,10 +373,7 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
             &setup,
             &[RenderPath::Paper, RenderPath::Fast],
         )?;
-        result.report["grid_order"] = json!(match args.grid_order {
-            CandidateOrder::Cells => "cells",
-            CandidateOrder::LargestShare => "share",
-        });
+        result.report["grid_order"] = json!(args.grid_order.name());
         if !args.json {
             if k > 0 {
                 println!();

@@ -100,16 +100,30 @@ pub enum CandidateOrder {
     LargestShare,
 }
 
+impl CandidateOrder {
+    /// Both orders.
+    pub const ALL: [CandidateOrder; 2] = [CandidateOrder::Cells, CandidateOrder::LargestShare];
+
+    /// `cells` or `share` (what [`str::parse`] reads).
+    pub fn name(self) -> &'static str {
+        match self {
+            CandidateOrder::Cells => "cells",
+            CandidateOrder::LargestShare => "share",
+        }
+    }
+}
+
 impl std::str::FromStr for CandidateOrder {
     type Err = crate::Error;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "cells" => Ok(CandidateOrder::Cells),
-            "share" => Ok(CandidateOrder::LargestShare),
-            _ => Err(crate::Error::Invalid(format!(
-                "unknown candidate order '{s}' (expected cells or share)"
-            ))),
-        }
+        CandidateOrder::ALL
+            .into_iter()
+            .find(|o| o.name() == s)
+            .ok_or_else(|| {
+                crate::Error::Invalid(format!(
+                    "unknown candidate order '{s}' (expected cells or share)"
+                ))
+            })
     }
 }
 
