@@ -2,7 +2,8 @@
 //! exactly the faces whose boxes its line meets (brute force over every face), for
 //! perspective and parallel cameras and VTK-style matrices; the surface's queries answer
 //! from a list as from the BVH; and a fast render is the same image with the lists as
-//! without them, with fewer surface visits (the counter).
+//! without them, with fewer surface visits (the counter); a band of the image or a close-up
+//! projects only the faces near its view (the faces-projected counter).
 
 mod common;
 
@@ -135,6 +136,68 @@ fn every_ray_lists_exactly_the_face_boxes_it_meets() {
     assert!(
         total > 10_000,
         "too few faces listed to test anything: {total}"
+    );
+}
+
+/// `proj` (row-major) narrowed to the rows `[r0, r1)` of a `height`-row image counted from the
+/// bottom, as vtkCylVolMapper renders a frame in bands: NDC `y` of the band mapped onto
+/// `[-1, 1]`.
+fn band_projection(proj: &[f64; 16], r0: u32, r1: u32, height: u32) -> [f64; 16] {
+    let lo = -1.0 + 2.0 * r0 as f64 / height as f64;
+    let hi = -1.0 + 2.0 * r1 as f64 / height as f64;
+    let (s, c) = (2.0 / (hi - lo), 0.5 * (lo + hi));
+    let mut band = *proj;
+    for k in 0..4 {
+        band[4 + k] = s * (proj[4 + k] - c * proj[12 + k]);
+    }
+    band
+}
+
+#[test]
+fn a_band_or_a_close_up_projects_only_the_faces_it_sees() {
+    let mesh = rotor();
+    let topology = common::closed_neighbours(&mesh);
+    let surface = topology.surface();
+    let faces = surface.face_count();
+    let (w, h) = (40, 32);
+    let (view, proj) = matrices(
+        DVec3::new(1.8, -2.1, 1.4),
+        DVec3::new(0.0, 0.0, 0.2),
+        DVec3::Z,
+        w as f64 / h as f64,
+    );
+    let whole = MatrixRays::new(&view, &proj, w, h).expect("matrix rays");
+    let whole = FaceBins::new(surface, &whole, TILE).expect("bins");
+    // Four bands, each with its rays' lists complete, each projecting a part of the faces.
+    let mut projected = 0;
+    for b in 0..4 {
+        let (r0, r1) = (h * b / 4, h * (b + 1) / 4);
+        let band = band_projection(&proj, r0, r1, h);
+        let rays = MatrixRays::new(&view, &band, w, r1 - r0).expect("band rays");
+        assert_lists_complete(&format!("band {b}"), surface, &rays);
+        let bins = FaceBins::new(surface, &rays, TILE).expect("bins");
+        assert!(
+            bins.faces_projected() < faces * 3 / 4,
+            "band {b}: {} of {faces} faces projected",
+            bins.faces_projected()
+        );
+        projected += bins.faces_projected();
+    }
+    assert!(
+        projected < whole.faces_projected() * 2,
+        "four bands projected {projected} faces, the whole image {}",
+        whole.faces_projected()
+    );
+    // A close-up.
+    let b = mesh.bounds();
+    let camera = Camera::view(b, w, h, 30.0, 20.0, 5.0);
+    let rays = RayGenerator::new(&camera, w, h).expect("rays");
+    assert_lists_complete("close-up", surface, &rays);
+    let bins = FaceBins::new(surface, &rays, TILE).expect("bins");
+    assert!(
+        bins.faces_projected() < faces / 2,
+        "close-up: {} of {faces} faces projected",
+        bins.faces_projected()
     );
 }
 

@@ -31,10 +31,10 @@
 //! widened by [`PIXEL_SLACK`] of a pixel for rounding.
 
 use glam::DVec3;
-use rayon::prelude::*;
 
 use super::camera::RaySource;
 use super::surface::BoundarySurface;
+use crate::accel::bvh::Enter;
 
 /// Faces that cannot be projected (their boxes reach behind the eye) offered to every ray;
 /// with more, the frame does not use projected faces.
@@ -78,6 +78,8 @@ pub struct FaceBins {
     bins: Vec<Vec<(u32, [i32; 4])>>,
     /// Faces offered to every ray.
     unprojected: Vec<u32>,
+    /// Faces whose boxes were projected.
+    faces_projected: usize,
 }
 
 impl FaceBins {
@@ -92,28 +94,41 @@ impl FaceBins {
         let (w, h) = rays.size();
         let tile = tile.max(1);
         let (tiles_x, tiles_y) = (w.div_ceil(tile), h.div_ceil(tile));
-        let query = surface.ray_query();
-        let projected: Vec<Option<Option<[i32; 4]>>> = (0..query.face_count() as u32)
-            .into_par_iter()
-            .map(|f| query.world_box(f).and_then(|b| pixel_bounds(b, rays)))
-            .collect();
+        // The faces whose boxes project into the image (`Some`) or cannot be projected
+        // (`None`), found through the surface's BVH: a node whose box projects wholly outside
+        // the image holds no face that projects into it (a box's projection holds those of
+        // the boxes within it), so a band of the image or a close-up visits only the faces
+        // it sees and the subtrees around them; below a node whose box projects wholly into
+        // the image, no node is tested.
+        let (w_max, h_max) = ((w - 1) as f64, (h - 1) as f64);
+        let in_image = |b| match projected_bounds(b, rays) {
+            None => Enter::Test,
+            Some((a, b)) if a[0] >= 0.0 && a[1] >= 0.0 && b[0] <= w_max && b[1] <= h_max => {
+                Enter::All
+            }
+            Some(ab) => match clamped(ab, rays) {
+                None => Enter::Skip,
+                Some(_) => Enter::Test,
+            },
+        };
+        let projected = surface.faces_where(in_image, |f, b| Some((f, pixel_bounds(b, rays))));
         let mut bins: Vec<Vec<(u32, [i32; 4])>> = vec![Vec::new(); (tiles_x * tiles_y) as usize];
         let mut unprojected = Vec::new();
-        for (f, bounds) in projected.into_iter().enumerate() {
+        for &(f, bounds) in &projected {
             match bounds {
+                Some(None) => {}
                 None => {
-                    unprojected.push(f as u32);
+                    unprojected.push(f);
                     if unprojected.len() > MAX_UNPROJECTED {
                         return None;
                     }
                 }
-                Some(None) => {}
                 Some(Some(b)) => {
                     let (x0, y0) = (b[0] as u32 / tile, b[1] as u32 / tile);
                     let (x1, y1) = (b[2] as u32 / tile, b[3] as u32 / tile);
                     for ty in y0..=y1 {
                         for tx in x0..=x1 {
-                            bins[(ty * tiles_x + tx) as usize].push((f as u32, b));
+                            bins[(ty * tiles_x + tx) as usize].push((f, b));
                         }
                     }
                 }
@@ -124,7 +139,14 @@ impl FaceBins {
             tiles_x,
             bins,
             unprojected,
+            faces_projected: projected.len(),
         })
+    }
+
+    /// The faces whose boxes were projected: those of the surface's BVH leaves whose nodes'
+    /// boxes do not project wholly outside the image.
+    pub fn faces_projected(&self) -> usize {
+        self.faces_projected
     }
 
     /// The faces offered to every ray.
@@ -140,7 +162,15 @@ fn pixel_bounds<R: RaySource + ?Sized>(
     (lo, hi): (DVec3, DVec3),
     rays: &R,
 ) -> Option<Option<[i32; 4]>> {
-    let (w, h) = rays.size();
+    projected_bounds((lo, hi), rays).map(|ab| clamped(ab, rays))
+}
+
+/// The bounds `(min, max)` in pixel coordinates of the projections of a box's corners (which
+/// hold the box's projection); `None` where the box cannot be projected.
+fn projected_bounds<R: RaySource + ?Sized>(
+    (lo, hi): (DVec3, DVec3),
+    rays: &R,
+) -> Option<([f64; 2], [f64; 2])> {
     let (mut a, mut b) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for k in 0..8 {
         let p = DVec3::new(
@@ -152,11 +182,18 @@ fn pixel_bounds<R: RaySource + ?Sized>(
         a = [a[0].min(i), a[1].min(j)];
         b = [b[0].max(i), b[1].max(j)];
     }
+    Some((a, b))
+}
+
+/// The pixel bounds `[i0, j0, i1, j1]` (inclusive, clamped to the image) of the pixel centres
+/// within the bounds `(a, b)` widened by [`PIXEL_SLACK`]; `None` where none is.
+fn clamped<R: RaySource + ?Sized>((a, b): ([f64; 2], [f64; 2]), rays: &R) -> Option<[i32; 4]> {
+    let (w, h) = rays.size();
     let i0 = (a[0] - PIXEL_SLACK).ceil().max(0.0);
     let j0 = (a[1] - PIXEL_SLACK).ceil().max(0.0);
     let i1 = (b[0] + PIXEL_SLACK).floor().min(w as f64 - 1.0);
     let j1 = (b[1] + PIXEL_SLACK).floor().min(h as f64 - 1.0);
-    Some((i0 <= i1 && j0 <= j1).then_some([i0 as i32, j0 as i32, i1 as i32, j1 as i32]))
+    (i0 <= i1 && j0 <= j1).then_some([i0 as i32, j0 as i32, i1 as i32, j1 as i32])
 }
 
 /// The faces each ray of one tile meets the boxes of (see the module documentation).

@@ -23,7 +23,7 @@ use glam::DVec3;
 use super::ray_faces::{RayFace, RayFaces};
 use super::raycast::Neighbours;
 use crate::accel::bvh::ray::{box_span, clip_to_slab, reciprocal};
-use crate::accel::bvh::{build_bvh, BoxF32, Bvh, BvhParams};
+use crate::accel::bvh::{build_bvh, BoxF32, Bvh, BvhParams, Enter};
 use crate::accel::space::Pieces;
 use crate::accel::Counters;
 use crate::geometry::bounds::Aabb;
@@ -72,10 +72,15 @@ impl FaceBoxQuery<'_> {
     /// The box of face `face` as the queries test it: its stored box, padded, in world
     /// coordinates; `None` where there is no such face.
     pub fn world_box(&self, face: u32) -> Option<(DVec3, DVec3)> {
-        let b = self.boxes.get(face as usize)?;
+        self.boxes.get(face as usize).map(|b| self.world(b))
+    }
+
+    /// A stored box (a face's or a BVH node's), padded, in world coordinates.
+    #[inline]
+    fn world(&self, b: &BoxF32) -> (DVec3, DVec3) {
         let pad = DVec3::splat(self.pad);
         let world = |c: [f32; 3]| self.anchor + DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64);
-        Some((world(b.min) - pad, world(b.max) + pad))
+        (world(b.min) - pad, world(b.max) + pad)
     }
 
     /// Prepares the ray `origin + t dir`.
@@ -252,6 +257,21 @@ impl BoundarySurface {
             anchor: self.bvh.frame.anchor,
             pad: self.bvh.query_pad(),
         }
+    }
+
+    /// The faces within the BVH's nodes that `enter` lets in ([`Bvh::collect_where`]; the
+    /// nodes' and faces' boxes padded, in world coordinates, as [`FaceBoxQuery::world_box`]
+    /// gives them), mapped by `face` (given the face and its box; `None` leaves it out):
+    /// [`crate::render::ray_faces::FaceBins`] passes over the subtrees of faces outside the
+    /// image so.
+    pub(crate) fn faces_where<T: Send>(
+        &self,
+        enter: impl Fn((DVec3, DVec3)) -> Enter + Sync,
+        face: impl Fn(u32, (DVec3, DVec3)) -> Option<T> + Sync,
+    ) -> Vec<T> {
+        let query = self.ray_query();
+        self.bvh
+            .collect_where(|b| enter(query.world(b)), |b, f| face(f, query.world(b)))
     }
 
     /// [`Bvh::first_along`] over the faces, or where `faces` were made for this ray (or its

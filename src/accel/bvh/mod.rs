@@ -70,6 +70,7 @@ pub use binned_build::build_bvh;
 pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32};
 pub use mask::NodeMask;
 pub use stats::BvhStats;
+pub(crate) use traverse::Enter;
 
 #[cfg(doc)]
 use crate::geometry::{bounds::Aabb, cylindrical::CylBounds};
