@@ -310,6 +310,71 @@ pub trait RaySource: Sync {
     fn project(&self, _p: DVec3) -> Option<(f64, f64)> {
         None
     }
+
+    /// The bounds `(min, max)`, in pixels as [`RaySource::project`] gives them, of the
+    /// projections of the eight corners of the box `lo`–`hi` (which hold the projection of
+    /// the whole box); `None` where a corner cannot be projected.
+    fn project_box(&self, lo: DVec3, hi: DVec3) -> Option<([f64; 2], [f64; 2])> {
+        let (mut a, mut b) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for k in 0..8 {
+            let (i, j) = self.project(box_corner(lo, hi, k))?;
+            a = [a[0].min(i), a[1].min(j)];
+            b = [b[0].max(i), b[1].max(j)];
+        }
+        Some((a, b))
+    }
+}
+
+/// Corner `k` (0–7: bit 0 x, bit 1 y, bit 2 z at `hi`) of the box `lo`–`hi`.
+#[inline]
+fn box_corner(lo: DVec3, hi: DVec3, k: usize) -> DVec3 {
+    DVec3::new(
+        if k & 1 == 0 { lo.x } else { hi.x },
+        if k & 2 == 0 { lo.y } else { hi.y },
+        if k & 4 == 0 { lo.z } else { hi.z },
+    )
+}
+
+/// [`RaySource::project_box`] for a projection to NDC `(X(p) / W(p), Y(p) / W(p))`, `X`, `Y`
+/// and `W` affine (`rows`: each the gradient and the constant, `r · (p, 1)`), points with
+/// `W ≤ 0` unprojectable: the corners' values from one corner and the three edges, with no
+/// product per corner.
+fn project_box_affine(
+    rows: [DVec4; 3],
+    (lo, hi): (DVec3, DVec3),
+    width: u32,
+    height: u32,
+) -> Option<([f64; 2], [f64; 2])> {
+    let at = |p: DVec4| DVec3::new(rows[0].dot(p), rows[1].dot(p), rows[2].dot(p));
+    let base = at(lo.extend(1.0));
+    let e = hi - lo;
+    let edges = [
+        at(DVec4::new(e.x, 0.0, 0.0, 0.0)),
+        at(DVec4::new(0.0, e.y, 0.0, 0.0)),
+        at(DVec4::new(0.0, 0.0, e.z, 0.0)),
+    ];
+    let (mut x, mut y) = (
+        [f64::INFINITY, f64::NEG_INFINITY],
+        [f64::INFINITY, f64::NEG_INFINITY],
+    );
+    for k in 0..8 {
+        let mut v = base;
+        for (bit, edge) in edges.iter().enumerate() {
+            if k & (1 << bit) != 0 {
+                v += *edge;
+            }
+        }
+        if v.z.is_nan() || v.z <= 0.0 {
+            return None;
+        }
+        let (nx, ny) = (v.x / v.z, v.y / v.z);
+        x = [x[0].min(nx), x[1].max(nx)];
+        y = [y[0].min(ny), y[1].max(ny)];
+    }
+    // Pixel columns grow with x, rows fall with y.
+    let (i0, j1) = ndc_to_pixel(x[0], y[0], width, height)?;
+    let (i1, j0) = ndc_to_pixel(x[1], y[1], width, height)?;
+    Some(([i0, j0], [i1, j1]))
 }
 
 /// Pixel coordinates (the centre of pixel `(i, j)` at `(i, j)`, row 0 at the top) of the
@@ -347,6 +412,18 @@ impl RaySource for RayGenerator {
             )
         };
         ndc_to_pixel(x, y, self.width, self.height)
+    }
+
+    fn project_box(&self, lo: DVec3, hi: DVec3) -> Option<([f64; 2], [f64; 2])> {
+        let f = &self.frame;
+        let row = |v: DVec3, scale: f64| (v / scale).extend(-(v / scale).dot(self.eye));
+        let w = if self.parallel {
+            DVec4::W
+        } else {
+            row(f.forward, 1.0)
+        };
+        let rows = [row(f.right, self.half_w), row(f.up, self.half_h), w];
+        project_box_affine(rows, (lo, hi), self.width, self.height)
     }
 }
 
@@ -493,6 +570,11 @@ impl RaySource for MatrixRays {
         }
         ndc_to_pixel(c.x / c.w, c.y / c.w, self.width, self.height)
     }
+
+    fn project_box(&self, lo: DVec3, hi: DVec3) -> Option<([f64; 2], [f64; 2])> {
+        let rows = [self.clip.row(0), self.clip.row(1), self.clip.row(3)];
+        project_box_affine(rows, (lo, hi), self.width, self.height)
+    }
 }
 
 #[cfg(test)]
@@ -604,6 +686,73 @@ mod tests {
                     assert!(((o2 - eye).dot(forward) - near).abs() < 1e-9);
                 }
             }
+        }
+    }
+
+    /// [`RaySource::project_box`]'s default: the eight corners' [`RaySource::project`].
+    struct CornerByCorner<'a>(&'a dyn RaySource);
+
+    impl RaySource for CornerByCorner<'_> {
+        fn size(&self) -> (u32, u32) {
+            self.0.size()
+        }
+        fn ray(&self, i: u32, j: u32) -> (DVec3, DVec3) {
+            self.0.ray(i, j)
+        }
+        fn project(&self, p: DVec3) -> Option<(f64, f64)> {
+            self.0.project(p)
+        }
+    }
+
+    #[test]
+    fn a_box_projects_as_its_eight_corners_do() {
+        let eye = DVec3::new(3.0, -2.0, 7.5);
+        let focal = DVec3::new(0.5, 0.25, -1.0);
+        let up = DVec3::new(0.1, 1.0, 0.3);
+        let (w, h) = (64, 48);
+        let aspect = w as f64 / h as f64;
+        let look = RayGenerator::new(&Camera::perspective(eye, focal, up, 40.0).unwrap(), w, h);
+        let flat = RayGenerator::new(&Camera::parallel(eye, focal, up, 2.5).unwrap(), w, h);
+        let view = vtk_view(eye, focal, up);
+        let persp = MatrixRays::new(&view, &vtk_perspective(40.0, aspect, 0.5, 40.0), w, h);
+        let ortho = MatrixRays::new(&view, &vtk_ortho(2.5, aspect, 0.5, 40.0), w, h);
+        let sources: [&dyn RaySource; 4] = [
+            &look.unwrap(),
+            &flat.unwrap(),
+            &persp.unwrap(),
+            &ortho.unwrap(),
+        ];
+        // Boxes scattered around the focal point, some reaching behind the eye.
+        let mut x = 99u64;
+        let mut next = || {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for (k, rays) in sources.into_iter().enumerate() {
+            let (mut projected, mut behind) = (0, 0);
+            for _ in 0..2000 {
+                let lo = focal + DVec3::new(next(), next(), next()) * 16.0 - 8.0;
+                let hi = lo + DVec3::new(next(), next(), next()) * 3.0;
+                let fast = rays.project_box(lo, hi);
+                let slow = CornerByCorner(rays).project_box(lo, hi);
+                match (fast, slow) {
+                    (Some((a, b)), Some((c, d))) => {
+                        for (u, v) in [a, b].iter().flatten().zip([c, d].iter().flatten()) {
+                            assert!((u - v).abs() < 1e-9 * (1.0 + v.abs()), "{k}: {u} vs {v}");
+                        }
+                        projected += 1;
+                    }
+                    (None, None) => behind += 1,
+                    other => panic!("source {k}, box {lo}-{hi}: {other:?}"),
+                }
+            }
+            assert!(projected > 100, "source {k}: {projected} projected");
+            assert!(
+                k % 2 == 1 || behind > 50,
+                "source {k}: {behind} behind the eye"
+            );
         }
     }
 

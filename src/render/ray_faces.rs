@@ -10,11 +10,14 @@
 //! once a frame, as VTK's Bunyk ray caster projects its boundary triangles:
 //!
 //! 1. [`FaceBins::new`]: each face's stored box (as the BVH tests it, padded) is projected
-//!    through the camera ([`RaySource::project`]); the pixels whose centres lie in the box's
-//!    projected bounds are its candidates, and the face is filed under every image tile they
-//!    touch. A box that does not lie wholly in front of the eye cannot be projected; such
-//!    faces are offered to every ray (up to [`MAX_UNPROJECTED`]; beyond that, with a camera
-//!    among the faces, say, the frame keeps to the BVH).
+//!    through the camera ([`RaySource::project_box`]); the pixels whose centres lie in the
+//!    box's projected bounds are its candidates, and the face is filed under every image tile
+//!    they touch. A box that does not lie wholly in front of the eye cannot be projected;
+//!    such faces are offered to every ray (up to [`MAX_UNPROJECTED`]; beyond that, with a
+//!    camera among the faces, say, the frame keeps to the BVH). The faces are reached through
+//!    the surface's BVH, whose nodes' boxes are projected the same way: the subtrees of a
+//!    node that projects wholly outside the image are passed over (a band of an image, a
+//!    close-up), and below a node that projects wholly inside it no node is projected.
 //! 2. [`TileFaces::new`]: for each pixel of a tile, its ray's interval in each candidate
 //!    face's box, computed as the BVH's traversal computes it, kept where the ray meets the
 //!    box, sorted by entry.
@@ -101,7 +104,7 @@ impl FaceBins {
         // it sees and the subtrees around them; below a node whose box projects wholly into
         // the image, no node is tested.
         let (w_max, h_max) = ((w - 1) as f64, (h - 1) as f64);
-        let in_image = |b| match projected_bounds(b, rays) {
+        let in_image = |(lo, hi)| match rays.project_box(lo, hi) {
             None => Enter::Test,
             Some((a, b)) if a[0] >= 0.0 && a[1] >= 0.0 && b[0] <= w_max && b[1] <= h_max => {
                 Enter::All
@@ -162,27 +165,7 @@ fn pixel_bounds<R: RaySource + ?Sized>(
     (lo, hi): (DVec3, DVec3),
     rays: &R,
 ) -> Option<Option<[i32; 4]>> {
-    projected_bounds((lo, hi), rays).map(|ab| clamped(ab, rays))
-}
-
-/// The bounds `(min, max)` in pixel coordinates of the projections of a box's corners (which
-/// hold the box's projection); `None` where the box cannot be projected.
-fn projected_bounds<R: RaySource + ?Sized>(
-    (lo, hi): (DVec3, DVec3),
-    rays: &R,
-) -> Option<([f64; 2], [f64; 2])> {
-    let (mut a, mut b) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for k in 0..8 {
-        let p = DVec3::new(
-            if k & 1 == 0 { lo.x } else { hi.x },
-            if k & 2 == 0 { lo.y } else { hi.y },
-            if k & 4 == 0 { lo.z } else { hi.z },
-        );
-        let (i, j) = rays.project(p)?;
-        a = [a[0].min(i), a[1].min(j)];
-        b = [b[0].max(i), b[1].max(j)];
-    }
-    Some((a, b))
+    rays.project_box(lo, hi).map(|ab| clamped(ab, rays))
 }
 
 /// The pixel bounds `[i0, j0, i1, j1]` (inclusive, clamped to the image) of the pixel centres
