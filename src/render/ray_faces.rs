@@ -202,7 +202,7 @@ impl TileFaces {
         let th = rays.len().div_ceil(tw);
         let query = surface.ray_query();
         let prepared: Vec<_> = rays.iter().map(|&(o, d)| query.prepare(o, d)).collect();
-        // Every (pixel, face) pair found, then sorted by pixel and entry: one allocation.
+        // Every (pixel, face) pair found.
         let mut pairs: Vec<(u32, RayFace)> = Vec::new();
         let bin = bins
             .bins
@@ -229,7 +229,7 @@ impl TileFaces {
                 .filter_map(|&f| query.ray_face(f, p));
             pairs.extend(offered.map(|r| (k as u32, r)));
         }
-        pairs.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.entry.total_cmp(&b.1.entry)));
+        // Placed by pixel (a counting sort), then each pixel's few sorted by entry.
         let mut start = vec![0u32; rays.len() + 1];
         for &(k, _) in &pairs {
             start[k as usize + 1] += 1;
@@ -237,7 +237,21 @@ impl TileFaces {
         for k in 0..rays.len() {
             start[k + 1] += start[k];
         }
-        let faces = pairs.into_iter().map(|(_, r)| r).collect();
+        let mut next = start.clone();
+        let none = RayFace {
+            entry: 0.0,
+            exit: 0.0,
+            face: 0,
+        };
+        let mut faces = vec![none; pairs.len()];
+        for (k, r) in pairs {
+            faces[next[k as usize] as usize] = r;
+            next[k as usize] += 1;
+        }
+        for k in 0..rays.len() {
+            let list = &mut faces[start[k] as usize..start[k + 1] as usize];
+            list.sort_unstable_by(|a, b| a.entry.total_cmp(&b.entry));
+        }
         TileFaces { start, faces }
     }
 
