@@ -27,6 +27,8 @@ pub mod input;
 pub mod io;
 pub mod mesh;
 pub mod render;
+#[cfg(test)]
+mod testing;
 
 pub use error::{Error, MeshError, ReadError};
 pub use mesh::{Association, CellKind, Component, DataArray, Mesh, MeshParts};

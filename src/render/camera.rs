@@ -723,13 +723,7 @@ mod tests {
             &ortho.unwrap(),
         ];
         // Boxes scattered around the focal point, some reaching behind the eye.
-        let mut x = 99u64;
-        let mut next = || {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::testing::uniform(99);
         for (k, rays) in sources.into_iter().enumerate() {
             let (mut projected, mut behind) = (0, 0);
             for _ in 0..2000 {

@@ -125,13 +125,7 @@ mod tests {
     #[test]
     fn the_mask_equals_a_walk_of_each_subtree_for_every_preset() {
         // Boxes scattered by a fixed sequence; two pieces per cell for some cells.
-        let mut x = 12345u64;
-        let mut next = || {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::testing::uniform(12345);
         let mut bounds = Vec::new();
         let mut cells = Vec::new();
         for c in 0..3000u32 {

@@ -204,13 +204,7 @@ mod tests {
     #[test]
     fn collect_where_finds_every_piece_that_passes_and_skips_subtrees_for_every_preset() {
         // Boxes scattered along a line by a fixed sequence, so a query box meets few subtrees.
-        let mut x = 777u64;
-        let mut next = || {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::testing::uniform(777);
         let bounds: Vec<Aabb> = (0..4000)
             .map(|_| {
                 let lo = DVec3::new(100.0 * next(), next(), next());
