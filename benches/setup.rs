@@ -9,7 +9,9 @@
 //! axis detection, the structure choice (for `auto`), the structure, the three phases of
 //! `render::face_neighbours` (the adjacency, the boundary surface, the check of the faces
 //! without a neighbour), the default step and the scalar gather; then the first frame and a
-//! second one with the fast path at `SIZE × SIZE` (the bench's oblique view). The phases of
+//! second one with the fast path at `SIZE × SIZE` (the bench's oblique view), and the frame's
+//! boundary faces sorted to the image (`FaceBins::new`) for the whole image and in four bands of
+//! rows as the VTK mapper renders them. The phases of
 //! `face_neighbours` are also timed together, through the function itself, to show that they
 //! are what it does. Wall and process CPU seconds are printed for each (CPU ≈ 2 × wall on two
 //! cores means the phase is parallel).
@@ -118,8 +120,63 @@ fn main() {
     let (t, _) = best(repeats, frame);
     table.row(&format!("fast frame {size}x{size}"), t, true);
     table.row("first frame in all", table.total, false);
+    face_bins(&camera, size, topology.surface(), repeats);
 
     c_abi(&mesh, repeats);
+}
+
+/// A frame's boundary faces sorted to the image (`FaceBins::new`, part of every fast frame),
+/// for the frame's camera through VTK-style matrices: the whole image, and four bands of rows
+/// rendered one after the other as vtkCylVolMapper renders a frame (each band's projection
+/// narrowed to its rows). Not counted in the totals.
+fn face_bins(camera: &Camera, size: u32, surface: &BoundarySurface, repeats: usize) {
+    use cylvol::render::camera::{MatrixRays, Projection};
+    use cylvol::render::ray_faces::FaceBins;
+    use glam::DMat4;
+    const TILE: u32 = 16;
+    let Projection::Perspective(angle) = camera.projection else {
+        return;
+    };
+    let row_major = |m: DMat4| -> [f64; 16] {
+        let c = m.to_cols_array();
+        std::array::from_fn(|k| c[4 * (k % 4) + k / 4])
+    };
+    let distance = (camera.focal - camera.eye).length();
+    let view = row_major(DMat4::look_at_rh(camera.eye, camera.focal, camera.up));
+    let proj = row_major(DMat4::perspective_rh_gl(
+        angle.to_radians(),
+        1.0,
+        0.01 * distance,
+        100.0 * distance,
+    ));
+    let (t, _) = best(repeats, || {
+        let rays = MatrixRays::new(&view, &proj, size, size).expect("rays");
+        FaceBins::new(surface, &rays, TILE)
+    });
+    println!(
+        "  face bins ({} boundary faces), not counted:",
+        surface.face_count()
+    );
+    let mut table = Table::default();
+    table.row(&format!("  whole image {size}x{size}"), t, false);
+    let bands = 4;
+    let (t, _) = best(repeats, || {
+        (0..bands)
+            .map(|b| {
+                let (r0, r1) = (size * b / bands, size * (b + 1) / bands);
+                let lo = -1.0 + 2.0 * r0 as f64 / size as f64;
+                let hi = -1.0 + 2.0 * r1 as f64 / size as f64;
+                let (scale, centre) = (2.0 / (hi - lo), 0.5 * (lo + hi));
+                let mut band = proj;
+                for k in 0..4 {
+                    band[4 + k] = scale * (proj[4 + k] - centre * proj[12 + k]);
+                }
+                let rays = MatrixRays::new(&view, &band, size, r1 - r0).expect("band rays");
+                FaceBins::new(surface, &rays, TILE)
+            })
+            .collect::<Vec<_>>()
+    });
+    table.row(&format!("  four bands of {} rows", size / bands), t, false);
 }
 
 /// The set-up as the VTK mapper runs it, through the C ABI from arrays laid out as VTK's
