@@ -124,7 +124,11 @@ pub struct TransferFunction {
     pub unit_distance: f64,
 }
 
-/// Evaluates a piecewise-linear function of sorted points, constant beyond its ends.
+/// Evaluates a piecewise-linear function of sorted points, constant beyond its ends: between
+/// the last point before `s` and the first at or past it (found by bisection, so that sampling
+/// a table from VTK's 1,024-entry functions costs a few comparisons an entry). At a repeated
+/// abscissa the function takes the value of the first point there from below and of the last
+/// from above (a step); a NaN `s` gives the last point's value.
 fn piecewise<const N: usize>(points: &[(f64, [f64; N])], s: f64) -> [f64; N] {
     let Some(first) = points.first() else {
         return [0.0; N];
@@ -132,18 +136,19 @@ fn piecewise<const N: usize>(points: &[(f64, [f64; N])], s: f64) -> [f64; N] {
     if s <= first.0 {
         return first.1;
     }
-    for w in points.windows(2) {
-        let ((s0, v0), (s1, v1)) = (w[0], w[1]);
-        if s <= s1 {
+    // The first point at or past `s`; `s > first.0`, so it is not the first point.
+    let j = 1 + points[1..].partition_point(|p| p.0 < s);
+    match (points.get(j - 1), points.get(j)) {
+        (Some(&(s0, v0)), Some(&(s1, v1))) if !s.is_nan() => {
             let f = if s1 > s0 { (s - s0) / (s1 - s0) } else { 1.0 };
             let mut out = [0.0; N];
             for k in 0..N {
                 out[k] = v0[k] + (v1[k] - v0[k]) * f;
             }
-            return out;
+            out
         }
+        _ => points[points.len() - 1].1,
     }
-    points[points.len() - 1].1
 }
 
 impl TransferFunction {
@@ -409,6 +414,49 @@ impl TransferTable {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    /// The first window `(s0, s1)` of sorted points with `s <= s1`, scanned in order: the
+    /// definition [`piecewise`]'s bisection must agree with.
+    fn piecewise_by_scan(points: &[(f64, [f64; 1])], s: f64) -> f64 {
+        let first = points[0];
+        if s <= first.0 {
+            return first.1[0];
+        }
+        for w in points.windows(2) {
+            let ((s0, v0), (s1, v1)) = (w[0], w[1]);
+            if s <= s1 {
+                let f = if s1 > s0 { (s - s0) / (s1 - s0) } else { 1.0 };
+                return v0[0] + (v1[0] - v0[0]) * f;
+            }
+        }
+        points[points.len() - 1].1[0]
+    }
+
+    proptest! {
+        /// Bisection finds the scan's window: on random sorted points with repeated
+        /// abscissae (steps), at the points themselves, between them and beyond both ends.
+        #[test]
+        fn piecewise_bisection_equals_the_scan(
+            gaps in proptest::collection::vec((0u8..4, 0.0..1.0f64), 1..40),
+            probes in proptest::collection::vec(-0.5..1.5f64, 1..20),
+        ) {
+            let mut x = 0.0;
+            let points: Vec<(f64, [f64; 1])> = gaps
+                .iter()
+                .map(|&(gap, v)| {
+                    x += f64::from(gap) * 0.125;
+                    (x, [v])
+                })
+                .collect();
+            let top = x.max(1.0);
+            let at_points = points.iter().map(|p| p.0);
+            for s in probes.iter().map(|&p| p * top).chain(at_points) {
+                prop_assert_eq!(piecewise(&points, s)[0], piecewise_by_scan(&points, s), "s = {}", s);
+            }
+            prop_assert_eq!(piecewise(&points, f64::NAN)[0], piecewise_by_scan(&points, f64::NAN));
+        }
+    }
 
     #[test]
     fn interpolates_and_clamps() {
