@@ -5,6 +5,8 @@
 use std::ffi::c_void;
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use super::arrays::{self, product};
 use super::camera::CylvolCamera;
 use super::codes::{
@@ -475,39 +477,40 @@ pub unsafe extern "C" fn cylvol_render(
     }
 }
 
-/// Copies the image into the caller's pixels (length checked by the caller).
+/// Copies the image into the caller's pixels (length checked by the caller), rows in parallel.
 unsafe fn write_pixels(
     image: &Image,
     format: CylvolPixelFormat,
     pixels: *mut c_void,
     bottom_up: bool,
 ) -> Result<(), Failure> {
-    let (w, h) = (image.width, image.height);
-    let n = w as usize * h as usize * 4;
+    let (w, h) = (image.width as usize, image.height);
+    let n = w * h as usize * 4;
+    // The image row that goes to the caller's row `r` (`caller_row` is its own inverse).
+    let source = |r: usize| {
+        let j = caller_row(r as u32, h, bottom_up);
+        &image.rgba[j * w..(j + 1) * w]
+    };
     match format {
         CylvolPixelFormat::RGBA8 => {
             // SAFETY: the caller checked the length.
             let out = unsafe { arrays::slice_mut(pixels as *mut u8, n, "pixels")? };
-            for j in 0..h {
-                let row = caller_row(j, h, bottom_up) * w as usize;
-                for i in 0..w as usize {
-                    let p = image.rgba[j as usize * w as usize + i];
+            out.par_chunks_mut(w * 4).enumerate().for_each(|(r, row)| {
+                for (px, p) in row.chunks_exact_mut(4).zip(source(r)) {
                     for k in 0..4 {
-                        out[(row + i) * 4 + k] = (p[k].clamp(0.0, 1.0) * 255.0).round() as u8;
+                        px[k] = (p[k].clamp(0.0, 1.0) * 255.0).round() as u8;
                     }
                 }
-            }
+            });
         }
         CylvolPixelFormat::RGBA_F32 => {
             // SAFETY: as above.
             let out = unsafe { arrays::slice_mut(pixels as *mut f32, n, "pixels")? };
-            for j in 0..h {
-                let row = caller_row(j, h, bottom_up) * w as usize;
-                for i in 0..w as usize {
-                    let p = image.rgba[j as usize * w as usize + i];
-                    out[(row + i) * 4..(row + i) * 4 + 4].copy_from_slice(&p);
+            out.par_chunks_mut(w * 4).enumerate().for_each(|(r, row)| {
+                for (px, p) in row.chunks_exact_mut(4).zip(source(r)) {
+                    px.copy_from_slice(p);
                 }
-            }
+            });
         }
     }
     Ok(())
