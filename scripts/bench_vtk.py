@@ -4,7 +4,8 @@
 For each dataset, each mapper runs in its own subprocess (so that its peak memory can be
 read on its own): load the mesh, (for VTK) tetrahedralize it with vtkDataSetTriangleFilter,
 render a first frame (cylvol builds its structure inside it), then steady frames with the
-camera turning by one degree per frame. The same camera, transfer function and unit
+camera turning by one degree per frame (each frame's wall time and the process's CPU time over
+it, `steady_frames_s` and `steady_cpu_s`). The same camera, transfer function and unit
 distance as the CTest comparison are used. The script prints, per dataset, both mappers'
 times, their peak resident memory (ru_maxrss of the worker), the image difference between
 the two final frames, and the ratios VTK ÷ cylvol.
@@ -189,13 +190,26 @@ def worker(args):
     t = time.perf_counter()
     win.Render()
     out["first_frame_s"] = time.perf_counter() - t
-    steady = []
-    for k in range(args.frames):
-        cam.Azimuth(1.0 if k % 2 == 0 else -1.0)
+    # The camera turns one degree each frame, back and forth; `turned` is the net turn.
+    turned = 0
+
+    def next_frame():
+        nonlocal turned
+        step = 1 if turned == 0 else -1
+        cam.Azimuth(float(step))
+        turned += step
         t = time.perf_counter()
+        c = time.process_time()
         win.Render()
-        steady.append(time.perf_counter() - t)
+        return time.perf_counter() - t, time.process_time() - c
+
+    steady, steady_cpu = [], []
+    for _ in range(args.frames):
+        wall, cpu = next_frame()
+        steady.append(wall)
+        steady_cpu.append(cpu)
     out["steady_frames_s"] = steady
+    out["steady_cpu_s"] = steady_cpu
     out["steady_s"] = sorted(steady)[len(steady) // 2] if steady else None
     if args.worker == "cylvol":
         out["builds"] = mapper.GetBuildCount()
@@ -209,8 +223,8 @@ def worker(args):
         out["last_ray_s"] = mapper.GetLastRaySeconds()
         out["last_render_s"] = mapper.GetLastRenderSeconds()
     # Back to the first frame's view for the image comparison.
-    if args.frames % 2 == 1:
-        cam.Azimuth(-1.0)
+    if turned != 0:
+        cam.Azimuth(-float(turned))
         win.Render()
     grab = vtkWindowToImageFilter()
     grab.SetInput(win)
@@ -390,9 +404,11 @@ def main():
                     r.get("step", 0.0), fmt_s(r.get("build_s")), r.get("structure"),
                     r.get("structure_bytes", 0) / 1e6, fmt_s(r.get("last_ray_s")),
                     fmt_s(r.get("last_render_s")))
-            print("  %-12s %d cells: load %s%s, first frame %s, steady %s (frames %s), peak RSS %.0f MB"
+            print("  %-12s %d cells: load %s%s, first frame %s, steady %s (frames %s; CPU %s), "
+                  "peak RSS %.0f MB"
                   % (name, r["cells"], fmt_s(r["load_s"]), extra, fmt_s(r["first_frame_s"]),
                      fmt_s(r["steady_s"]), ", ".join("%.3f" % x for x in r["steady_frames_s"]),
+                     ", ".join("%.3f" % x for x in r.get("steady_cpu_s", [])),
                      r["peak_rss_bytes"] / 1e6))
         v = runs.get("vtk", {})
         ref = runs.get("reference", {})
