@@ -11,7 +11,8 @@
 //! without a neighbour), the default step and the scalar gather; then the first frame and a
 //! second one with the fast path at `SIZE × SIZE` (the bench's oblique view), and the frame's
 //! boundary faces sorted to the image (`FaceBins::new`) for the whole image and in four bands of
-//! rows as the VTK mapper renders them. The phases of
+//! rows as the VTK mapper renders them, and the transfer table as each band samples it from
+//! the mapper's 1,024-point functions. The phases of
 //! `face_neighbours` are also timed together, through the function itself, to show that they
 //! are what it does. Wall and process CPU seconds are printed for each (CPU ≈ 2 × wall on two
 //! cores means the phase is parallel).
@@ -121,6 +122,7 @@ fn main() {
     table.row(&format!("fast frame {size}x{size}"), t, true);
     table.row("first frame in all", table.total, false);
     face_bins(&camera, size, topology.surface(), repeats);
+    transfer_table(repeats);
 
     c_abi(&mesh, repeats);
 }
@@ -177,6 +179,27 @@ fn face_bins(camera: &Camera, size: u32, surface: &BoundarySurface, repeats: usi
             .collect::<Vec<_>>()
     });
     table.row(&format!("  four bands of {} rows", size / bands), t, false);
+}
+
+/// The transfer table as each of vtkCylVolMapper's bands samples it: functions of 1,024
+/// points (the mapper's colour and opacity tables) into 4,096 entries (four an interval, as
+/// `cylvol_render` sizes it when the tables span the data range).
+fn transfer_table(repeats: usize) {
+    const POINTS: usize = 1024;
+    const ENTRIES: usize = 4096;
+    let at = |k: usize| k as f64 / (POINTS - 1) as f64;
+    let tf = TransferFunction {
+        color: (0..POINTS)
+            .map(|k| (at(k), [at(k), 0.5, 1.0 - at(k)]))
+            .collect(),
+        opacity: (0..POINTS).map(|k| (at(k), 0.5 * at(k) * at(k))).collect(),
+        unit_distance: 0.1,
+    };
+    let ((wall, _), _) = best(repeats.max(20), || tf.table(0.0, 1.0, 0.01, ENTRIES));
+    println!(
+        "  transfer table ({POINTS}-point functions, {ENTRIES} entries), not counted: {:.2} ms",
+        wall * 1e3
+    );
 }
 
 /// The set-up as the VTK mapper runs it, through the C ABI from arrays laid out as VTK's
