@@ -169,3 +169,43 @@ fn list_types(types: &[(u8, &'static str, usize)]) -> String {
         .collect::<Vec<_>>()
         .join(", ")
 }
+
+/// The value of `all` whose `name` is `s`, for `FromStr` of the enums named on the command
+/// line; otherwise [`Error::Invalid`] naming `what` and listing the names
+/// ("unknown structure 'x' (expected cart-grid, cyl-grid, cart-bvh or cyl-bvh)").
+pub(crate) fn by_name<T: Copy>(
+    all: &[T],
+    name: impl Fn(T) -> &'static str,
+    s: &str,
+    what: &str,
+) -> Result<T, Error> {
+    if let Some(&v) = all.iter().find(|&&v| name(v) == s) {
+        return Ok(v);
+    }
+    let names: Vec<&str> = all.iter().map(|&v| name(v)).collect();
+    let expected = match names.split_last() {
+        Some((last, [])) => last.to_string(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    };
+    Err(Error::Invalid(format!(
+        "unknown {what} '{s}' (expected {expected})"
+    )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn by_name_finds_or_lists_the_names() {
+        let all = [1u8, 2, 3];
+        let name = |v: u8| ["", "one", "two", "three"][v as usize];
+        assert_eq!(by_name(&all, name, "two", "number").unwrap(), 2);
+        let err = by_name(&all, name, "four", "number").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "unknown number 'four' (expected one, two or three)"
+        );
+    }
+}

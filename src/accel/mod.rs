@@ -80,14 +80,7 @@ impl fmt::Display for StructureKind {
 impl FromStr for StructureKind {
     type Err = crate::Error;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        StructureKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                crate::Error::Invalid(format!(
-                    "unknown structure '{s}' (expected cart-grid, cyl-grid, cart-bvh or cyl-bvh)"
-                ))
-            })
+        crate::error::by_name(&StructureKind::ALL, StructureKind::name, s, "structure")
     }
 }
 

@@ -116,14 +116,12 @@ impl CandidateOrder {
 impl std::str::FromStr for CandidateOrder {
     type Err = crate::Error;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        CandidateOrder::ALL
-            .into_iter()
-            .find(|o| o.name() == s)
-            .ok_or_else(|| {
-                crate::Error::Invalid(format!(
-                    "unknown candidate order '{s}' (expected cells or share)"
-                ))
-            })
+        crate::error::by_name(
+            &CandidateOrder::ALL,
+            CandidateOrder::name,
+            s,
+            "candidate order",
+        )
     }
 }
 
