@@ -132,7 +132,7 @@ fn main() {
 /// rendered one after the other as vtkCylVolMapper renders a frame (each band's projection
 /// narrowed to its rows). Not counted in the totals.
 fn face_bins(camera: &Camera, size: u32, surface: &BoundarySurface, repeats: usize) {
-    use cylvol::render::camera::{MatrixRays, Projection};
+    use cylvol::render::camera::{band_projection, MatrixRays, Projection};
     use cylvol::render::ray_faces::FaceBins;
     use glam::DMat4;
     const TILE: u32 = 16;
@@ -166,13 +166,7 @@ fn face_bins(camera: &Camera, size: u32, surface: &BoundarySurface, repeats: usi
         (0..bands)
             .map(|b| {
                 let (r0, r1) = (size * b / bands, size * (b + 1) / bands);
-                let lo = -1.0 + 2.0 * r0 as f64 / size as f64;
-                let hi = -1.0 + 2.0 * r1 as f64 / size as f64;
-                let (scale, centre) = (2.0 / (hi - lo), 0.5 * (lo + hi));
-                let mut band = proj;
-                for k in 0..4 {
-                    band[4 + k] = scale * (proj[4 + k] - centre * proj[12 + k]);
-                }
+                let band = band_projection(&proj, r0, r1, size);
                 let rays = MatrixRays::new(&view, &band, size, r1 - r0).expect("band rays");
                 FaceBins::new(surface, &rays, TILE)
             })

@@ -11,7 +11,7 @@ use std::collections::BTreeMap;
 
 use cylvol::accel::{Accel, AccelParams, Counters, StructureKind};
 use cylvol::datasets::{generate, Dataset};
-use cylvol::render::camera::{MatrixRays, RaySource};
+use cylvol::render::camera::{band_projection, MatrixRays, RaySource};
 use cylvol::render::ray_faces::{FaceBins, RayFace, RayFaces, TileFaces};
 use cylvol::render::surface::BoundarySurface;
 use cylvol::render::{
@@ -137,20 +137,6 @@ fn every_ray_lists_exactly_the_face_boxes_it_meets() {
         total > 10_000,
         "too few faces listed to test anything: {total}"
     );
-}
-
-/// `proj` (row-major) narrowed to the rows `[r0, r1)` of a `height`-row image counted from the
-/// bottom, as vtkCylVolMapper renders a frame in bands: NDC `y` of the band mapped onto
-/// `[-1, 1]`.
-fn band_projection(proj: &[f64; 16], r0: u32, r1: u32, height: u32) -> [f64; 16] {
-    let lo = -1.0 + 2.0 * r0 as f64 / height as f64;
-    let hi = -1.0 + 2.0 * r1 as f64 / height as f64;
-    let (s, c) = (2.0 / (hi - lo), 0.5 * (lo + hi));
-    let mut band = *proj;
-    for k in 0..4 {
-        band[4 + k] = s * (proj[4 + k] - c * proj[12 + k]);
-    }
-    band
 }
 
 #[test]

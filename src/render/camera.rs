@@ -427,6 +427,34 @@ impl RaySource for RayGenerator {
     }
 }
 
+/// `projection` (row-major, OpenGL conventions) narrowed to the rows `[r0, r1)` of a
+/// `height`-row image counted from the bottom: NDC `y` of the band mapped onto `[-1, 1]`, so
+/// that [`MatrixRays`] of the band (`r1 - r0` rows) are exactly the full image's rays of those
+/// rows. vtkCylVolMapper renders a frame in such bands.
+///
+/// ```
+/// use cylvol::render::camera::{band_projection, MatrixRays, RaySource};
+/// let view = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, -5.0, 0.0, 0.0, 0.0, 1.0];
+/// // A perspective with near 1 and far 10.
+/// let (a, b) = (-11.0 / 9.0, -20.0 / 9.0);
+/// let proj = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, a, b, 0.0, 0.0, -1.0, 0.0];
+/// let whole = MatrixRays::new(&view, &proj, 8, 8).unwrap();
+/// let band = MatrixRays::new(&view, &band_projection(&proj, 2, 4, 8), 8, 2).unwrap();
+/// // Rows 2 and 3 from the bottom are rows 5 and 4 from the top, the band's rows 1 and 0.
+/// let ((o, d), (o2, d2)) = (whole.ray(3, 4), band.ray(3, 0));
+/// assert!((o - o2).length() < 1e-12 && (d - d2).length() < 1e-12);
+/// ```
+pub fn band_projection(projection: &[f64; 16], r0: u32, r1: u32, height: u32) -> [f64; 16] {
+    let lo = -1.0 + 2.0 * f64::from(r0) / f64::from(height);
+    let hi = -1.0 + 2.0 * f64::from(r1) / f64::from(height);
+    let (scale, centre) = (2.0 / (hi - lo), 0.5 * (lo + hi));
+    let mut band = *projection;
+    for k in 0..4 {
+        band[4 + k] = scale * (projection[4 + k] - centre * projection[12 + k]);
+    }
+    band
+}
+
 /// The rays of a view and a projection matrix (see the module documentation).
 #[derive(Clone, Copy, Debug)]
 pub struct MatrixRays {
