@@ -35,6 +35,8 @@ pub struct LinearFrame {
 pub trait BvhBounds: Copy + Send + Sync + Debug + 'static {
     /// The stored form (24 bytes of `f32`).
     type Compact: Copy + Send + Sync + Debug + PartialEq;
+    /// A query prepared for tests against stored bounds ([`BvhBounds::prepare_query`]).
+    type Query: Copy + Debug;
 
     /// Whether the bound holds no point.
     fn is_empty_bound(&self) -> bool;
@@ -68,6 +70,14 @@ pub trait BvhBounds: Copy + Send + Sync + Debug + 'static {
     /// Whether a compact bound contains the query `q_rel = q − frame.anchor`, `q` in the
     /// stored bounds' coordinates ([`BvhBounds::stored_coordinates`]).
     fn compact_contains(c: &Self::Compact, q_rel: DVec3) -> bool;
+    /// A query `q_rel` (as [`BvhBounds::compact_contains`] takes it) made ready for many
+    /// [`BvhBounds::query_contains`] tests against the stored bounds of one BVH, whose root's
+    /// stored bound is `root`: for boxes the query itself; for sectors, with its pseudo-angle
+    /// reduced once to the root's turn, so that a node's test needs no reduction.
+    fn prepare_query(q_rel: DVec3, root: &Self::Compact) -> Self::Query;
+    /// [`BvhBounds::compact_contains`] for a prepared query, with the same answer for every
+    /// stored bound of the BVH whose root the query was prepared with.
+    fn query_contains(c: &Self::Compact, q: &Self::Query) -> bool;
     /// Whether compact `outer` contains compact `inner` (exact comparison of stored values).
     fn compact_encloses(outer: &Self::Compact, inner: &Self::Compact) -> bool;
     /// Whether the compact bound contains every point the `f64` bound `b` contains, compared
@@ -142,6 +152,61 @@ fn next_toward_neg(f: f32) -> f32 {
     }
 }
 
+/// A query prepared for the stored sectors of one BVH ([`BvhBounds::prepare_query`]), so
+/// that a node's arc is tested with comparisons only.
+///
+/// A stored arc `[φ₀, φ₁]` holds the query's direction, pseudo-angle `φ`, when some
+/// `φ + k·TURN` lies in it. Every stored arc of a BVH starts at or after its root's start
+/// `φ_r` (a node's stored bound is, bit for bit, the union of its pieces' corners), and before
+/// `φ_r + TURN` but for an `f32` step (a piece's arc is unwrapped to start within the root's,
+/// which is less than a turn wide unless it is the whole circle, whose arcs start in
+/// `[−2, 2]` up to rounding); arcs are at most two turns long. With `φ` reduced to `[φ_r, φ_r + TURN)`, the
+/// candidates are `φ`, `φ + TURN`, and — only for an arc starting after `φ + TURN`, within
+/// that `f32` step of `φ_r + TURN` — `φ + 2·TURN`; no arc starts after `φ + 2·TURN` or ends
+/// at `φ + 3·TURN`. On the axis every direction is the query's: `φ` is then `−∞` (so are its
+/// other candidates), below every arc's start and every non-empty arc's end, which makes the
+/// test of the third candidate true for every non-empty arc.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SectorQuery {
+    /// `r`, the reduced pseudo-angle `φ` and `h` (relative to the anchor).
+    pub rph: [f64; 3],
+    /// `φ + TURN` and `φ + 2·TURN`.
+    pub turns: [f64; 2],
+}
+
+impl SectorQuery {
+    /// The query `(r, φ, h)` (`h` relative to the anchor) prepared for a BVH whose root's
+    /// arc starts at pseudo-angle `root_start`.
+    #[inline]
+    pub fn new(q: DVec3, root_start: f32) -> Self {
+        let base = if root_start.is_finite() {
+            root_start as f64
+        } else {
+            0.0
+        };
+        let mut phi = q.y;
+        if phi < base {
+            phi += TURN;
+            if phi < base {
+                phi += ((base - phi) / TURN).ceil() * TURN;
+            }
+        } else if phi >= base + TURN {
+            phi -= TURN;
+            if phi >= base + TURN {
+                phi -= ((phi - base) / TURN).floor() * TURN;
+            }
+        }
+        if q.x == 0.0 {
+            // On the axis: every candidate −∞, so the third's test holds for any arc.
+            phi = f64::NEG_INFINITY;
+        }
+        SectorQuery {
+            rph: [q.x, phi, q.z],
+            turns: [phi + TURN, phi + 2.0 * TURN],
+        }
+    }
+}
+
 /// A box stored as `f32`, relative to the BVH's anchor.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 #[repr(C)]
@@ -177,6 +242,7 @@ fn aabb_union_all(bounds: &[Aabb]) -> Aabb {
 
 impl BvhBounds for Aabb {
     type Compact = BoxF32;
+    type Query = DVec3;
 
     fn is_empty_bound(&self) -> bool {
         self.is_empty()
@@ -267,6 +333,16 @@ impl BvhBounds for Aabb {
             && q.z <= c.max[2] as f64
     }
 
+    #[inline]
+    fn prepare_query(q: DVec3, _root: &BoxF32) -> DVec3 {
+        q
+    }
+
+    #[inline(always)]
+    fn query_contains(c: &BoxF32, q: &DVec3) -> bool {
+        Self::compact_contains(c, *q)
+    }
+
     fn compact_encloses(outer: &BoxF32, inner: &BoxF32) -> bool {
         (0..3).all(|a| outer.min[a] <= inner.min[a] && outer.max[a] >= inner.max[a])
     }
@@ -325,6 +401,7 @@ fn sector_area(lin: &Aabb) -> f64 {
 
 impl BvhBounds for CylBounds {
     type Compact = SectorF32;
+    type Query = SectorQuery;
 
     fn is_empty_bound(&self) -> bool {
         self.is_empty()
@@ -486,6 +563,23 @@ impl BvhBounds for CylBounds {
         d <= c.theta[1] as f64 - t0
     }
 
+    #[inline]
+    fn prepare_query(q: DVec3, root: &SectorF32) -> SectorQuery {
+        SectorQuery::new(q, root.theta[0])
+    }
+
+    #[inline(always)]
+    fn query_contains(c: &SectorF32, q: &SectorQuery) -> bool {
+        let (t0, t1) = (c.theta[0] as f64, c.theta[1] as f64);
+        let [r, phi, h] = q.rph;
+        let [phi1, phi2] = q.turns;
+        r >= c.r[0] as f64
+            && r <= c.r[1] as f64
+            && h >= c.h[0] as f64
+            && h <= c.h[1] as f64
+            && ((t0 <= phi && phi <= t1) || (phi1 <= t1 && (t0 <= phi1 || phi2 <= t1)))
+    }
+
     fn compact_encloses(outer: &SectorF32, inner: &SectorF32) -> bool {
         outer.r[0] <= inner.r[0]
             && outer.r[1] >= inner.r[1]
@@ -560,6 +654,139 @@ const EMPTY_SECTOR: SectorF32 = SectorF32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::bvh::{build_bvh, BvhParams};
+    use crate::accel::space::Pieces;
+    use proptest::prelude::*;
+
+    /// Sectors of every kind: narrow and wide arcs anywhere (across ±π and 0), whole circles
+    /// straddling the axis, pieces touching the axis; and, with `near_full`, arcs that together
+    /// come within `1e-9` of the whole circle without closing it (a root just short of a turn).
+    fn sectors(seed: u64, n: usize, near_full: bool) -> Vec<CylBounds> {
+        let mut next = crate::testing::uniform(seed);
+        let start = -PI + TAU * next();
+        (0..n)
+            .map(|i| {
+                let (r0, dr, h0, dh) = (2.0 * next(), next(), 4.0 * next() - 2.0, next());
+                let kind = (8.0 * next()) as u32;
+                let theta = if near_full {
+                    // Two halves: [start, start + π] and [start + π, start + 2π − 1e-9].
+                    let half = (i % 2) as f64;
+                    ThetaInterval::new(start + PI * half, PI - 1e-9 * half)
+                } else {
+                    match kind {
+                        0 => ThetaInterval::FULL,
+                        1 | 2 => ThetaInterval::new(-PI + TAU * next(), TAU * next()),
+                        _ => ThetaInterval::new(-PI + TAU * next(), 0.6 * next()),
+                    }
+                };
+                CylBounds {
+                    r: [if kind == 0 || kind == 3 { 0.0 } else { r0 }, r0 + dr],
+                    theta,
+                    h: [h0, h0 + dh],
+                    straddles_axis: kind == 0 && !near_full,
+                }
+            })
+            .collect()
+    }
+
+    /// Queries as a BVH gets them (`(r, φ, h)`, `φ ∈ (−2, 2]`): anywhere, on the axis, and at
+    /// every stored arc end and one `f32` step either side (reduced to `(−2, 2]`).
+    fn queries(seed: u64, arcs: &[[f32; 2]]) -> Vec<DVec3> {
+        let mut next = crate::testing::uniform(seed);
+        let mut qs: Vec<DVec3> = (0..200)
+            .map(|i| {
+                let r = if i % 10 == 0 { 0.0 } else { 3.2 * next() };
+                DVec3::new(r, 4.0 * next() - 2.0, 4.4 * next() - 2.2)
+            })
+            .collect();
+        for t in arcs.iter().flatten() {
+            for t in [*t, t.next_up_or_self(), t.next_down_or_self()] {
+                let phi = t as f64 - TURN * ((t as f64 + 2.0) / TURN).ceil() + TURN;
+                qs.push(DVec3::new(1.0, phi, 0.0));
+            }
+        }
+        qs
+    }
+
+    trait Step {
+        fn next_up_or_self(self) -> Self;
+        fn next_down_or_self(self) -> Self;
+    }
+
+    impl Step for f32 {
+        fn next_up_or_self(self) -> f32 {
+            -next_toward_neg(-self)
+        }
+        fn next_down_or_self(self) -> f32 {
+            next_toward_neg(self)
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+
+        /// A prepared query's test agrees with `compact_contains` for every stored bound of the
+        /// BVH it was prepared for, on every preset.
+        #[test]
+        fn prepared_sector_queries_agree_with_compact_contains(
+            seed in any::<u64>(),
+            n in 1usize..200,
+            near_full in any::<bool>(),
+        ) {
+            let bounds = sectors(seed, n, near_full);
+            let pieces = Pieces { cells: (0..n as u32).collect(), bounds };
+            for (_, params) in BvhParams::PRESETS {
+                let bvh = build_bvh(&pieces, &params);
+                let stored: Vec<SectorF32> = bvh
+                    .nodes
+                    .iter()
+                    .map(|n| n.bounds)
+                    .chain(bvh.refs.iter().map(|r| r.bounds))
+                    .collect();
+                let arcs: Vec<[f32; 2]> = stored.iter().map(|c| c.theta).collect();
+                let root = &bvh.nodes[0].bounds;
+                for q in queries(seed ^ 1, &arcs) {
+                    let prepared = CylBounds::prepare_query(q, root);
+                    for c in &stored {
+                        prop_assert_eq!(
+                            CylBounds::query_contains(c, &prepared),
+                            CylBounds::compact_contains(c, q),
+                            "{:?} in {:?} (root {:?})", q, c, root
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn prepared_sector_queries_take_a_third_turn_for_arcs_starting_past_the_roots_turn() {
+        // An arc may start up to an f32 step after the root's start plus a turn; a query just
+        // after the root's start then meets it only at φ + 2·TURN.
+        for root_start in [-2.0f32, -1.3, 0.0, 0.7, 2.0, 5.5] {
+            let root = SectorF32 {
+                r: [0.0, 2.0],
+                theta: [root_start, root_start + 8.0],
+                h: [-1.0, 1.0],
+            };
+            let t0 = (root_start + 4.0).next_up_or_self();
+            for (width, phi_offset) in [(3.9f32, 0.0f64), (4.5, 0.0), (4.5, 1e-9), (0.5, 0.0)] {
+                let c = SectorF32 {
+                    theta: [t0, t0 + width],
+                    ..root
+                };
+                let phi = root_start as f64 + phi_offset;
+                let phi = phi - TURN * ((phi + 2.0) / TURN).ceil() + TURN;
+                let q = DVec3::new(1.0, phi, 0.0);
+                assert_eq!(
+                    CylBounds::query_contains(&c, &CylBounds::prepare_query(q, &root)),
+                    CylBounds::compact_contains(&c, q),
+                    "root {root_start}, arc {:?}, φ {phi}",
+                    c.theta
+                );
+            }
+        }
+    }
 
     #[test]
     fn f32_rounding_is_outward() {

@@ -32,7 +32,10 @@
 //!   contains its children's bit for bit.
 //! - **Traversal** ([`Bvh::find`]): a small fixed stack; each node popped is tested against the
 //!   query and counted (`internal_visits` or `leaf_visits`); in a leaf, each piece whose stored
-//!   bound contains the query offers its cell to the caller's closure until it accepts one.
+//!   bound contains the query offers its cell to the caller's closure until it accepts one. A
+//!   query is prepared once ([`BvhBounds::prepare_query`]): for sectors its pseudo-angle is
+//!   reduced to the root's turn ([`SectorQuery`]), so a node's arc is tested by comparisons
+//!   alone, with no reduction of the angle per node.
 //!
 //! # Example
 //! ```
@@ -67,7 +70,7 @@ use std::marker::PhantomData;
 
 pub use arcs::{arc_narrower_than_half_turn, arc_trig, ArcTrig, NodeArcs};
 pub use binned_build::build_bvh;
-pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32};
+pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32, SectorQuery};
 pub use mask::NodeMask;
 pub use stats::BvhStats;
 pub(crate) use traverse::Enter;

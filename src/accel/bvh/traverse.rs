@@ -51,8 +51,9 @@ impl<B: BvhBounds> Bvh<B> {
         counters: &mut Counters,
         accept: impl FnMut(u32) -> bool,
     ) -> Option<u32> {
-        let q = q - self.frame.anchor;
-        self.find_where(|b| B::compact_contains(b, q), counters, accept)
+        let root = self.nodes.first()?;
+        let q = B::prepare_query(q - self.frame.anchor, &root.bounds);
+        self.find_where(|b| B::query_contains(b, &q), counters, accept)
     }
 
     /// The traversal of [`Bvh::find`] for any test of stored bounds: the cells of the leaf
