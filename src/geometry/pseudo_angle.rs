@@ -104,9 +104,18 @@ pub fn pseudo_of_angle(theta: f64) -> f64 {
 /// ```
 #[inline]
 pub fn angle_of_pseudo(phi: f64) -> f64 {
+    let (x, y) = diamond_point(phi);
+    let theta = y.atan2(x);
+    theta + TAU * ((phi * FRAC_PI_2 - theta) / TAU).round()
+}
+
+/// The point `(x, y)` in the direction whose pseudo-angle is `phi` (any turn) on the diamond
+/// `|x| + |y| = 1` ([`pseudo_angle`] undone).
+#[inline]
+fn diamond_point(phi: f64) -> (f64, f64) {
     let turns = (phi / TURN).round();
     let first = phi - TURN * turns;
-    let (x, y) = if first > 1.0 {
+    if first > 1.0 {
         let p = 2.0 - first;
         (p - 1.0, p)
     } else if first < -1.0 {
@@ -114,9 +123,25 @@ pub fn angle_of_pseudo(phi: f64) -> f64 {
         (-1.0 - p, p)
     } else {
         (1.0 - first.abs(), first)
-    };
-    let theta = y.atan2(x);
-    theta + TAU * ((phi * FRAC_PI_2 - theta) / TAU).round()
+    }
+}
+
+/// The unit vector `(cos θ, sin θ)` of the direction whose pseudo-angle is `phi` (any turn),
+/// without trigonometry: the direction's point on the diamond, normalised. Equal to the
+/// cosine and sine of [`angle_of_pseudo`] up to rounding.
+///
+/// ```
+/// use cylvol::geometry::pseudo_angle::{direction_of_pseudo, pseudo_of_angle};
+/// for theta in [-7.0, -3.14159, -1.0, 0.0, 0.3, 3.1, 3.2, 9.0] {
+///     let (c, s) = direction_of_pseudo(pseudo_of_angle(theta));
+///     assert!((c - theta.cos()).abs() < 1e-15 && (s - theta.sin()).abs() < 1e-15);
+/// }
+/// ```
+#[inline]
+pub fn direction_of_pseudo(phi: f64) -> (f64, f64) {
+    let (x, y) = diamond_point(phi);
+    let norm = (x * x + y * y).sqrt();
+    (x / norm, y / norm)
 }
 
 /// The width in radians of the arc of pseudo-angles `[lo, hi]`, estimated without
@@ -248,6 +273,17 @@ mod tests {
             let a = f64::from(quarter) * FRAC_PI_2 - before * w;
             let got = arc_width(pseudo_of_angle(a), pseudo_of_angle(a + w));
             prop_assert!((got - w).abs() <= 1e-4 * w, "{a} {w}: {got}");
+        }
+
+        /// A pseudo-angle's unit vector is the angle's cosine and sine, in every turn (the
+        /// skipping rays' half-planes through the axis are made from it).
+        #[test]
+        fn directions_of_pseudo_angles_are_the_cosines_and_sines(a in -20.0f64..20.0) {
+            let (c, s) = direction_of_pseudo(pseudo_of_angle(a));
+            // The pseudo-angle of an angle several turns out carries the rounding of its turns.
+            let tol = 4e-16 * a.abs().max(1.0);
+            prop_assert!((c - a.cos()).abs() <= tol && (s - a.sin()).abs() <= tol, "{a}: {c} {s}");
+            prop_assert!((c.hypot(s) - 1.0).abs() <= 4e-16);
         }
 
         /// Unwrapped angles keep their order and turns, and come back.

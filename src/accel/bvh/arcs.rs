@@ -5,16 +5,18 @@ use rayon::prelude::*;
 
 use super::{Bvh, SectorF32};
 use crate::geometry::cylindrical::CylBounds;
-use crate::geometry::pseudo_angle::{angle_of_pseudo, TURN};
+use crate::geometry::pseudo_angle::{direction_of_pseudo, TURN};
 
 /// `[sin θ_lo, cos θ_lo, sin θ_hi, cos θ_hi]` of a sector's arc.
 pub type ArcTrig = [f64; 4];
 
-/// The sines and cosines of a sector's arc ends (stored as pseudo-angles).
+/// The sines and cosines of a sector's arc ends (stored as pseudo-angles), from their unit
+/// vectors ([`direction_of_pseudo`]: no trigonometry, as this runs for every leaf piece a
+/// skipping ray meets).
 #[inline]
 pub fn arc_trig(s: &SectorF32) -> ArcTrig {
-    let (s0, c0) = angle_of_pseudo(s.theta[0] as f64).sin_cos();
-    let (s1, c1) = angle_of_pseudo(s.theta[1] as f64).sin_cos();
+    let (c0, s0) = direction_of_pseudo(s.theta[0] as f64);
+    let (c1, s1) = direction_of_pseudo(s.theta[1] as f64);
     [s0, c0, s1, c1]
 }
 
