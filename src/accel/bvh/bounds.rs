@@ -160,12 +160,13 @@ fn next_toward_neg(f: f32) -> f32 {
 /// `φ_r` (a node's stored bound is, bit for bit, the union of its pieces' corners), and before
 /// `φ_r + TURN` but for an `f32` step (a piece's arc is unwrapped to start within the root's,
 /// which is less than a turn wide unless it is the whole circle, whose arcs start in
-/// `[−2, 2]` up to rounding); arcs are at most two turns long. With `φ` reduced to `[φ_r, φ_r + TURN)`, the
-/// candidates are `φ`, `φ + TURN`, and — only for an arc starting after `φ + TURN`, within
-/// that `f32` step of `φ_r + TURN` — `φ + 2·TURN`; no arc starts after `φ + 2·TURN` or ends
-/// at `φ + 3·TURN`. On the axis every direction is the query's: `φ` is then `−∞` (so are its
-/// other candidates), below every arc's start and every non-empty arc's end, which makes the
-/// test of the third candidate true for every non-empty arc.
+/// `[−2, 2]` up to rounding); arcs are at most two turns long. With `φ` reduced to
+/// `[φ_r, φ_r + TURN)`, the candidates are `φ`, `φ + TURN`, and — only for an arc starting
+/// after `φ + TURN`, within that `f32` step of `φ_r + TURN` — `φ + 2·TURN`; no arc starts
+/// after `φ + 2·TURN` or ends at `φ + 3·TURN`. On the axis every direction is the query's:
+/// `φ` is then `−∞` (so are its other candidates), below every arc's start and every
+/// non-empty arc's end, which makes the test of the third candidate true for every non-empty
+/// arc.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SectorQuery {
     /// `r`, the reduced pseudo-angle `φ` and `h` (relative to the anchor).
