@@ -186,16 +186,9 @@ impl SectorQuery {
             0.0
         };
         let mut phi = q.y;
-        if phi < base {
-            phi += TURN;
-            if phi < base {
-                phi += ((base - phi) / TURN).ceil() * TURN;
-            }
-        } else if phi >= base + TURN {
-            phi -= TURN;
-            if phi >= base + TURN {
-                phi -= ((phi - base) / TURN).floor() * TURN;
-            }
+        if !(phi >= base && phi < base + TURN) {
+            // Whole turns away (a query's pseudo-angle in (−2, 2] is at most one); NaN stays.
+            phi -= TURN * ((phi - base) / TURN).floor();
         }
         if q.x == 0.0 {
             // On the axis: every candidate −∞, so the third's test holds for any arc.
@@ -700,27 +693,22 @@ mod tests {
                 DVec3::new(r, 4.0 * next() - 2.0, 4.4 * next() - 2.2)
             })
             .collect();
-        for t in arcs.iter().flatten() {
-            for t in [*t, t.next_up_or_self(), t.next_down_or_self()] {
-                let phi = t as f64 - TURN * ((t as f64 + 2.0) / TURN).ceil() + TURN;
-                qs.push(DVec3::new(1.0, phi, 0.0));
+        for &t in arcs.iter().flatten() {
+            for t in [t, next_up(t), next_toward_neg(t)] {
+                qs.push(DVec3::new(1.0, first_turn(t as f64), 0.0));
             }
         }
         qs
     }
 
-    trait Step {
-        fn next_up_or_self(self) -> Self;
-        fn next_down_or_self(self) -> Self;
+    /// The next `f32` towards `+∞`.
+    fn next_up(t: f32) -> f32 {
+        -next_toward_neg(-t)
     }
 
-    impl Step for f32 {
-        fn next_up_or_self(self) -> f32 {
-            -next_toward_neg(-self)
-        }
-        fn next_down_or_self(self) -> f32 {
-            next_toward_neg(self)
-        }
+    /// The pseudo-angle `phi` moved by whole turns into `(−2, 2]`, as a query's is.
+    fn first_turn(phi: f64) -> f64 {
+        phi - TURN * ((phi + 2.0) / TURN).ceil() + TURN
     }
 
     proptest! {
@@ -770,14 +758,19 @@ mod tests {
                 theta: [root_start, root_start + 8.0],
                 h: [-1.0, 1.0],
             };
-            let t0 = (root_start + 4.0).next_up_or_self();
-            for (width, phi_offset) in [(3.9f32, 0.0f64), (4.5, 0.0), (4.5, 1e-9), (0.5, 0.0)] {
+            let t0 = next_up(root_start + 4.0);
+            for (width, phi_offset) in [
+                (3.9f32, 0.0f64),
+                (4.5, 0.0),
+                (4.5, 1e-9),
+                (0.5, 0.0),
+                (0.5, 1e-9),
+            ] {
                 let c = SectorF32 {
                     theta: [t0, t0 + width],
                     ..root
                 };
-                let phi = root_start as f64 + phi_offset;
-                let phi = phi - TURN * ((phi + 2.0) / TURN).ceil() + TURN;
+                let phi = first_turn(root_start as f64 + phi_offset);
                 let q = DVec3::new(1.0, phi, 0.0);
                 assert_eq!(
                     CylBounds::query_contains(&c, &CylBounds::prepare_query(q, &root)),

@@ -21,6 +21,18 @@ pub(crate) enum Enter {
     All,
 }
 
+impl Enter {
+    /// What to do with a node reached this way: ask `enter` of its bound when it is to be
+    /// tested, else what its parent decided.
+    #[inline]
+    fn at<C>(self, bounds: &C, enter: &impl Fn(&C) -> Enter) -> Enter {
+        match self {
+            Enter::Test => enter(bounds),
+            decided => decided,
+        }
+    }
+}
+
 impl<B: BvhBounds> Bvh<B> {
     /// Offers the cells of the leaf pieces whose bounds contain `q` to `accept`, until it
     /// returns `true`; returns that cell, or `None` when none is accepted.
@@ -130,10 +142,7 @@ impl<B: BvhBounds> Bvh<B> {
                 tasks.push((at, how));
                 continue;
             }
-            let how = match how {
-                Enter::Test => enter(&node.bounds),
-                all => all,
-            };
+            let how = how.at(&node.bounds, &enter);
             if how != Enter::Skip {
                 stack.push((node.index, depth + 1, how));
                 stack.push((at + 1, depth + 1, how));
@@ -162,10 +171,7 @@ impl<B: BvhBounds> Bvh<B> {
         let Some(node): Option<&Node<B::Compact>> = self.nodes.get(at as usize) else {
             return;
         };
-        let how = match how {
-            Enter::Test => enter(&node.bounds),
-            all => all,
-        };
+        let how = how.at(&node.bounds, enter);
         if how == Enter::Skip {
             return;
         }
