@@ -557,11 +557,11 @@ fn jumps_over_transparent_space_cross_fewer_cells_for_the_same_image() {
     }
 }
 
-/// A cylindrical BVH's node arcs are made by its first render and kept with the structure:
+/// A cylindrical BVH's node ray tests are made by its first render and kept with the structure:
 /// a second render (a new renderer, as every frame of the C ABI and the VTK mapper makes)
 /// finds the same table, one entry a node; other structures have none.
 #[test]
-fn node_arcs_are_made_once_per_structure_and_kept_across_frames() {
+fn node_ray_tests_are_made_once_per_structure_and_kept_across_frames() {
     let mesh = generate(Dataset::PumpRotor, 3000).expect("rotor");
     let axis = cylvol::axis::detect(&mesh);
     let frame = |accel: &Accel| {
@@ -578,14 +578,14 @@ fn node_arcs_are_made_once_per_structure_and_kept_across_frames() {
     let cyl = Accel::build(&mesh, StructureKind::CylBvh, &axis, &AccelParams::default())
         .expect("cyl-bvh");
     frame(&cyl);
-    let first = cyl.node_arcs().trig().as_ptr();
+    let first = cyl.node_ray_tests().tests().as_ptr();
     let nodes = match cyl.stats() {
         cylvol::accel::StructureStats::Bvh(b) => b.nodes,
         other => panic!("{other:?}"),
     };
-    assert_eq!(cyl.node_arcs().trig().len(), nodes);
+    assert_eq!(cyl.node_ray_tests().tests().len(), nodes);
     frame(&cyl);
-    assert_eq!(cyl.node_arcs().trig().as_ptr(), first, "made again");
+    assert_eq!(cyl.node_ray_tests().tests().as_ptr(), first, "made again");
     let cart = Accel::build(
         &mesh,
         StructureKind::CartBvh,
@@ -594,7 +594,7 @@ fn node_arcs_are_made_once_per_structure_and_kept_across_frames() {
     )
     .expect("cart-bvh");
     frame(&cart);
-    assert!(cart.node_arcs().trig().is_empty());
+    assert!(cart.node_ray_tests().tests().is_empty());
 }
 
 /// A renderer takes over the transparent cells and visible nodes an earlier renderer of the

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use super::bvh::{build_bvh, BvhParams, BvhStats, NodeArcs};
+use super::bvh::{build_bvh, BvhParams, BvhStats, NodeRayTests};
 use super::grid::{build_grid, GridParams, GridStats};
 use super::space::{
     cartesian_pieces, cylindrical_pieces, linear_boxes, seam_frame, Coordinates,
@@ -83,8 +83,9 @@ pub struct Accel {
     coordinates: Coordinates,
     structure: Structure,
     build_s: f64,
-    /// A cylindrical BVH's node arcs, made by the first ray traversal that needs them.
-    arcs: OnceLock<NodeArcs>,
+    /// How skipping rays test a cylindrical BVH's nodes, made by the first ray traversal that needs
+    /// them.
+    ray_tests: OnceLock<NodeRayTests>,
 }
 
 impl Accel {
@@ -130,7 +131,7 @@ impl Accel {
             coordinates,
             structure,
             build_s: started.elapsed().as_secs_f64(),
-            arcs: OnceLock::new(),
+            ray_tests: OnceLock::new(),
         })
     }
 
@@ -149,28 +150,29 @@ impl Accel {
         &self.structure
     }
 
-    /// The sines and cosines of a cylindrical BVH's node arcs, for ray traversals of its
-    /// sectors (empty for the other structures). Made on the calling thread the first time
-    /// they are asked for, unless [`Accel::make_node_arcs`] made them before; then kept
-    /// with the structure (32 bytes a node), so every later frame has them.
-    pub fn node_arcs(&self) -> &NodeArcs {
-        self.arcs.get_or_init(|| match &self.structure {
-            Structure::CylBvh(b) => NodeArcs::new_sequential(b),
-            _ => NodeArcs::default(),
+    /// How skipping rays test a cylindrical BVH's nodes (as boxes where those are nearly as
+    /// tight, else as sectors with their arcs' sines and cosines; empty for the other
+    /// structures). Made on the calling thread the first time they are asked for, unless
+    /// [`Accel::make_node_ray_tests`] made them before; then kept with the structure (40
+    /// bytes a node), so every later frame has them.
+    pub fn node_ray_tests(&self) -> &NodeRayTests {
+        self.ray_tests.get_or_init(|| match &self.structure {
+            Structure::CylBvh(b) => NodeRayTests::new_sequential(b),
+            _ => NodeRayTests::default(),
         })
     }
 
-    /// Makes the node arcs of [`Accel::node_arcs`] in parallel, if not made yet: for a caller
-    /// about to start parallel work that needs them. It never waits on another thread (one
-    /// making them at the same time makes them too, and one of the equal tables is kept), so
-    /// it is safe from inside the thread pool as well.
-    pub fn make_node_arcs(&self) {
-        if self.arcs.get().is_none() {
-            let arcs = match &self.structure {
-                Structure::CylBvh(b) => NodeArcs::new(b),
-                _ => NodeArcs::default(),
+    /// Makes the tests of [`Accel::node_ray_tests`] in parallel, if not made yet: for a
+    /// caller about to start parallel work that needs them. It never waits on another thread
+    /// (one making them at the same time makes them too, and one of the equal tables is
+    /// kept), so it is safe from inside the thread pool as well.
+    pub fn make_node_ray_tests(&self) {
+        if self.ray_tests.get().is_none() {
+            let tests = match &self.structure {
+                Structure::CylBvh(b) => NodeRayTests::new(b),
+                _ => NodeRayTests::default(),
             };
-            let _ = self.arcs.set(arcs);
+            let _ = self.ray_tests.set(tests);
         }
     }
 

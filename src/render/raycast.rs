@@ -1992,7 +1992,7 @@ impl<'a> Renderer<'a> {
                 let _ = self.visible.set(self.make_visible_nodes(true));
             }
         }
-        self.volume.accel.make_node_arcs();
+        self.volume.accel.make_node_ray_tests();
         let tile = self.options.tile.max(1);
         let (tx, ty) = (w.div_ceil(tile), h.div_ceil(tile));
         let tiles: Vec<(u32, u32)> = (0..ty).flat_map(|y| (0..tx).map(move |x| (x, y))).collect();

@@ -56,11 +56,11 @@
 //! assert!(counters.leaf_visits >= 1);
 //! ```
 
-mod arcs;
 mod binned_build;
 mod bounds;
 mod mask;
 mod near;
+mod node_ray_tests;
 pub(crate) mod ray;
 mod stats;
 mod traverse;
@@ -68,10 +68,13 @@ mod validation;
 
 use std::marker::PhantomData;
 
-pub use arcs::{arc_narrower_than_half_turn, arc_trig, ArcTrig, NodeArcs};
 pub use binned_build::build_bvh;
 pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32, SectorQuery};
 pub use mask::NodeMask;
+pub use node_ray_tests::{
+    arc_narrower_than_half_turn, arc_trig, sector_box, ArcTrig, NodeRayTest, NodeRayTests,
+    BOX_AREA_LIMIT,
+};
 pub use stats::BvhStats;
 pub(crate) use traverse::Enter;
 
