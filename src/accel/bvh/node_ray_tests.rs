@@ -341,6 +341,12 @@ mod tests {
         }
     }
 
+    /// What `Accel::node_ray_tests` says a node's test holds with the structure.
+    #[test]
+    fn a_node_test_is_forty_bytes() {
+        assert_eq!(std::mem::size_of::<NodeRayTest>(), 40);
+    }
+
     #[test]
     fn an_empty_or_broken_sector_has_the_empty_box_and_its_sector_test() {
         let cases = [
