@@ -5,7 +5,7 @@
 use serde_json::{json, Map, Value};
 
 use super::{log, InputArgs};
-use cylvol::accel::probe::{lookup_cost, points_in_cells};
+use cylvol::accel::probe::{candidate_count, lookup_cost, points_in_cells};
 use cylvol::accel::{
     Accel, AccelParams, BvhParams, CandidateOrder, GridParams, StructureKind, StructureStats,
 };
@@ -135,13 +135,16 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
         let mut entry = stats_json(&accel.stats());
         if !points.is_empty() {
             let cost = lookup_cost(accel, &mesh, &points);
+            let all = candidate_count(accel, &mesh, &points);
             log(format_args!(
-                "{}: {:.2} hexahedra tested, {:.1} internal and {:.2} leaf visits per lookup, {:.0} ns",
+                "{}: {:.2} hexahedra tested, {:.1} internal and {:.2} leaf visits per lookup, {:.0} ns; {:.2} candidates, {:.2} with the point in their box",
                 accel.kind(),
                 cost.hex_tests,
                 cost.internal_visits,
                 cost.leaf_visits,
-                cost.ns_per_lookup
+                cost.ns_per_lookup,
+                all.candidates,
+                all.in_box
             ));
             entry["lookup"] = json!({
                 "lookups": cost.lookups,
@@ -150,18 +153,30 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
                 "internal_visits": cost.internal_visits,
                 "leaf_visits": cost.leaf_visits,
                 "ns_per_lookup": cost.ns_per_lookup,
+                "candidates": all.candidates,
+                "candidates_in_box": all.in_box,
             });
             for (k, v) in [
                 ("hex_tests", cost.hex_tests),
                 ("internal_visits", cost.internal_visits),
                 ("leaf_visits", cost.leaf_visits),
+                ("candidates", all.candidates),
+                ("candidates_in_box", all.in_box),
             ] {
                 entry[k] = json!(v);
             }
         }
         structures.insert(accel.kind().name().to_string(), entry);
     }
-    let grid_keys = ["grid_cells", "references", "bytes", "build_s", "hex_tests"];
+    let grid_keys = [
+        "grid_cells",
+        "references",
+        "bytes",
+        "build_s",
+        "hex_tests",
+        "candidates",
+        "candidates_in_box",
+    ];
     let bvh_keys = [
         "nodes",
         "references",
@@ -171,6 +186,8 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
         "hex_tests",
         "internal_visits",
         "leaf_visits",
+        "candidates",
+        "candidates_in_box",
     ];
     let report = json!({
         "dataset": cylvol::input::Input::parse(&args.input.input)?.label(),
@@ -195,7 +212,7 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
         mesh.cell_count()
     );
     println!(
-        "{:<10} {:>12} {:>12} {:>8} {:>10} {:>8} {:>8} {:>9} {:>7}",
+        "{:<10} {:>12} {:>12} {:>8} {:>10} {:>8} {:>8} {:>9} {:>7} {:>8} {:>7}",
         "structure",
         "grid cells",
         "references",
@@ -204,7 +221,9 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
         "build s",
         "hex/lk",
         "inner/lk",
-        "leaf/lk"
+        "leaf/lk",
+        "cand/lk",
+        "box/lk"
     );
     for accel in &built {
         let s = &structures[accel.kind().name()];
@@ -214,7 +233,7 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
                 .unwrap_or_else(|| "-".into())
         };
         println!(
-            "{:<10} {:>12} {:>12} {:>8.1} {:>10} {:>8.3} {:>8} {:>9} {:>7}",
+            "{:<10} {:>12} {:>12} {:>8.1} {:>10} {:>8.3} {:>8} {:>9} {:>7} {:>8} {:>7}",
             accel.kind().name(),
             if accel.kind().is_grid() {
                 fmt("grid_cells", 0)
@@ -228,6 +247,8 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
             fmt("hex_tests", 2),
             fmt("internal_visits", 2),
             fmt("leaf_visits", 2),
+            fmt("candidates", 2),
+            fmt("candidates_in_box", 2),
         );
     }
     for (name, keys) in [("grid", &grid_keys[..]), ("bvh", &bvh_keys[..])] {
