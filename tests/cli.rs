@@ -308,12 +308,18 @@ fn stats_measures_lookups_and_takes_presets() {
         // holding cell's among them) bound nothing more.
         let [tests, all, in_box] = ["hex_tests", "candidates", "candidates_in_box"]
             .map(|k| s["lookup"][k].as_f64().unwrap());
-        assert!(1.0 <= in_box && in_box <= all && tests <= all, "{kind}: {s}");
+        assert!(
+            1.0 <= in_box && in_box <= all && tests <= all,
+            "{kind}: {s}"
+        );
         assert_eq!(s["candidates"], s["lookup"]["candidates"], "{kind}");
     }
     for family in ["grid", "bvh"] {
         for k in ["candidates", "candidates_in_box"] {
-            assert!(v["ratios"][family][k].as_f64().unwrap() > 0.0, "{family} {k}");
+            assert!(
+                v["ratios"][family][k].as_f64().unwrap() > 0.0,
+                "{family} {k}"
+            );
         }
     }
     let paper = v["structures"]["cart-grid"]["grid_cells"].as_f64().unwrap();
