@@ -342,14 +342,13 @@ impl Enter for SectorF32 {
         else {
             return Some((t0, t0));
         };
-        match test {
+        let trig = match test {
             // The box holds the sector (in the same frame, `h` as stored).
-            Some(NodeRayTest::Box(b)) => box_span(o, inv, pad, b.min, b.max, t0, t1),
-            Some(NodeRayTest::Sector(trig)) => {
-                LocalRay::entry_sector(o, d, inv.z, pad, quad, self, Some(trig), t0, t1)
-            }
-            None => LocalRay::entry_sector(o, d, inv.z, pad, quad, self, None, t0, t1),
-        }
+            Some(NodeRayTest::Box(b)) => return box_span(o, inv, pad, b.min, b.max, t0, t1),
+            Some(NodeRayTest::Sector(trig)) => Some(trig),
+            None => None,
+        };
+        LocalRay::entry_sector(o, d, inv.z, pad, quad, self, trig, t0, t1)
     }
 }
 

@@ -211,6 +211,14 @@ pub struct BoxF32 {
     pub max: [f32; 3],
 }
 
+impl BoxF32 {
+    /// The empty box: low corner `+∞`, high `−∞` (what an empty bound is stored as).
+    pub const EMPTY: BoxF32 = BoxF32 {
+        min: [f32::INFINITY; 3],
+        max: [f32::NEG_INFINITY; 3],
+    };
+}
+
 /// A sector stored as `f32`: `r`, the unwrapped arc as pseudo-angles `[φ_lo, φ_hi]`
 /// ([`crate::geometry::pseudo_angle`]: absolute, a turn is 4, `φ_lo ∈ [−2, 6]`,
 /// `φ_hi − φ_lo ≥ 4` for the whole circle) and `h` relative to the anchor. A query compares
@@ -292,10 +300,7 @@ impl BvhBounds for Aabb {
 
     fn compact(lin: &Aabb, frame: &LinearFrame) -> BoxF32 {
         if lin.is_empty() {
-            return BoxF32 {
-                min: [f32::INFINITY; 3],
-                max: [f32::NEG_INFINITY; 3],
-            };
+            return BoxF32::EMPTY;
         }
         let lo = lin.min - frame.anchor;
         let hi = lin.max - frame.anchor;

@@ -98,10 +98,6 @@ pub const BOX_AREA_LIMIT: f64 = 2.0;
 /// assert_eq!((b.min[2], b.max[2]), (-1.0, 3.0));
 /// ```
 pub fn sector_box(s: &SectorF32) -> BoxF32 {
-    const EMPTY: BoxF32 = BoxF32 {
-        min: [f32::INFINITY; 3],
-        max: [f32::NEG_INFINITY; 3],
-    };
     let [r0, r1] = s.r.map(f64::from);
     let [t0, t1] = s.theta.map(f64::from);
     let finite =
@@ -110,7 +106,7 @@ pub fn sector_box(s: &SectorF32) -> BoxF32 {
             .chain(&s.h)
             .all(|v| v.is_finite());
     if !(finite && 0.0 <= r0 && r0 <= r1 && t0 <= t1 && s.h[0] <= s.h[1]) {
-        return EMPTY;
+        return BoxF32::EMPTY;
     }
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     let mut take = |x: f64, y: f64| {
