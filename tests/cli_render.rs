@@ -393,6 +393,57 @@ fn render_takes_interpolation_and_gradient_opacity_and_counts_gradients_only_for
     }
 }
 
+/// `--blend max` and `min` render intensity projections: reported in the JSON, no gradient
+/// even with `--shade`, no transparent cell skipped, images unlike compositing's; an unknown
+/// mode is refused by name.
+#[test]
+fn render_takes_a_blend_mode() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let png = |name: &str| dir.path().join(name).to_str().expect("utf-8").to_string();
+    let run = |out: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "pump-inlet:3000",
+            "-o",
+            out,
+            "--size",
+            "24x24",
+            "--shade",
+            "--opacity",
+            "0%:0,60%:0,100%:1",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        json_of(&args)
+    };
+    let composite = run(&png("c.png"), &[]);
+    assert_eq!(composite["blend"], "composite");
+    assert!(composite["stats"]["gradient_evaluations"].as_u64().unwrap() > 0);
+    assert!(composite["stats"]["samples_skipped"].as_u64().unwrap() > 0);
+    assert!(composite["stats"]["early_terminations"].as_u64().unwrap() > 0);
+    for mode in ["max", "min"] {
+        let j = run(&png(&format!("{mode}.png")), &["--blend", mode]);
+        assert_eq!(j["blend"], mode);
+        assert_eq!(j["stats"]["gradient_evaluations"], 0, "{mode}");
+        assert_eq!(j["stats"]["samples_skipped"], 0, "{mode}");
+        assert_eq!(j["stats"]["early_terminations"], 0, "{mode}");
+    }
+    let bytes = |name: &str| std::fs::read(dir.path().join(name)).expect("png written");
+    assert_ne!(bytes("max.png"), bytes("c.png"));
+    assert_ne!(bytes("max.png"), bytes("min.png"));
+    let o = cylvol(&[
+        "render",
+        "pump-inlet:3000",
+        "-o",
+        &png("x.png"),
+        "--blend",
+        "average",
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("unknown blend mode 'average'"), "{err}");
+}
+
 #[test]
 fn render_takes_a_transfer_function_like_vtk_and_skips_what_it_makes_transparent() {
     let dir = tempfile::tempdir().expect("temp dir");

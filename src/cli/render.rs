@@ -1,14 +1,15 @@
 //! `cylvol render INPUT -o OUT.png [--structure …] [--size WxH] [--step S] [--scalar NAME]
 //! [--view AZIMUTH,ELEVATION,ZOOM] [--path paper|fast] [--shade] [--interpolation linear|nearest]
 //! [--gradient-opacity M:G,M:G,...] [--opacity S:A,...] [--color S:R:G:B,...]
-//! [--unit-distance D]`: renders one image and
+//! [--unit-distance D] [--blend composite|max|min]`: renders one image and
 //! reports the time and the work counters on standard error (as JSON on standard output with
 //! `--json`).
 //!
 //! Defaults: `--structure auto` (the cylindrical BVH when the detected axis is clear, else the
 //! Cartesian BVH), `--size 512x512`, `--step` half the mean cell size
 //! ([`cylvol::render::default_step`]), `--view 0,0,1` (VTK's reset camera: looking down `−z`
-//! at the bounds' centre), `--path fast`, no shading. The transfer function is
+//! at the bounds' centre), `--path fast`, no shading, compositing (`--blend max` and `min`
+//! are maximum- and minimum-intensity projections, [`cylvol::render::Blend`]). The transfer function is
 //! [`cylvol::render::TransferFunction::default_for_range`] over the scalar range with a
 //! maximum opacity of 0.3 per hundredth of the mesh's diagonal, or what `--opacity`, `--color`
 //! and `--unit-distance` set ([`super::transfer`]); the background is black.
@@ -22,7 +23,7 @@ use super::transfer::TransferArgs;
 use super::{log, scene, InputArgs};
 use cylvol::accel::AccelParams;
 use cylvol::render::{
-    GradientOpacity, Interpolation, RenderOptions, RenderPath, Renderer, Shading, Volume,
+    Blend, GradientOpacity, Interpolation, RenderOptions, RenderPath, Renderer, Shading, Volume,
 };
 use cylvol::Error;
 
@@ -63,6 +64,10 @@ pub struct RenderArgs {
     /// factor G in [0, 1] of the gradient magnitude M, in increasing M, e.g. `0:0,0.5:1`.
     #[arg(long, value_name = "M:G,M:G,...", value_parser = parse_gradient_opacity)]
     gradient_opacity: Option<Box<GradientOpacity>>,
+    /// composite (front-to-back compositing), max or min (maximum- or minimum-intensity
+    /// projection: the extreme scalar's colour and opacity; no shading).
+    #[arg(long, default_value = "composite")]
+    blend: String,
     #[command(flatten)]
     transfer: TransferArgs,
     /// Print the figures as JSON on standard output.
@@ -117,6 +122,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let kind = scene::structure(&args.structure, &mesh, &axis)?;
     let path: RenderPath = args.path.parse()?;
     let interpolation: Interpolation = args.interpolation.parse()?;
+    let blend: Blend = args.blend.parse()?;
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
     let step = scene::step(&mesh, args.step)?;
@@ -131,6 +137,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     options.boundary_segments = !args.whole_steps;
     options.interpolation = interpolation;
     options.gradient_opacity = args.gradient_opacity.as_deref().copied();
+    options.blend = blend;
     // The fast path walks from a sample's cell to its face neighbours (across duplicated
     // seams too); the paper path locates every sample from scratch and needs none.
     let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh, &accel));
@@ -160,6 +167,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             "cells": mesh.cell_count(),
             "structure": kind.name(),
             "path": path.name(),
+            "blend": blend.name(),
             "width": width,
             "height": height,
             "step": step,

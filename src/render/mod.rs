@@ -39,8 +39,8 @@ pub use camera::{
 };
 pub use image::Image;
 pub use raycast::{
-    default_step, Derived, Interpolation, Neighbours, NoNeighbours, RayResult, RenderOptions,
-    RenderPath, RenderStats, Renderer, ScalarField, Volume, MAX_SAMPLES_PER_RAY,
+    default_step, Blend, Derived, Interpolation, Neighbours, NoNeighbours, RayResult,
+    RenderOptions, RenderPath, RenderStats, Renderer, ScalarField, Volume, MAX_SAMPLES_PER_RAY,
 };
 pub use shading::Shading;
 pub use topology::{face_neighbours, unchecked_neighbours, Topology};

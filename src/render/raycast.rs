@@ -42,7 +42,9 @@
 //! output of a pixel is the `t` of the first sample at which the accumulated opacity `1 − T`
 //! reaches [`RenderOptions::depth_opacity`] (default 0.5), `+∞` if it never does. A depth
 //! image given as input (same convention: distance along the ray from the eye or its plane)
-//! stops each ray there, as opaque geometry would.
+//! stops each ray there, as opaque geometry would. With [`RenderOptions::blend`] set to a
+//! maximum- or minimum-intensity projection the samples are not composited: the ray keeps its
+//! extreme scalar and its pixel is that scalar's colour and opacity ([`Blend`]).
 //!
 //! # The two paths
 //! - **paper**: every sample is located from scratch through the structure
@@ -269,6 +271,67 @@ impl std::str::FromStr for Interpolation {
     }
 }
 
+/// How a ray's samples make its pixel (VTK's volume mappers' `BlendMode`).
+///
+/// With [`Blend::Maximum`] or [`Blend::Minimum`] a ray keeps the largest (smallest) scalar
+/// interpolated at its samples in the mesh, and its pixel is that scalar's colour with that
+/// scalar's opacity per unit distance ([`TransferTable::unit_opacity`], not corrected to the
+/// step), premultiplied — the colour and opacity VTK's maximum- and minimum-intensity
+/// projections give the extreme scalar. Shading, gradient opacity, early termination,
+/// boundary segments and the fast path's skipping of transparent cells belong to compositing
+/// and are not used (a transparent cell may hold the extreme); the depth output is the
+/// extreme sample's `t` where its opacity reaches `depth_opacity`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Blend {
+    /// Front-to-back emission-absorption compositing (VTK's `COMPOSITE_BLEND`).
+    #[default]
+    Composite,
+    /// Maximum-intensity projection (VTK's `MAXIMUM_INTENSITY_BLEND`).
+    Maximum,
+    /// Minimum-intensity projection (VTK's `MINIMUM_INTENSITY_BLEND`).
+    Minimum,
+}
+
+impl Blend {
+    /// All three, in the order of their names.
+    pub const ALL: [Blend; 3] = [Blend::Composite, Blend::Maximum, Blend::Minimum];
+
+    /// `composite`, `max` or `min` (what [`str::parse`] reads).
+    pub fn name(self) -> &'static str {
+        match self {
+            Blend::Composite => "composite",
+            Blend::Maximum => "max",
+            Blend::Minimum => "min",
+        }
+    }
+
+    /// Whether `s` replaces `best` as the ray's extreme (never for compositing or a NaN `s`).
+    ///
+    /// ```
+    /// use cylvol::render::Blend;
+    /// assert!(Blend::Maximum.replaces(2.0, Some(1.0)));
+    /// assert!(!Blend::Minimum.replaces(2.0, Some(1.0)));
+    /// assert!(Blend::Minimum.replaces(2.0, None));
+    /// assert!(!Blend::Maximum.replaces(f64::NAN, None));
+    /// ```
+    #[inline]
+    pub fn replaces(self, s: f64, best: Option<f64>) -> bool {
+        match (self, best) {
+            (Blend::Composite, _) => false,
+            (_, None) => !s.is_nan(),
+            (Blend::Maximum, Some(b)) => s > b,
+            (Blend::Minimum, Some(b)) => s < b,
+        }
+    }
+}
+
+impl std::str::FromStr for Blend {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        crate::error::by_name(&Blend::ALL, Blend::name, s, "blend mode")
+    }
+}
+
 /// The work of a render.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct RenderStats {
@@ -387,12 +450,14 @@ pub struct RenderOptions {
     /// unit distance; `None` (the default) for none, and then no gradient is evaluated unless
     /// shading is on.
     pub gradient_opacity: Option<GradientOpacity>,
+    /// How the samples make the pixel (default compositing; see [`Blend`]).
+    pub blend: Blend,
 }
 
 impl RenderOptions {
     /// Defaults for a `width × height` image with the given step: fast path, no shading,
     /// early termination at 0.99, depth at 0.5, 16-pixel tiles, 1024 table entries, boundary
-    /// segments on, linear interpolation, no gradient opacity.
+    /// segments on, linear interpolation, no gradient opacity, compositing.
     pub fn new(width: u32, height: u32, step: f64) -> RenderOptions {
         RenderOptions {
             width,
@@ -407,6 +472,7 @@ impl RenderOptions {
             boundary_segments: true,
             interpolation: Interpolation::Linear,
             gradient_opacity: None,
+            blend: Blend::Composite,
         }
     }
 }
@@ -1462,11 +1528,19 @@ impl<'a> Renderer<'a> {
         let vol = self.volume;
         let mesh = vol.mesh;
         let fast = opts.path == RenderPath::Fast;
-        // Only the fast path skips transparent cells (the paper path samples every one).
-        let transparent = fast.then(|| self.transparent_cells());
+        let compositing = opts.blend == Blend::Composite;
+        // Only the fast path skips transparent cells (the paper path samples every one), and
+        // only when compositing (an extreme may lie in a transparent cell).
+        let transparent = (fast && compositing).then(|| self.transparent_cells());
         let is_transparent = |cell: u32| transparent.is_some_and(|m| m.contains(cell));
         // The fast path jumps over transparent space through a BVH's visible nodes.
-        let visible_nodes = if fast { self.visible_nodes() } else { None };
+        let visible_nodes = if fast && compositing {
+            self.visible_nodes()
+        } else {
+            None
+        };
+        // The extreme scalar of a maximum- or minimum-intensity projection, and its `t`.
+        let mut extreme: Option<(f64, f64)> = None;
         let skipper = || Skipper::new(vol.accel);
         let mut counters = Counters::default();
         let mut acc = Accum {
@@ -1787,6 +1861,12 @@ impl<'a> Renderer<'a> {
                 }
                 Association::Cell => (vol.field.scalars[cell as usize], None),
             };
+            if !compositing {
+                if opts.blend.replaces(s, extreme.map(|e| e.0)) {
+                    extreme = Some((s, t));
+                }
+                continue;
+            }
             let [r, g, b, mut a] = self.table.lookup(s);
             if a <= 0.0 || a.is_nan() {
                 continue;
@@ -1932,6 +2012,15 @@ impl<'a> Renderer<'a> {
         }
         stats.add_counters(&counters);
         stats.surface_visits += surface_counters.internal_visits + surface_counters.leaf_visits;
+        if let Some((s, t)) = extreme {
+            let [r, g, b, _] = self.table.lookup(s);
+            let a = self.table.unit_opacity(s).clamp(0.0, 1.0);
+            out.rgba = [r * a, g * a, b * a, a];
+            if a > 0.0 && a >= opts.depth_opacity {
+                out.depth = t;
+            }
+            return out;
+        }
         out.depth = acc.depth;
         out.rgba = [
             acc.color[0],
