@@ -159,6 +159,26 @@ typedef enum CylvolInterpolation {
 } CylvolInterpolation;
 
 /**
+ * How a ray's samples make its pixel; the values are those of VTK's `vtkVolumeMapper`
+ * blend modes (`COMPOSITE_BLEND`, `MAXIMUM_INTENSITY_BLEND`, `MINIMUM_INTENSITY_BLEND`).
+ */
+typedef enum CylvolBlend {
+  /**
+   * Front-to-back emission-absorption compositing — the default.
+   */
+  CYLVOL_BLEND_COMPOSITE = 0,
+  /**
+   * Maximum-intensity projection: the colour and the opacity per unit distance of the
+   * largest scalar sampled on the ray (no shading, gradient opacity or early termination).
+   */
+  CYLVOL_BLEND_MAXIMUM = 1,
+  /**
+   * Minimum-intensity projection: the same for the smallest scalar.
+   */
+  CYLVOL_BLEND_MINIMUM = 2,
+} CylvolBlend;
+
+/**
  * The pixel format of a render's output.
  */
 typedef enum CylvolPixelFormat {
@@ -406,6 +426,11 @@ typedef struct CylvolRenderParams {
    * Nonzero: row 0 of the pixels and depths is the bottom row (VTK and OpenGL order).
    */
   int32_t rows_bottom_up;
+  /**
+   * COMPOSITE (the default), MAXIMUM or MINIMUM (intensity projections). Added after the
+   * fields above: fill the struct with cylvol_render_params_default() first.
+   */
+  CylvolBlend blend;
 } CylvolRenderParams;
 
 /**

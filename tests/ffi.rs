@@ -849,6 +849,13 @@ fn render_reports_every_bad_input() {
         ),
         (
             CylvolRenderParams {
+                blend: BlendCode(3),
+                ..p
+            },
+            "params->blend",
+        ),
+        (
+            CylvolRenderParams {
                 step: f64::NAN,
                 ..p
             },
@@ -1606,6 +1613,52 @@ fn nearest_interpolation_and_gradient_opacity_match_the_rust_api() {
     t.n_gradient_opacity = 2;
     let none = render_f32(v, &c, &t, &params(w, h), None);
     assert!(none.f32.iter().all(|&x| x == 0.0));
+    unsafe { cylvol_volume_free(v) };
+}
+
+/// Maximum- and minimum-intensity projections through the C ABI: each equals the Rust API's
+/// image with that blend, the two differ from each other and from compositing, and the default
+/// parameters composite.
+#[test]
+fn intensity_projections_match_the_rust_api() {
+    let a = sector_with_wedge_and_tet();
+    let m = mesh_with_field(&a);
+    let v = new_volume(m, &cart_bvh_params());
+    unsafe { cylvol_mesh_free(m) };
+    let tables = Tables::ramp([0.0, 4.0]);
+    let c = look_at([0.4, 1.8, 4.0], [1.2, 0.6, 0.5], None);
+    let camera = Camera::perspective(
+        DVec3::from_array(c.eye),
+        DVec3::from_array(c.focal_point),
+        DVec3::Y,
+        35.0,
+    )
+    .unwrap();
+    let (w, h) = (20, 14);
+    assert_eq!(params(w, h).blend, CylvolBlend::Composite.into());
+    let composite = render_f32(v, &c, &tables.c(), &params(w, h), None);
+    let mut images = Vec::new();
+    for (code, blend) in [
+        (CylvolBlend::Maximum, cylvol::render::Blend::Maximum),
+        (CylvolBlend::Minimum, cylvol::render::Blend::Minimum),
+    ] {
+        let p = CylvolRenderParams {
+            blend: code.into(),
+            shading: 1,
+            ..params(w, h)
+        };
+        let out = render_f32(v, &c, &tables.c(), &p, None);
+        assert_eq!(out.status, S::Ok, "{}", last_error());
+        let mut stats = CylvolRenderStats::default();
+        unsafe { cylvol_volume_render_stats(v, &mut stats) };
+        assert_eq!(stats.gradient_evaluations, 0, "{code:?} shades nothing");
+        assert!(out.f32.iter().any(|&x| x > 0.0));
+        assert_ne!(out.f32, composite.f32);
+        let (reference, _) = rust_image(&a, field(&a), &tables, &camera, w, h, |o| o.blend = blend);
+        assert_eq!(out.f32, reference, "{code:?}");
+        images.push(out.f32);
+    }
+    assert_ne!(images[0], images[1]);
     unsafe { cylvol_volume_free(v) };
 }
 

@@ -366,6 +366,7 @@ fn render(u: &mut Unstructured, v: *mut CylvolVolume) -> Result<()> {
     };
     params.path = PathCode(code(u, 2)?);
     params.interpolation = InterpolationCode(code(u, 2)?);
+    params.blend = BlendCode(code(u, 3)?);
     params.shading = u.int_in_range(0..=1)?;
     params.specular_power = float(u, 0.0, 50.0)?;
     params.early_termination = float(u, 0.1, 1.5)?;

@@ -81,6 +81,20 @@ pub enum CylvolInterpolation {
     Nearest = 1,
 }
 
+/// How a ray's samples make its pixel; the values are those of VTK's `vtkVolumeMapper`
+/// blend modes (`COMPOSITE_BLEND`, `MAXIMUM_INTENSITY_BLEND`, `MINIMUM_INTENSITY_BLEND`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CylvolBlend {
+    /// Front-to-back emission-absorption compositing — the default.
+    Composite = 0,
+    /// Maximum-intensity projection: the colour and the opacity per unit distance of the
+    /// largest scalar sampled on the ray (no shading, gradient opacity or early termination).
+    Maximum = 1,
+    /// Minimum-intensity projection: the same for the smallest scalar.
+    Minimum = 2,
+}
+
 /// The pixel format of a render's output.
 /// cbindgen:rename-all=prefix:CYLVOL_PIXELS_
 #[repr(C)]
@@ -186,6 +200,10 @@ code!(
 code!(
     /// A [`CylvolInterpolation`] as C passes it (named `CylvolInterpolation` in the header).
     InterpolationCode, CylvolInterpolation, [Linear, Nearest]
+);
+code!(
+    /// A [`CylvolBlend`] as C passes it (named `CylvolBlend` in the header).
+    BlendCode, CylvolBlend, [Composite, Maximum, Minimum]
 );
 code!(
     /// A [`CylvolPixelFormat`] as C passes it (named `CylvolPixelFormat` in the header).

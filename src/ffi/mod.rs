@@ -73,9 +73,10 @@ pub mod render;
 
 pub use camera::{cylvol_camera_default, CylvolCamera};
 pub use codes::{
-    AssociationCode, CameraModeCode, Code, CylvolAssociation, CylvolCameraMode, CylvolIndexType,
-    CylvolInterpolation, CylvolPath, CylvolPixelFormat, CylvolStructure, CylvolValueType,
-    IndexTypeCode, InterpolationCode, PathCode, PixelFormatCode, StructureCode, ValueTypeCode,
+    AssociationCode, BlendCode, CameraModeCode, Code, CylvolAssociation, CylvolBlend,
+    CylvolCameraMode, CylvolIndexType, CylvolInterpolation, CylvolPath, CylvolPixelFormat,
+    CylvolStructure, CylvolValueType, IndexTypeCode, InterpolationCode, PathCode, PixelFormatCode,
+    StructureCode, ValueTypeCode,
 };
 pub use mesh::{
     cylvol_mesh_bounds, cylvol_mesh_counts, cylvol_mesh_free, cylvol_mesh_new,

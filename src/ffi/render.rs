@@ -10,13 +10,13 @@ use rayon::prelude::*;
 use super::arrays::{self, product};
 use super::camera::CylvolCamera;
 use super::codes::{
-    Code, CylvolInterpolation, CylvolPath, CylvolPixelFormat, InterpolationCode, PathCode,
-    PixelFormatCode,
+    BlendCode, Code, CylvolBlend, CylvolInterpolation, CylvolPath, CylvolPixelFormat,
+    InterpolationCode, PathCode, PixelFormatCode,
 };
 use super::status::{CylvolStatus, Failure};
 use super::volume::{on_volume, CylvolVolume};
 use crate::render::{
-    GradientOpacity, Image, Interpolation, RenderOptions, RenderPath, RenderStats, Renderer,
+    Blend, GradientOpacity, Image, Interpolation, RenderOptions, RenderPath, RenderStats, Renderer,
     Shading, TransferFunction, Volume, DEFAULT_TABLE_SIZE,
 };
 
@@ -74,11 +74,14 @@ pub struct CylvolRenderParams {
     pub early_termination: f64,
     /// Nonzero: row 0 of the pixels and depths is the bottom row (VTK and OpenGL order).
     pub rows_bottom_up: i32,
+    /// COMPOSITE (the default), MAXIMUM or MINIMUM (intensity projections). Added after the
+    /// fields above: fill the struct with cylvol_render_params_default() first.
+    pub blend: BlendCode,
 }
 
 impl Default for CylvolRenderParams {
     /// 512 × 512, the default step, FAST, LINEAR, no shading (coefficients 0.1, 0.7, 0.2, 10),
-    /// early termination at 0.99, rows top-down.
+    /// early termination at 0.99, rows top-down, compositing.
     fn default() -> Self {
         let s = Shading::default();
         CylvolRenderParams {
@@ -94,6 +97,7 @@ impl Default for CylvolRenderParams {
             specular_power: s.specular_power,
             early_termination: 0.99,
             rows_bottom_up: 0,
+            blend: CylvolBlend::Composite.into(),
         }
     }
 }
@@ -299,6 +303,11 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
         CylvolInterpolation::Linear => Interpolation::Linear,
         CylvolInterpolation::Nearest => Interpolation::Nearest,
     };
+    let blend = match p.blend.decode("params->blend")? {
+        CylvolBlend::Composite => Blend::Composite,
+        CylvolBlend::Maximum => Blend::Maximum,
+        CylvolBlend::Minimum => Blend::Minimum,
+    };
     let step = match p.step {
         s if s.is_nan() || s.is_infinite() => {
             return Err(Failure::invalid(format!(
@@ -337,6 +346,7 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
     o.shading = shading;
     o.early_termination = p.early_termination;
     o.interpolation = interpolation;
+    o.blend = blend;
     Ok(o)
 }
 
