@@ -733,6 +733,26 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.specular_power = property->GetSpecularPower(0);
   params.early_termination = this->EarlyTermination;
   params.rows_bottom_up = 1;
+  // vtkUnstructuredGridVolumeMapper's blend modes, and vtkVolumeMapper's minimum intensity
+  // (the same value, 2).
+  switch (this->BlendMode)
+  {
+    case vtkUnstructuredGridVolumeMapper::COMPOSITE_BLEND:
+      params.blend = CYLVOL_BLEND_COMPOSITE;
+      break;
+    case vtkUnstructuredGridVolumeMapper::MAXIMUM_INTENSITY_BLEND:
+      params.blend = CYLVOL_BLEND_MAXIMUM;
+      break;
+    case 2:
+      params.blend = CYLVOL_BLEND_MINIMUM;
+      break;
+    default:
+      vtkErrorMacro(<< "Unsupported blend mode " << this->BlendMode
+                    << "; vtkCylVolMapper composites (0), or projects the maximum (1) or the "
+                       "minimum (2) intensity: nothing drawn.");
+      this->ImageSampleDistance = oldImageSampleDistance;
+      return;
+  }
   this->LastSampleDistance = this->SampleDistance;
   if (!(this->SampleDistance > 0.0))
   {

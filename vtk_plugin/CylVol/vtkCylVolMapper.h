@@ -20,6 +20,12 @@
  * SelectScalarArray, the volume's matrix, perspective and parallel cameras, viewports,
  * and the depth of opaque geometry already drawn.
  *
+ * Blend modes: compositing (the default), SetBlendModeToMaximumIntensity() and
+ * SetBlendModeToMinimumIntensity() (vtkVolumeMapper's value 2). A projection shows the colour
+ * of the largest (smallest) scalar sampled on each ray with the opacity of one unit distance
+ * there (read by the opacity convention below); it shades nothing, applies no gradient opacity
+ * and does not stop rays early. Any other blend mode is an error and nothing is drawn.
+ *
  * Opacity convention: by default the scalar opacity is read the way
  * vtkUnstructuredGridVolumeRayCastMapper reads it, as an attenuation coefficient per
  * unit distance (transmittance exp(-opacity * length / unit distance));
@@ -47,6 +53,9 @@ public:
   static vtkCylVolMapper* New();
   vtkTypeMacro(vtkCylVolMapper, vtkUnstructuredGridVolumeMapper);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Minimum-intensity projection (BlendMode 2, vtkVolumeMapper::MINIMUM_INTENSITY_BLEND).
+  void SetBlendModeToMinimumIntensity() { this->SetBlendMode(2); }
 
   /// The acceleration structures (values of cylvol's CylvolStructure).
   enum StructureType
