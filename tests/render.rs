@@ -687,6 +687,28 @@ fn one_and_two_threads_give_identical_images() {
     assert_eq!(sa, sb);
 }
 
+/// The default step, which the CLI and the C ABI render with, has the same bits whatever the
+/// thread count (a parallel sum groups its terms as the work happens to be split).
+#[test]
+fn the_default_step_does_not_depend_on_the_threads() {
+    let mesh =
+        cylvol::datasets::generate(cylvol::datasets::Dataset::PumpRotor, 60_000).expect("rotor");
+    let step = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(|| cylvol::render::default_step(&mesh))
+    };
+    let one = step(1);
+    assert!(one > 0.0);
+    for threads in [2, 3, 7] {
+        for _ in 0..3 {
+            assert_eq!(step(threads).to_bits(), one.to_bits(), "{threads} threads");
+        }
+    }
+}
+
 #[test]
 fn a_mesh_moved_far_away_renders_the_same() {
     let case = o_grid();

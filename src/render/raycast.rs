@@ -482,10 +482,18 @@ impl RenderOptions {
 /// is flat.
 pub fn default_step(mesh: &Mesh) -> f64 {
     let n = mesh.cell_count().max(1) as f64;
-    let total: f64 = (0..mesh.cell_count())
+    // Summed in fixed chunks, then the chunks in order: the same bits whatever the threads
+    // (a parallel `sum` groups the terms as the work was split).
+    const CHUNK: usize = 4096;
+    let chunk_sums: Vec<f64> = (0..mesh.cell_count().div_ceil(CHUNK))
         .into_par_iter()
-        .map(|c| cell_bounds(&mesh.cell_corners(c)).diagonal())
-        .sum();
+        .map(|k| {
+            (k * CHUNK..((k + 1) * CHUNK).min(mesh.cell_count()))
+                .map(|c| cell_bounds(&mesh.cell_corners(c)).diagonal())
+                .sum::<f64>()
+        })
+        .collect();
+    let total: f64 = chunk_sums.iter().sum();
     let step = total / n / 3f64.sqrt() / 2.0;
     if step > 0.0 && step.is_finite() {
         step
