@@ -1556,8 +1556,9 @@ fn volumes_built_from_one_mesh_in_parallel_render_alike() {
     unsafe { cylvol_mesh_free(m as *mut CylvolMesh) };
 }
 
-#[test]
-fn nearest_interpolation_and_gradient_opacity_match_the_rust_api() {
+/// The sector with a wedge and a tetrahedron as a Cartesian-BVH volume (its mesh handle freed),
+/// a ramp over its field, and one perspective view of it as a C camera and as the Rust one.
+fn sector_scene() -> (Arrays, *mut CylvolVolume, Tables, CylvolCamera, Camera) {
     let a = sector_with_wedge_and_tet();
     let m = mesh_with_field(&a);
     let v = new_volume(m, &cart_bvh_params());
@@ -1571,6 +1572,12 @@ fn nearest_interpolation_and_gradient_opacity_match_the_rust_api() {
         35.0,
     )
     .unwrap();
+    (a, v, tables, c, camera)
+}
+
+#[test]
+fn nearest_interpolation_and_gradient_opacity_match_the_rust_api() {
+    let (a, v, tables, c, camera) = sector_scene();
     let (w, h) = (20, 14);
     let linear = render_f32(v, &c, &tables.c(), &params(w, h), None);
     let p = CylvolRenderParams {
@@ -1621,19 +1628,7 @@ fn nearest_interpolation_and_gradient_opacity_match_the_rust_api() {
 /// parameters composite.
 #[test]
 fn intensity_projections_match_the_rust_api() {
-    let a = sector_with_wedge_and_tet();
-    let m = mesh_with_field(&a);
-    let v = new_volume(m, &cart_bvh_params());
-    unsafe { cylvol_mesh_free(m) };
-    let tables = Tables::ramp([0.0, 4.0]);
-    let c = look_at([0.4, 1.8, 4.0], [1.2, 0.6, 0.5], None);
-    let camera = Camera::perspective(
-        DVec3::from_array(c.eye),
-        DVec3::from_array(c.focal_point),
-        DVec3::Y,
-        35.0,
-    )
-    .unwrap();
+    let (a, v, tables, c, camera) = sector_scene();
     let (w, h) = (20, 14);
     assert_eq!(params(w, h).blend, CylvolBlend::Composite.into());
     let composite = render_f32(v, &c, &tables.c(), &params(w, h), None);
