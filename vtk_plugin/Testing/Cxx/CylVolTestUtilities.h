@@ -7,7 +7,9 @@
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkCellData.h"
+#include "vtkCellType.h"
 #include "vtkDataSetReader.h"
 #include "vtkImageData.h"
 #include "vtkMultiBlockDataSet.h"
@@ -15,6 +17,7 @@
 #include "vtkPNGWriter.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
+#include "vtkPoints.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
@@ -150,6 +153,45 @@ inline Dataset Load(const std::string& name)
   a->GetRange(d.Range, 0);
   d.Diagonal = d.Grid->GetLength();
   return d;
+}
+
+/// The unit cube cut into n x n x n hexahedra, with the point scalar "s" = scalar(x, y, z):
+/// the meshes with known answers of the slab and blend tests.
+template <typename Scalar>
+vtkSmartPointer<vtkUnstructuredGrid> UnitSlab(int n, Scalar scalar)
+{
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkDoubleArray> s;
+  s->SetName("s");
+  for (int k = 0; k <= n; ++k)
+  {
+    for (int j = 0; j <= n; ++j)
+    {
+      for (int i = 0; i <= n; ++i)
+      {
+        const double x = double(i) / n, y = double(j) / n, z = double(k) / n;
+        points->InsertNextPoint(x, y, z);
+        s->InsertNextValue(scalar(x, y, z));
+      }
+    }
+  }
+  grid->SetPoints(points);
+  grid->GetPointData()->SetScalars(s);
+  auto id = [n](int i, int j, int k) { return static_cast<vtkIdType>(i + (n + 1) * (j + (n + 1) * k)); };
+  for (int k = 0; k < n; ++k)
+  {
+    for (int j = 0; j < n; ++j)
+    {
+      for (int i = 0; i < n; ++i)
+      {
+        vtkIdType c[8] = { id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
+          id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1) };
+        grid->InsertNextCell(VTK_HEXAHEDRON, 8, c);
+      }
+    }
+  }
+  return grid;
 }
 
 /// A colour ramp (blue, cyan, yellow, red) and an opacity ramp (0, 0.1, 0.5, 1) on the same

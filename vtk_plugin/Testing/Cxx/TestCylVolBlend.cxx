@@ -23,39 +23,7 @@ const double kScale = 0.4; // parallel scale: the view spans [0.1, 0.9] in x and
 
 vtkSmartPointer<vtkUnstructuredGrid> Slab()
 {
-  const int n = 4;
-  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  vtkNew<vtkPoints> points;
-  vtkNew<vtkDoubleArray> s;
-  s->SetName("s");
-  for (int k = 0; k <= n; ++k)
-  {
-    for (int j = 0; j <= n; ++j)
-    {
-      for (int i = 0; i <= n; ++i)
-      {
-        const double x = double(i) / n, y = double(j) / n, z = double(k) / n;
-        points->InsertNextPoint(x, y, z);
-        s->InsertNextValue(x + 0.5 * z);
-      }
-    }
-  }
-  grid->SetPoints(points);
-  grid->GetPointData()->SetScalars(s);
-  auto id = [n](int i, int j, int k) { return static_cast<vtkIdType>(i + (n + 1) * (j + (n + 1) * k)); };
-  for (int k = 0; k < n; ++k)
-  {
-    for (int j = 0; j < n; ++j)
-    {
-      for (int i = 0; i < n; ++i)
-      {
-        vtkIdType c[8] = { id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
-          id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1) };
-        grid->InsertNextCell(VTK_HEXAHEDRON, 8, c);
-      }
-    }
-  }
-  return grid;
+  return cylvoltest::UnitSlab(4, [](double x, double, double z) { return x + 0.5 * z; });
 }
 
 struct Scene

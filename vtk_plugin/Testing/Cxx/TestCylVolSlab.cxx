@@ -26,38 +26,7 @@ namespace
 {
 vtkSmartPointer<vtkUnstructuredGrid> Slab()
 {
-  const int n = 3;
-  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  vtkNew<vtkPoints> points;
-  vtkNew<vtkDoubleArray> s;
-  s->SetName("s");
-  for (int k = 0; k <= n; ++k)
-  {
-    for (int j = 0; j <= n; ++j)
-    {
-      for (int i = 0; i <= n; ++i)
-      {
-        points->InsertNextPoint(double(i) / n, double(j) / n, double(k) / n);
-        s->InsertNextValue(double(k) / n);
-      }
-    }
-  }
-  grid->SetPoints(points);
-  grid->GetPointData()->SetScalars(s);
-  auto id = [n](int i, int j, int k) { return static_cast<vtkIdType>(i + (n + 1) * (j + (n + 1) * k)); };
-  for (int k = 0; k < n; ++k)
-  {
-    for (int j = 0; j < n; ++j)
-    {
-      for (int i = 0; i < n; ++i)
-      {
-        vtkIdType c[8] = { id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
-          id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1) };
-        grid->InsertNextCell(VTK_HEXAHEDRON, 8, c);
-      }
-    }
-  }
-  return grid;
+  return cylvoltest::UnitSlab(3, [](double, double, double z) { return z; });
 }
 
 // The exact pixel (0..255 per channel) for a ray from z = 1 down to z = 0 over black.
