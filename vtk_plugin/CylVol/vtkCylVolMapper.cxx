@@ -96,6 +96,26 @@ bool SupportedCellType(unsigned char type)
     type == VTK_PYRAMID || type == VTK_TETRA;
 }
 
+// vtkUnstructuredGridVolumeMapper's blend modes, and vtkVolumeMapper's minimum intensity (the
+// same value, 2), as cylvol's; false for any other.
+bool BlendOf(int mode, CylvolBlend* out)
+{
+  switch (mode)
+  {
+    case vtkUnstructuredGridVolumeMapper::COMPOSITE_BLEND:
+      *out = CYLVOL_BLEND_COMPOSITE;
+      return true;
+    case vtkUnstructuredGridVolumeMapper::MAXIMUM_INTENSITY_BLEND:
+      *out = CYLVOL_BLEND_MAXIMUM;
+      return true;
+    case 2:
+      *out = CYLVOL_BLEND_MINIMUM;
+      return true;
+    default:
+      return false;
+  }
+}
+
 void ToRowMajor(vtkMatrix4x4* m, double out[16])
 {
   vtkMatrix4x4::DeepCopy(out, m);
@@ -343,6 +363,16 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastSamplesSkipped = this->LastPlaneCertified = this->LastWalkSteps = 0;
   this->LastTransparentJumps = 0;
   this->LastRaySeconds = 0.0;
+
+  // ---- settings that draw nothing: refused before any build ------------------------------
+  CylvolBlend blend = CYLVOL_BLEND_COMPOSITE;
+  if (!BlendOf(this->BlendMode, &blend))
+  {
+    vtkErrorMacro(<< "Unsupported blend mode " << this->BlendMode
+                  << "; vtkCylVolMapper composites (0), or projects the maximum (1) or the "
+                     "minimum (2) intensity: nothing drawn.");
+    return;
+  }
 
   // ---- the input ---------------------------------------------------------------------
   if (this->GetNumberOfInputConnections(0) == 0)
@@ -733,26 +763,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.specular_power = property->GetSpecularPower(0);
   params.early_termination = this->EarlyTermination;
   params.rows_bottom_up = 1;
-  // vtkUnstructuredGridVolumeMapper's blend modes, and vtkVolumeMapper's minimum intensity
-  // (the same value, 2).
-  switch (this->BlendMode)
-  {
-    case vtkUnstructuredGridVolumeMapper::COMPOSITE_BLEND:
-      params.blend = CYLVOL_BLEND_COMPOSITE;
-      break;
-    case vtkUnstructuredGridVolumeMapper::MAXIMUM_INTENSITY_BLEND:
-      params.blend = CYLVOL_BLEND_MAXIMUM;
-      break;
-    case 2:
-      params.blend = CYLVOL_BLEND_MINIMUM;
-      break;
-    default:
-      vtkErrorMacro(<< "Unsupported blend mode " << this->BlendMode
-                    << "; vtkCylVolMapper composites (0), or projects the maximum (1) or the "
-                       "minimum (2) intensity: nothing drawn.");
-      this->ImageSampleDistance = oldImageSampleDistance;
-      return;
-  }
+  params.blend = blend;
   this->LastSampleDistance = this->SampleDistance;
   if (!(this->SampleDistance > 0.0))
   {

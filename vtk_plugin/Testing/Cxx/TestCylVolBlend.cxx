@@ -4,7 +4,8 @@
 // colour of s = x + 1/2 with the opacity of one unit distance there (attenuation convention:
 // 1 - exp(-opacity)), over black; a minimum-intensity projection the same for s = x. Both are
 // checked within 3/255 on every pixel; compositing must differ from both. Then a blend mode the
-// mapper does not know (3, average intensity) is reported and draws nothing.
+// mapper does not know (3, average intensity) is reported and draws nothing, and on a fresh
+// mapper builds nothing either.
 #include "vtkCylVolMapper.h"
 
 #include "vtkCommand.h"
@@ -146,6 +147,16 @@ int TestCylVolBlend(int, char*[])
   std::cout << "blend mode 3: " << (reported ? "reported" : "NOT reported") << ", " << lit
             << " lit channel values\n";
   ok &= reported && lit == 0;
+
+  // Refused before anything is built: a fresh mapper asked for mode 3 builds no structure.
+  Scene fresh;
+  fresh.Render(3);
+  const bool freshReported = fresh.Errors->GetError();
+  std::cout << "blend mode 3 on a fresh mapper: " << (freshReported ? "reported" : "NOT reported")
+            << ", " << fresh.Mapper->GetBuildCount() << " builds\n";
+  ok &= freshReported && fresh.Mapper->GetBuildCount() == 0;
+  fresh.Render(vtkUnstructuredGridVolumeMapper::MAXIMUM_INTENSITY_BLEND);
+  ok &= !fresh.Errors->GetError() && fresh.Mapper->GetBuildCount() == 1;
 
   std::cout << (ok ? "passed" : "FAILED") << "\n";
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
