@@ -2,7 +2,7 @@
 //! closed form: each pixel is the colour and opacity of the extreme scalar on its ray, on every
 //! structure and both paths; a transparent extreme stays transparent (no cell is skipped for
 //! its opacity); and none of compositing's work — gradients, early termination, skipping — is
-//! done.
+//! done, while the fast path passes over the cells that cannot beat a ray's extreme so far.
 
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::Axis;
@@ -204,6 +204,54 @@ fn projections_compute_none_of_compositing() {
             cast(&composite, x, y, &mut c);
         }
         assert!(c.gradient_evaluations > 0 && c.early_terminations > 0);
+    }
+}
+
+/// The fast path passes over the cells whose scalar range cannot beat the ray's extreme so
+/// far: where the extreme comes first on the ray (the maximum of rays down `−z`, the minimum of
+/// rays up `+z`) most located samples are passed over, most of them with no inverse map; in
+/// every direction the image is the paper path's, which interpolates every sample (a skip of
+/// a cell that could beat the extreme would show where the extreme comes last).
+#[test]
+fn projections_pass_over_cells_that_cannot_beat_the_extreme() {
+    let mesh = slab();
+    let axis = Axis::Z;
+    let tf = transfer(false);
+    for kind in StructureKind::ALL {
+        let accel = Accel::build(&mesh, kind, &axis, &AccelParams::default()).expect("build");
+        let volume = Volume::new(&mesh, &accel).expect("volume");
+        for blend in [Blend::Maximum, Blend::Minimum] {
+            let fast = Renderer::new(&volume, &tf, &options(RenderPath::Fast, blend)).unwrap();
+            let paper = Renderer::new(&volume, &tf, &options(RenderPath::Paper, blend)).unwrap();
+            for (z, dir) in [(2.0, DVec3::NEG_Z), (-1.0, DVec3::Z)] {
+                let (mut f, mut p) = (RenderStats::default(), RenderStats::default());
+                for (x, y) in rays() {
+                    let o = DVec3::new(x, y, z);
+                    let got = fast.cast(o, dir, f64::NAN, &mut f).rgba;
+                    let want = paper.cast(o, dir, f64::NAN, &mut p).rgba;
+                    assert!(
+                        max_difference(got, want) < 1e-9,
+                        "{kind} {blend:?} {dir}: at ({x}, {y}): {got:?}, paper {want:?}"
+                    );
+                }
+                assert_eq!(
+                    p.extreme_skips, 0,
+                    "the paper path interpolates every sample"
+                );
+                let first = (blend == Blend::Maximum) == (dir == DVec3::NEG_Z);
+                if first {
+                    assert!(
+                        2 * f.extreme_skips > f.samples_located,
+                        "{kind} {blend:?} {dir}: {f:?}"
+                    );
+                    assert!(f.plane_certified > 0, "{kind} {blend:?} {dir}: {f:?}");
+                    assert!(
+                        f.hex_tests < p.hex_tests / 2,
+                        "{kind} {blend:?} {dir}: {f:?}"
+                    );
+                }
+            }
+        }
     }
 }
 

@@ -88,6 +88,7 @@
 //! image and counters are identical whatever the number of threads.
 
 use std::borrow::Cow;
+use std::cell::Cell;
 use std::ops::AddAssign;
 
 use glam::DVec3;
@@ -280,7 +281,10 @@ impl std::str::FromStr for Interpolation {
 /// projections give the extreme scalar. Shading, gradient opacity, early termination,
 /// boundary segments and the fast path's skipping of transparent cells belong to compositing
 /// and are not used (a transparent cell may hold the extreme); the depth output is the
-/// extreme sample's `t` where its opacity reaches `depth_opacity`.
+/// extreme sample's `t` where its opacity reaches `depth_opacity`. Instead the fast path
+/// passes over the samples in cells whose scalar range cannot beat the ray's extreme so far
+/// ([`Blend::may_replace_in`]; [`RenderStats::extreme_skips`]): no inverse map where the
+/// cell's face planes settle that the sample lies in it, and no interpolation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Blend {
     /// Front-to-back emission-absorption compositing (VTK's `COMPOSITE_BLEND`).
@@ -321,6 +325,30 @@ impl Blend {
             (_, None) => !s.is_nan(),
             (Blend::Maximum, Some(b)) => s > b,
             (Blend::Minimum, Some(b)) => s < b,
+        }
+    }
+}
+
+impl Blend {
+    /// Whether a cell whose scalar lies in `range` (`[min, max]`) may hold a sample that
+    /// replaces `best` as the ray's extreme: an interpolated scalar lies within its cell's
+    /// corner values, so a cell whose maximum is not above the ray's maximum (whose minimum
+    /// is not below its minimum) holds none. `true` for compositing, with no extreme yet, and
+    /// for a NaN bound.
+    ///
+    /// ```
+    /// use cylvol::render::Blend;
+    /// assert!(!Blend::Maximum.may_replace_in([0.0, 1.0], Some(1.0)));
+    /// assert!(Blend::Maximum.may_replace_in([0.0, 1.5], Some(1.0)));
+    /// assert!(!Blend::Minimum.may_replace_in([0.5, 1.5], Some(0.5)));
+    /// assert!(Blend::Minimum.may_replace_in([0.5, 1.5], None));
+    /// ```
+    #[inline]
+    pub fn may_replace_in(self, range: [f64; 2], best: Option<f64>) -> bool {
+        match (self, best) {
+            (Blend::Composite, _) | (_, None) => true,
+            (Blend::Maximum, Some(b)) => range[1] > b || range[1].is_nan(),
+            (Blend::Minimum, Some(b)) => range[0] < b || range[0].is_nan(),
         }
     }
 }
@@ -372,14 +400,21 @@ pub struct RenderStats {
     /// between two samples (see [`super::boundary`]); also counted in `hex_tests`.
     pub boundary_refinements: u64,
     /// Samples the fast path found in a cell by the cell's face planes alone, with no inverse
-    /// map: in a transparent cell (the sample adds nothing, so needs no coordinates), behind
-    /// each face plane by more than that face's deviation from it. Counted in
-    /// `samples_located` and `samples_skipped`, not in `hex_tests`.
+    /// map: in a transparent cell, or in an intensity projection's cell that cannot beat the
+    /// ray's extreme (the sample adds nothing, so needs no coordinates), behind each face
+    /// plane by more than that face's deviation from it. Counted in `samples_located` and in
+    /// `samples_skipped` (resp. `extreme_skips`), not in `hex_tests`.
     pub plane_certified: u64,
     /// Nodes of the boundary surface's BVH visited to skip the space outside the mesh, or
     /// faces offered from a ray's list where the rays have one (fast path, see
     /// [`super::surface`] and [`super::ray_faces`]).
     pub surface_visits: u64,
+    /// Samples of an intensity projection that the fast path passed over, found in a cell
+    /// whose scalar range cannot beat the ray's extreme so far ([`Blend::may_replace_in`]):
+    /// not interpolated, and placed in their cell by its face planes alone where those settle
+    /// it (then also counted in `plane_certified`, with no inverse map). Counted in
+    /// `samples_located`.
+    pub extreme_skips: u64,
     /// Jumps of the fast path over transparent space: from a sample in a transparent cell to
     /// the next bound of a piece of a cell that is not (BVH structures only; the samples
     /// passed over are counted in `space_skips`, the node visits in `internal_visits` and
@@ -408,6 +443,7 @@ impl AddAssign for RenderStats {
         self.surface_visits += o.surface_visits;
         self.plane_certified += o.plane_certified;
         self.transparent_jumps += o.transparent_jumps;
+        self.extreme_skips += o.extreme_skips;
     }
 }
 
@@ -1548,7 +1584,16 @@ impl<'a> Renderer<'a> {
             None
         };
         // The extreme scalar of a maximum- or minimum-intensity projection, and its `t`.
-        let mut extreme: Option<(f64, f64)> = None;
+        let extreme: Cell<Option<(f64, f64)>> = Cell::new(None);
+        // A projection's fast path passes over cells that cannot beat the extreme so far.
+        let outranked = |cell: u32| {
+            fast && !compositing
+                && !opts
+                    .blend
+                    .may_replace_in(vol.cell_range(cell), extreme.get().map(|e| e.0))
+        };
+        // The cells where a sample needs no parametric coordinates.
+        let no_parameters = |cell: u32| is_transparent(cell) || outranked(cell);
         let skipper = || Skipper::new(vol.accel);
         let mut counters = Counters::default();
         let mut acc = Accum {
@@ -1658,7 +1703,7 @@ impl<'a> Renderer<'a> {
                         dir,
                         t,
                         Some((c, q)),
-                        &is_transparent,
+                        &no_parameters,
                         &mut work,
                     );
                     counters.hex_tests += work.tests;
@@ -1861,6 +1906,11 @@ impl<'a> Renderer<'a> {
                 }
                 continue;
             }
+            if outranked(cell) {
+                // (A certified sample's coordinates were never computed: it ends here too.)
+                stats.extreme_skips += 1;
+                continue;
+            }
             let param = param.clamp(DVec3::ZERO, DVec3::ONE);
             let (s, values) = match vol.field.association {
                 Association::Point => {
@@ -1870,8 +1920,8 @@ impl<'a> Renderer<'a> {
                 Association::Cell => (vol.field.scalars[cell as usize], None),
             };
             if !compositing {
-                if opts.blend.replaces(s, extreme.map(|e| e.0)) {
-                    extreme = Some((s, t));
+                if opts.blend.replaces(s, extreme.get().map(|e| e.0)) {
+                    extreme.set(Some((s, t)));
                 }
                 continue;
             }
@@ -2020,7 +2070,7 @@ impl<'a> Renderer<'a> {
         }
         stats.add_counters(&counters);
         stats.surface_visits += surface_counters.internal_visits + surface_counters.leaf_visits;
-        if let Some((s, t)) = extreme {
+        if let Some((s, t)) = extreme.get() {
             let [r, g, b, _] = self.table.lookup(s);
             let a = self.table.unit_opacity(s).clamp(0.0, 1.0);
             out.rgba = [r * a, g * a, b * a, a];
