@@ -523,6 +523,11 @@ typedef struct CylvolRenderStats {
    * the samples passed over are counted in `space_skips`).
    */
   uint64_t transparent_jumps;
+  /**
+   * Samples of an intensity projection passed over without interpolation, in cells whose
+   * scalar range cannot beat the ray's extreme so far (fast path).
+   */
+  uint64_t extreme_skips;
 } CylvolRenderStats;
 
 #ifdef __cplusplus

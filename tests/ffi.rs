@@ -1649,8 +1649,12 @@ fn intensity_projections_match_the_rust_api() {
         assert_eq!(stats.gradient_evaluations, 0, "{code:?} shades nothing");
         assert!(out.f32.iter().any(|&x| x > 0.0));
         assert_ne!(out.f32, composite.f32);
-        let (reference, _) = rust_image(&a, field(&a), &tables, &camera, w, h, |o| o.blend = blend);
+        let (reference, rust) =
+            rust_image(&a, field(&a), &tables, &camera, w, h, |o| o.blend = blend);
         assert_eq!(out.f32, reference, "{code:?}");
+        // The same cells passed over as unable to beat the extreme, counted through the ABI.
+        assert_eq!(stats.extreme_skips, rust.extreme_skips, "{code:?}");
+        assert_eq!(stats.samples_located, rust.samples_located, "{code:?}");
         images.push(out.f32);
     }
     assert_ne!(images[0], images[1]);

@@ -152,6 +152,9 @@ pub struct CylvolRenderStats {
     /// Jumps over transparent space to the next cell that is not (fast path, BVH structures;
     /// the samples passed over are counted in `space_skips`).
     pub transparent_jumps: u64,
+    /// Samples of an intensity projection passed over without interpolation, in cells whose
+    /// scalar range cannot beat the ray's extreme so far (fast path).
+    pub extreme_skips: u64,
 }
 
 impl From<(f64, RenderStats)> for CylvolRenderStats {
@@ -177,6 +180,7 @@ impl From<(f64, RenderStats)> for CylvolRenderStats {
             boundary_refinements: s.boundary_refinements,
             surface_visits: s.surface_visits,
             transparent_jumps: s.transparent_jumps,
+            extreme_skips: s.extreme_skips,
         }
     }
 }

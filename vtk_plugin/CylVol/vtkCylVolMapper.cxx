@@ -228,6 +228,7 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
   this->LastSamplesSkipped = this->LastPlaneCertified = this->LastWalkSteps = 0;
   this->LastTransparentJumps = 0;
+  this->LastExtremeSkips = 0;
   this->LastImageSize[0] = this->LastImageSize[1] = 0;
   this->BuildCount = 0;
   this->ScalarUpdateCount = 0;
@@ -362,6 +363,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
   this->LastSamplesSkipped = this->LastPlaneCertified = this->LastWalkSteps = 0;
   this->LastTransparentJumps = 0;
+  this->LastExtremeSkips = 0;
   this->LastRaySeconds = 0.0;
 
   // ---- settings that draw nothing: refused before any build ------------------------------
@@ -839,6 +841,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       this->LastPlaneCertified += rs.plane_certified;
       this->LastWalkSteps += rs.walk_steps;
       this->LastTransparentJumps += rs.transparent_jumps;
+      this->LastExtremeSkips += rs.extreme_skips;
     }
     this->UpdateProgress(static_cast<double>(b + 1) / bands);
   }
@@ -921,4 +924,5 @@ void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastPlaneCertified: " << this->LastPlaneCertified << "\n";
   os << indent << "LastWalkSteps: " << this->LastWalkSteps << "\n";
   os << indent << "LastTransparentJumps: " << this->LastTransparentJumps << "\n";
+  os << indent << "LastExtremeSkips: " << this->LastExtremeSkips << "\n";
 }

@@ -206,8 +206,9 @@ public:
    * structure, hexahedron containment tests, structure node visits, gradient evaluations
    * (zero unless shading or a gradient opacity asks for them), rays stopped early, the
    * image size, and the fast path's own work: samples skipped in transparent cells, those of
-   * them placed by their cell's face planes alone (no inverse map), and cells crossed by face
-   * planes.
+   * them placed by their cell's face planes alone (no inverse map), cells crossed by face
+   * planes, jumps over transparent space, and an intensity projection's samples passed over
+   * in cells that cannot beat the ray's extreme so far.
    */
   vtkGetMacro(LastRenderSeconds, double);
   vtkGetMacro(LastRaySeconds, double);
@@ -224,6 +225,7 @@ public:
   vtkGetMacro(LastPlaneCertified, vtkTypeUInt64);
   vtkGetMacro(LastWalkSteps, vtkTypeUInt64);
   vtkGetMacro(LastTransparentJumps, vtkTypeUInt64);
+  vtkGetMacro(LastExtremeSkips, vtkTypeUInt64);
   ///@}
 
   ///@{
@@ -298,6 +300,7 @@ protected:
   vtkTypeUInt64 LastPlaneCertified;
   vtkTypeUInt64 LastWalkSteps;
   vtkTypeUInt64 LastTransparentJumps;
+  vtkTypeUInt64 LastExtremeSkips;
   int LastImageSize[2];
   int BuildCount;
   int ScalarUpdateCount;
