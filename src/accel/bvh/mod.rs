@@ -70,7 +70,7 @@ use std::marker::PhantomData;
 
 pub use binned_build::build_bvh;
 pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32, SectorQuery};
-pub use mask::NodeMask;
+pub use mask::{NodeMask, NodeRanges};
 pub use node_ray_tests::{
     arc_narrower_than_half_turn, arc_trig, sector_box, ArcTrig, NodeRayTest, NodeRayTests,
     BOX_AREA_LIMIT,
