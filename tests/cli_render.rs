@@ -428,12 +428,15 @@ fn render_takes_a_blend_mode() {
         assert_eq!(j["stats"]["samples_skipped"], 0, "{mode}");
         assert_eq!(j["stats"]["early_terminations"], 0, "{mode}");
         if mode == "max" {
-            // Cells that cannot beat a ray's maximum so far are passed over (a count that
-            // compositing never makes; this view's minima come last on their rays).
+            // Cells that cannot beat a ray's maximum so far are passed over, jumping to the
+            // next that may through the BVH (counts compositing never makes; this view's
+            // minima come last on their rays).
             assert!(j["stats"]["extreme_skips"].as_u64().unwrap() > 0);
+            assert!(j["stats"]["extreme_jumps"].as_u64().unwrap() > 0);
         }
     }
     assert_eq!(composite["stats"]["extreme_skips"], 0);
+    assert_eq!(composite["stats"]["extreme_jumps"], 0);
     let bytes = |name: &str| std::fs::read(dir.path().join(name)).expect("png written");
     assert_ne!(bytes("max.png"), bytes("c.png"));
     assert_ne!(bytes("max.png"), bytes("min.png"));

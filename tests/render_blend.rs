@@ -20,6 +20,11 @@ const STEP: f64 = 0.002;
 /// not boxes), scalar `s = x + z / 2`: along a ray down `−z` its maximum is `x + 1/2` (at the
 /// top face) and its minimum `x` (at the bottom face).
 fn slab() -> Mesh {
+    slab_of(|p| p.x + 0.5 * p.z)
+}
+
+/// [`slab`]'s cells with the point scalar `scalar(p)`.
+fn slab_of(scalar: impl Fn(DVec3) -> f64) -> Mesh {
     let n = 9;
     let mut points = Vec::new();
     for k in 0..n {
@@ -36,7 +41,7 @@ fn slab() -> Mesh {
             }
         }
     }
-    let scalars = points.iter().map(|p| p.x + 0.5 * p.z).collect();
+    let scalars = points.iter().map(|&p| scalar(p)).collect();
     let cells = hexahedra([n, n, n], &points);
     let kinds = vec![CellKind::Hexahedron; cells.len()];
     Mesh::from_parts(MeshParts {
@@ -209,20 +214,38 @@ fn projections_compute_none_of_compositing() {
 
 /// The fast path passes over the cells whose scalar range cannot beat the ray's extreme so
 /// far: where the extreme comes first on the ray (the maximum of rays down `−z`, the minimum of
-/// rays up `+z`) most located samples are passed over, most of them with no inverse map; in
-/// every direction the image is the paper path's, which interpolates every sample (a skip of
-/// a cell that could beat the extreme would show where the extreme comes last).
+/// rays up `+z`) a grid passes over most located samples, most of them with no inverse map,
+/// and a BVH jumps over most samples unlocated; in every direction the image is the paper
+/// path's, which interpolates every sample (a skip of a cell that could beat the extreme
+/// would show where the extreme comes last).
 #[test]
 fn projections_pass_over_cells_that_cannot_beat_the_extreme() {
-    let mesh = slab();
     let axis = Axis::Z;
     let tf = transfer(false);
+    // The slab, and a valley `x + |z − 0.6|` whose maximum down `−z` comes after a stretch
+    // of cells that cannot beat the first samples' (a jump must land before it).
+    for (mesh, first_wins) in [
+        (slab(), true),
+        (slab_of(|p| p.x + (p.z - 0.6).abs()), false),
+    ] {
+        projections_equal_the_paper_path(&mesh, &axis, &tf, first_wins);
+    }
+}
+
+/// The checks of [`projections_pass_over_cells_that_cannot_beat_the_extreme`] on `mesh`, whose
+/// rays' maximum down `−z` and minimum up `+z` come first where `first_wins`.
+fn projections_equal_the_paper_path(
+    mesh: &Mesh,
+    axis: &Axis,
+    tf: &TransferFunction,
+    first_wins: bool,
+) {
     for kind in StructureKind::ALL {
-        let accel = Accel::build(&mesh, kind, &axis, &AccelParams::default()).expect("build");
-        let volume = Volume::new(&mesh, &accel).expect("volume");
+        let accel = Accel::build(mesh, kind, axis, &AccelParams::default()).expect("build");
+        let volume = Volume::new(mesh, &accel).expect("volume");
         for blend in [Blend::Maximum, Blend::Minimum] {
-            let fast = Renderer::new(&volume, &tf, &options(RenderPath::Fast, blend)).unwrap();
-            let paper = Renderer::new(&volume, &tf, &options(RenderPath::Paper, blend)).unwrap();
+            let fast = Renderer::new(&volume, tf, &options(RenderPath::Fast, blend)).unwrap();
+            let paper = Renderer::new(&volume, tf, &options(RenderPath::Paper, blend)).unwrap();
             for (z, dir) in [(2.0, DVec3::NEG_Z), (-1.0, DVec3::Z)] {
                 let (mut f, mut p) = (RenderStats::default(), RenderStats::default());
                 for (x, y) in rays() {
@@ -239,16 +262,25 @@ fn projections_pass_over_cells_that_cannot_beat_the_extreme() {
                     "the paper path interpolates every sample"
                 );
                 let first = (blend == Blend::Maximum) == (dir == DVec3::NEG_Z);
-                if first {
-                    assert!(
-                        2 * f.extreme_skips > f.samples_located,
-                        "{kind} {blend:?} {dir}: {f:?}"
-                    );
-                    assert!(f.plane_certified > 0, "{kind} {blend:?} {dir}: {f:?}");
-                    assert!(
-                        f.hex_tests < p.hex_tests / 2,
-                        "{kind} {blend:?} {dir}: {f:?}"
-                    );
+                if first && !first_wins && !kind.is_grid() {
+                    // The valley's maximum down −z: a jump over the middle, then a new maximum.
+                    assert!(f.extreme_jumps > 0, "{kind} {blend:?} {dir}: {f:?}");
+                }
+                if first && first_wins {
+                    let why = format!("{kind} {blend:?} {dir}: {f:?}");
+                    assert!(f.extreme_skips > 0, "{why}");
+                    assert!(f.hex_tests < p.hex_tests / 2, "{why}");
+                    if kind.is_grid() {
+                        // Passed over sample by sample, most with no inverse map.
+                        assert_eq!(f.extreme_jumps, 0, "{why}");
+                        assert!(2 * f.extreme_skips > f.samples_located, "{why}");
+                        assert!(f.plane_certified > 0, "{why}");
+                    } else {
+                        // A BVH's node ranges let the ray jump to the next cell that may beat
+                        // the extreme: most samples are not even located.
+                        assert!(f.extreme_jumps > 0, "{why}");
+                        assert!(2 * f.samples_located < p.samples_located, "{why}");
+                    }
                 }
             }
         }

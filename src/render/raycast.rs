@@ -71,7 +71,10 @@
 //!   would add nothing); with a BVH, the ray then jumps to the next bound of a piece of a cell
 //!   that is not so ([`super::skip::Skipper::next_visible`] over the nodes that hold one,
 //!   [`Renderer::visible_nodes`]), passing over the samples before it, which lie in such
-//!   cells or outside the mesh, and locates the next sample from that cell. Where the table
+//!   cells or outside the mesh, and locates the next sample from that cell. An intensity
+//!   projection does the same with the cells whose scalar range cannot beat the ray's
+//!   extreme so far ([`Blend::may_replace_in`]), through each node's scalar range
+//!   ([`Renderer::extreme_nodes`]). Where the table
 //!   is transparent everywhere ([`TransferTable::transparent_everywhere`]) nothing could be
 //!   seen: no ray takes a sample, and no transparency table is made. With the same
 //!   neighbours, the image equals the paper path's up to the
@@ -108,7 +111,7 @@ use super::transparency::TransparentCells;
 use super::walk::{
     farthest_face, violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS,
 };
-use crate::accel::bvh::NodeMask;
+use crate::accel::bvh::{NodeMask, NodeRanges};
 use crate::accel::{Accel, Counters, Structure};
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
@@ -415,6 +418,12 @@ pub struct RenderStats {
     /// it (then also counted in `plane_certified`, with no inverse map). Counted in
     /// `samples_located`.
     pub extreme_skips: u64,
+    /// Jumps of an intensity projection's fast path over cells that cannot beat the ray's
+    /// extreme so far: from a sample in such a cell to the next bound of a piece of a cell
+    /// that may (BVH structures only, through [`Renderer::extreme_nodes`]; the samples passed
+    /// over are counted in `space_skips`, the node visits in `internal_visits` and
+    /// `leaf_visits`).
+    pub extreme_jumps: u64,
     /// Jumps of the fast path over transparent space: from a sample in a transparent cell to
     /// the next bound of a piece of a cell that is not (BVH structures only; the samples
     /// passed over are counted in `space_skips`, the node visits in `internal_visits` and
@@ -444,6 +453,7 @@ impl AddAssign for RenderStats {
         self.plane_certified += o.plane_certified;
         self.transparent_jumps += o.transparent_jumps;
         self.extreme_skips += o.extreme_skips;
+        self.extreme_jumps += o.extreme_jumps;
     }
 }
 
@@ -749,6 +759,7 @@ pub struct Derived {
     table: TransferTable,
     transparent: TransparentCells,
     visible: Option<Option<NodeMask>>,
+    extreme_nodes: Option<Option<NodeRanges>>,
 }
 
 /// A volume with a transfer table and options: casts rays and renders images.
@@ -765,6 +776,9 @@ pub struct Renderer<'a> {
     /// the fast path's jumps over transparent space (`None` for a grid); made with the
     /// transparent cells.
     visible: std::sync::OnceLock<Option<NodeMask>>,
+    /// The scalar range below each of the structure's nodes, for an intensity projection's
+    /// jumps over cells that cannot beat the extreme (`None` for a grid).
+    extreme_nodes: std::sync::OnceLock<Option<NodeRanges>>,
 }
 
 /// A bracket of a boundary crossing: `t_outside` outside the mesh, `t_inside` in cell
@@ -900,6 +914,7 @@ impl<'a> Renderer<'a> {
             clip_box,
             transparent: std::sync::OnceLock::new(),
             visible: std::sync::OnceLock::new(),
+            extreme_nodes: std::sync::OnceLock::new(),
         })
     }
 
@@ -917,6 +932,7 @@ impl<'a> Renderer<'a> {
             table: self.table,
             transparent,
             visible: self.visible.into_inner(),
+            extreme_nodes: self.extreme_nodes.into_inner(),
         })
     }
 
@@ -928,6 +944,9 @@ impl<'a> Renderer<'a> {
             let _ = self.transparent.set(derived.transparent);
             if let Some(visible) = derived.visible {
                 let _ = self.visible.set(visible);
+            }
+            if let Some(ranges) = derived.extreme_nodes {
+                let _ = self.extreme_nodes.set(ranges);
             }
         }
         self
@@ -965,6 +984,34 @@ impl<'a> Renderer<'a> {
         self.visible
             .get_or_init(|| self.make_visible_nodes(false))
             .as_ref()
+    }
+
+    /// The scalar range of the cells below each of the structure's nodes (`None` for a
+    /// grid), for an intensity projection's jumps over the cells that cannot beat a ray's
+    /// extreme: made on first use, on the calling thread, like [`Renderer::visible_nodes`]
+    /// ([`Renderer::render_rays`] makes it in parallel for a projection's fast path).
+    pub fn extreme_nodes(&self) -> Option<&NodeRanges> {
+        self.extreme_nodes
+            .get_or_init(|| self.make_extreme_nodes(false))
+            .as_ref()
+    }
+
+    fn make_extreme_nodes(&self, parallel: bool) -> Option<NodeRanges> {
+        let range = |c: u32| self.volume.cell_range(c);
+        macro_rules! of {
+            ($b:expr) => {
+                Some(if parallel {
+                    $b.node_ranges(range)
+                } else {
+                    $b.node_ranges_sequential(range)
+                })
+            };
+        }
+        match self.volume.accel.structure() {
+            Structure::CartBvh(b) => of!(b),
+            Structure::CylBvh(b) => of!(b),
+            Structure::Grid(_) => None,
+        }
     }
 
     fn make_visible_nodes(&self, parallel: bool) -> Option<NodeMask> {
@@ -1583,6 +1630,13 @@ impl<'a> Renderer<'a> {
         } else {
             None
         };
+        // A projection's fast path jumps over cells that cannot beat the extreme through a
+        // BVH's node ranges.
+        let extreme_nodes = if fast && !compositing {
+            self.extreme_nodes()
+        } else {
+            None
+        };
         // The extreme scalar of a maximum- or minimum-intensity projection, and its `t`.
         let extreme: Cell<Option<(f64, f64)>> = Cell::new(None);
         // A projection's fast path passes over cells that cannot beat the extreme so far.
@@ -1615,8 +1669,9 @@ impl<'a> Renderer<'a> {
         let mut first_cell: Option<u32> = None;
         // The ray lies in a piece's bound up to here (from the last empty-space query).
         let mut bound_until = f64::NEG_INFINITY;
-        // The ray may lie in a visible cell's piece up to here (from the last jump query).
-        let mut visible_until = f64::NEG_INFINITY;
+        // The ray may lie in a piece of a cell that adds something (visible, or able to beat
+        // the extreme) up to here (from the last jump query).
+        let mut adds_until = f64::NEG_INFINITY;
         // A jump passed over the position before the next sample (in the mesh or not), and
         // the cell of the visible piece it jumped to (where the next location starts).
         let mut jumped = false;
@@ -1867,16 +1922,25 @@ impl<'a> Renderer<'a> {
             if first_cell.is_none() {
                 first_cell = Some(cell);
             }
-            // (Only the fast path has a mask: the paper path samples every cell.)
-            if is_transparent(cell) {
-                stats.samples_skipped += 1;
-                // Up to the next bound of a visible cell's piece the ray meets only
-                // transparent cells or the space outside the mesh: nothing to composite (the
-                // last composited sample, if any, was closed by this one). Jump there when
+            // (Only the fast path passes over cells: the paper path samples every one.)
+            let transparent_here = is_transparent(cell);
+            if transparent_here || outranked(cell) {
+                // A sample in a transparent cell (compositing), or in a cell that cannot beat
+                // the extreme (a projection), adds nothing; a certified one's coordinates were
+                // never computed. Up to the next bound of a piece of a cell that may add
+                // something the ray meets only such cells or the space outside the mesh (the
+                // last composited sample, if any, was closed by this one): jump there when
                 // the next sample lies before it, and locate afresh.
+                if transparent_here {
+                    stats.samples_skipped += 1;
+                } else {
+                    stats.extreme_skips += 1;
+                }
                 let t_next = sample_t(k);
-                if let Some(nodes) = visible_nodes.filter(|_| t_next > visible_until) {
-                    let next = skipper().next_visible(
+                let best = extreme.get().map(|e| e.0);
+                let next = match (visible_nodes, extreme_nodes) {
+                    _ if t_next <= adds_until => None,
+                    (Some(nodes), _) => Some(skipper().next_visible(
                         origin,
                         dir,
                         t_next,
@@ -1884,10 +1948,27 @@ impl<'a> Renderer<'a> {
                         nodes,
                         |c| !is_transparent(c),
                         &mut counters,
-                    );
+                    )),
+                    (None, Some(ranges)) => Some(skipper().next_kept(
+                        origin,
+                        dir,
+                        t_next,
+                        t_out,
+                        ranges.len(),
+                        |i| {
+                            ranges
+                                .get(i)
+                                .is_some_and(|r| opts.blend.may_replace_in(r, best))
+                        },
+                        |c| !outranked(c),
+                        &mut counters,
+                    )),
+                    (None, None) => None,
+                };
+                if let Some(next) = next {
                     let until = match next {
                         Some((te, tx, _)) if te <= t_next => {
-                            visible_until = tx;
+                            adds_until = tx;
                             continue;
                         }
                         Some((te, _, c)) => {
@@ -1896,7 +1977,11 @@ impl<'a> Renderer<'a> {
                         }
                         None => t_out,
                     };
-                    stats.transparent_jumps += 1;
+                    if transparent_here {
+                        stats.transparent_jumps += 1;
+                    } else {
+                        stats.extreme_jumps += 1;
+                    }
                     skip_until(&mut k, stats, until);
                     prev = None;
                     prev_in = false;
@@ -1904,11 +1989,6 @@ impl<'a> Renderer<'a> {
                     proved_exit = None;
                     (outside_until, surface_cell) = (f64::NEG_INFINITY, None);
                 }
-                continue;
-            }
-            if outranked(cell) {
-                // (A certified sample's coordinates were never computed: it ends here too.)
-                stats.extreme_skips += 1;
                 continue;
             }
             let param = param.clamp(DVec3::ZERO, DVec3::ONE);
@@ -2131,6 +2211,9 @@ impl<'a> Renderer<'a> {
         // than by the first ray (which would make them alone, sequentially, while the other
         // threads wait).
         if self.options.path == RenderPath::Fast && !self.nothing_visible() {
+            if self.options.blend != Blend::Composite && self.extreme_nodes.get().is_none() {
+                let _ = self.extreme_nodes.set(self.make_extreme_nodes(true));
+            }
             if self.transparent.get().is_none() {
                 let mask = TransparentCells::new(&self.volume.field.cell_ranges, &self.table);
                 let _ = self.transparent.set(mask);

@@ -225,16 +225,46 @@ impl<'a> Skipper<'a> {
         visible: impl Fn(u32) -> bool,
         counters: &mut Counters,
     ) -> Option<(f64, f64, u32)> {
-        let nodes = match self.accel.structure() {
+        let node = |i: usize| visible_nodes.contains(i);
+        self.next_kept(
+            origin,
+            dir,
+            t0,
+            t1,
+            visible_nodes.len(),
+            node,
+            visible,
+            counters,
+        )
+    }
+
+    /// [`Skipper::next_visible`] for any choice of nodes and cells: the first bound of a piece
+    /// of a cell that `cell` keeps, within nodes that `node` keeps (by their index in the
+    /// BVH's depth-first order; a node must be kept wherever a kept cell's piece lies below
+    /// it). `nodes` is the number of nodes the choice was made for: `None` unless it is the
+    /// BVH's, and for a grid. An intensity projection keeps the nodes and cells whose scalar
+    /// range may beat the ray's extreme ([`crate::accel::bvh::NodeRanges`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn next_kept(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        nodes: usize,
+        node: impl Fn(usize) -> bool,
+        cell: impl Fn(u32) -> bool,
+        counters: &mut Counters,
+    ) -> Option<(f64, f64, u32)> {
+        let bvh_nodes = match self.accel.structure() {
             Structure::CartBvh(b) => b.nodes.len(),
             Structure::CylBvh(b) => b.nodes.len(),
             Structure::Grid(_) => return None,
         };
-        if visible_nodes.len() != nodes {
+        if nodes != bvh_nodes {
             return None;
         }
-        let node = |i: usize| visible_nodes.contains(i);
-        self.bvh_first_hit(origin, dir, t0, t1, counters, node, visible)
+        self.bvh_first_hit(origin, dir, t0, t1, counters, node, cell)
             .flatten()
     }
 
