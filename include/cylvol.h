@@ -528,6 +528,12 @@ typedef struct CylvolRenderStats {
    * scalar range cannot beat the ray's extreme so far (fast path).
    */
   uint64_t extreme_skips;
+  /**
+   * Jumps of an intensity projection over cells that cannot beat the ray's extreme to the
+   * next cell that may (fast path, BVH structures; the samples passed over are counted in
+   * `space_skips`).
+   */
+  uint64_t extreme_jumps;
 } CylvolRenderStats;
 
 #ifdef __cplusplus

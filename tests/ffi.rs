@@ -1654,6 +1654,7 @@ fn intensity_projections_match_the_rust_api() {
         assert_eq!(out.f32, reference, "{code:?}");
         // The same cells passed over as unable to beat the extreme, counted through the ABI.
         assert_eq!(stats.extreme_skips, rust.extreme_skips, "{code:?}");
+        assert_eq!(stats.extreme_jumps, rust.extreme_jumps, "{code:?}");
         assert_eq!(stats.samples_located, rust.samples_located, "{code:?}");
         images.push(out.f32);
     }

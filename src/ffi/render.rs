@@ -155,6 +155,10 @@ pub struct CylvolRenderStats {
     /// Samples of an intensity projection passed over without interpolation, in cells whose
     /// scalar range cannot beat the ray's extreme so far (fast path).
     pub extreme_skips: u64,
+    /// Jumps of an intensity projection over cells that cannot beat the ray's extreme to the
+    /// next cell that may (fast path, BVH structures; the samples passed over are counted in
+    /// `space_skips`).
+    pub extreme_jumps: u64,
 }
 
 impl From<(f64, RenderStats)> for CylvolRenderStats {
@@ -181,6 +185,7 @@ impl From<(f64, RenderStats)> for CylvolRenderStats {
             surface_visits: s.surface_visits,
             transparent_jumps: s.transparent_jumps,
             extreme_skips: s.extreme_skips,
+            extreme_jumps: s.extreme_jumps,
         }
     }
 }

@@ -229,6 +229,7 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->LastSamplesSkipped = this->LastPlaneCertified = this->LastWalkSteps = 0;
   this->LastTransparentJumps = 0;
   this->LastExtremeSkips = 0;
+  this->LastExtremeJumps = 0;
   this->LastImageSize[0] = this->LastImageSize[1] = 0;
   this->BuildCount = 0;
   this->ScalarUpdateCount = 0;
@@ -364,6 +365,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastSamplesSkipped = this->LastPlaneCertified = this->LastWalkSteps = 0;
   this->LastTransparentJumps = 0;
   this->LastExtremeSkips = 0;
+  this->LastExtremeJumps = 0;
   this->LastRaySeconds = 0.0;
 
   // ---- settings that draw nothing: refused before any build ------------------------------
@@ -842,6 +844,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       this->LastWalkSteps += rs.walk_steps;
       this->LastTransparentJumps += rs.transparent_jumps;
       this->LastExtremeSkips += rs.extreme_skips;
+      this->LastExtremeJumps += rs.extreme_jumps;
     }
     this->UpdateProgress(static_cast<double>(b + 1) / bands);
   }
@@ -925,4 +928,5 @@ void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastWalkSteps: " << this->LastWalkSteps << "\n";
   os << indent << "LastTransparentJumps: " << this->LastTransparentJumps << "\n";
   os << indent << "LastExtremeSkips: " << this->LastExtremeSkips << "\n";
+  os << indent << "LastExtremeJumps: " << this->LastExtremeJumps << "\n";
 }

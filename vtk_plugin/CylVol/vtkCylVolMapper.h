@@ -208,7 +208,7 @@ public:
    * image size, and the fast path's own work: samples skipped in transparent cells, those of
    * them placed by their cell's face planes alone (no inverse map), cells crossed by face
    * planes, jumps over transparent space, and an intensity projection's samples passed over
-   * in cells that cannot beat the ray's extreme so far.
+   * in cells that cannot beat the ray's extreme so far and its jumps over such cells.
    */
   vtkGetMacro(LastRenderSeconds, double);
   vtkGetMacro(LastRaySeconds, double);
@@ -226,6 +226,7 @@ public:
   vtkGetMacro(LastWalkSteps, vtkTypeUInt64);
   vtkGetMacro(LastTransparentJumps, vtkTypeUInt64);
   vtkGetMacro(LastExtremeSkips, vtkTypeUInt64);
+  vtkGetMacro(LastExtremeJumps, vtkTypeUInt64);
   ///@}
 
   ///@{
@@ -301,6 +302,7 @@ protected:
   vtkTypeUInt64 LastWalkSteps;
   vtkTypeUInt64 LastTransparentJumps;
   vtkTypeUInt64 LastExtremeSkips;
+  vtkTypeUInt64 LastExtremeJumps;
   int LastImageSize[2];
   int BuildCount;
   int ScalarUpdateCount;
