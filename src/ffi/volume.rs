@@ -85,8 +85,8 @@ pub struct CylvolVolume {
     /// across renders and gathered again when the scalars change.
     pub(crate) field: Option<ScalarField>,
     /// What the last render derived from its transfer table and this volume (transparent
-    /// cells, visible nodes), taken over by the next render of the same table; dropped when
-    /// the scalars change.
+    /// cells, visible nodes, the nodes' scalar ranges), taken over by the next render of the
+    /// same table; dropped when the scalars change.
     pub(crate) derived: Option<Derived>,
     pub(crate) default_step: f64,
     pub(crate) build: CylvolBuildStats,

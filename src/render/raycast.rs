@@ -750,8 +750,8 @@ impl Accum {
 }
 
 /// What a renderer derives from its transfer table and volume before its rays: the cells the
-/// table makes wholly transparent and the structure's nodes that hold a visible cell
-/// ([`Renderer::into_derived`]). A later renderer of the same volume (same mesh, structure and
+/// table makes wholly transparent, the structure's nodes that hold a visible cell, and (for
+/// an intensity projection) the scalar range below each node ([`Renderer::into_derived`]). A later renderer of the same volume (same mesh, structure and
 /// scalars) takes them over where its table is the same ([`Renderer::with_derived`]), as a
 /// mapper's next frame does, instead of making them again.
 #[derive(Debug)]
