@@ -287,7 +287,8 @@ impl std::str::FromStr for Interpolation {
 /// extreme sample's `t` where its opacity reaches `depth_opacity`. Instead the fast path
 /// passes over the samples in cells whose scalar range cannot beat the ray's extreme so far
 /// ([`Blend::may_replace_in`]; [`RenderStats::extreme_skips`]): no inverse map where the
-/// cell's face planes settle that the sample lies in it, and no interpolation.
+/// cell's face planes settle that the sample lies in it, and no interpolation; with a BVH it
+/// jumps over such cells to the next that may ([`RenderStats::extreme_jumps`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Blend {
     /// Front-to-back emission-absorption compositing (VTK's `COMPOSITE_BLEND`).
@@ -330,9 +331,7 @@ impl Blend {
             (Blend::Minimum, Some(b)) => s < b,
         }
     }
-}
 
-impl Blend {
     /// Whether a cell whose scalar lies in `range` (`[min, max]`) may hold a sample that
     /// replaces `best` as the ray's extreme: an interpolated scalar lies within its cell's
     /// corner values, so a cell whose maximum is not above the ray's maximum (whose minimum
@@ -750,10 +749,11 @@ impl Accum {
 }
 
 /// What a renderer derives from its transfer table and volume before its rays: the cells the
-/// table makes wholly transparent, the structure's nodes that hold a visible cell, and (for
-/// an intensity projection) the scalar range below each node ([`Renderer::into_derived`]). A later renderer of the same volume (same mesh, structure and
-/// scalars) takes them over where its table is the same ([`Renderer::with_derived`]), as a
-/// mapper's next frame does, instead of making them again.
+/// table makes wholly transparent, the structure's nodes that hold a visible cell, and (for an
+/// intensity projection) the scalar range below each node ([`Renderer::into_derived`]). A
+/// later renderer of the same volume (same mesh, structure and scalars) takes them over where
+/// its table is the same ([`Renderer::with_derived`]), as a mapper's next frame does, instead
+/// of making them again.
 #[derive(Debug)]
 pub struct Derived {
     table: TransferTable,

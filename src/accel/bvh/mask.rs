@@ -113,7 +113,9 @@ impl<B: BvhBounds> Bvh<B> {
             .par_iter()
             .map(|n| self.leaf_range(n, &range))
             .collect();
-        self.ranges_upwards(leaves)
+        NodeRanges {
+            ranges: self.spread_upwards(leaves, EMPTY_RANGE, union),
+        }
     }
 
     /// [`Bvh::node_ranges`] on the calling thread only (for ranges made lazily, as
@@ -124,7 +126,9 @@ impl<B: BvhBounds> Bvh<B> {
             .iter()
             .map(|n| self.leaf_range(n, &range))
             .collect();
-        self.ranges_upwards(leaves)
+        NodeRanges {
+            ranges: self.spread_upwards(leaves, EMPTY_RANGE, union),
+        }
     }
 
     /// A leaf's union of its pieces' cells' intervals (empty for an internal node).
@@ -140,16 +144,23 @@ impl<B: BvhBounds> Bvh<B> {
             .fold(EMPTY_RANGE, |acc, r| union(acc, range(r.cell)))
     }
 
-    /// The leaves' intervals spread to their ancestors.
-    fn ranges_upwards(&self, mut ranges: Vec<[f64; 2]>) -> NodeRanges {
+    /// The leaves' values (one per node, the internal nodes' ignored) spread to their
+    /// ancestors by `join`, from the last node to the first (both children of a node come
+    /// after it in the depth-first order); `none` stands for a missing child.
+    fn spread_upwards<T: Copy>(
+        &self,
+        mut values: Vec<T>,
+        none: T,
+        join: impl Fn(T, T) -> T,
+    ) -> Vec<T> {
         for i in (0..self.nodes.len()).rev() {
             let node = &self.nodes[i];
             if node.count == 0 {
-                let child = |c: usize| ranges.get(c).copied().unwrap_or(EMPTY_RANGE);
-                ranges[i] = union(child(i + 1), child(node.index as usize));
+                let child = |c: usize| values.get(c).copied().unwrap_or(none);
+                values[i] = join(child(i + 1), child(node.index as usize));
             }
         }
-        NodeRanges { ranges }
+        values
     }
 
     /// The nodes whose subtrees hold a piece of a cell for which `keep(cell)`: the leaves
@@ -161,7 +172,9 @@ impl<B: BvhBounds> Bvh<B> {
             .par_iter()
             .map(|n| n.count > 0 && self.leaf_holds(n.index, n.count, &keep))
             .collect();
-        self.close_upwards(leaves)
+        NodeMask {
+            held: self.spread_upwards(leaves, false, |a, b| a || b),
+        }
     }
 
     /// [`Bvh::nodes_holding`] on the calling thread only (for a mask made lazily, whose
@@ -172,7 +185,9 @@ impl<B: BvhBounds> Bvh<B> {
             .iter()
             .map(|n| n.count > 0 && self.leaf_holds(n.index, n.count, &keep))
             .collect();
-        self.close_upwards(leaves)
+        NodeMask {
+            held: self.spread_upwards(leaves, false, |a, b| a || b),
+        }
     }
 
     fn leaf_holds(&self, first: u32, count: u32, keep: &impl Fn(u32) -> bool) -> bool {
@@ -182,18 +197,6 @@ impl<B: BvhBounds> Bvh<B> {
             .unwrap_or(&[])
             .iter()
             .any(|r| keep(r.cell))
-    }
-
-    /// The leaves' flags spread to their ancestors.
-    fn close_upwards(&self, mut held: Vec<bool>) -> NodeMask {
-        for i in (0..self.nodes.len()).rev() {
-            let node = &self.nodes[i];
-            if node.count == 0 {
-                let child = |c: usize| held.get(c).copied().unwrap_or(false);
-                held[i] = child(i + 1) || child(node.index as usize);
-            }
-        }
-        NodeMask { held }
     }
 }
 
