@@ -287,6 +287,52 @@ fn projections_equal_the_paper_path(
     }
 }
 
+/// A projection of the valley (whose rays jump over cells that cannot beat the maximum) moved
+/// 10⁶ units away, rays too, gives the same pixels within 1/255 and makes the same jumps.
+#[test]
+fn a_projection_far_away_is_the_same() {
+    let offset = DVec3::new(1e6, -1e6, 1e6);
+    let near = slab_of(|p| p.x + (p.z - 0.6).abs());
+    let mut parts = near.clone().into_parts();
+    for p in &mut parts.points {
+        *p += offset;
+    }
+    let far = Mesh::from_parts(parts).expect("moved slab");
+    let (near_axis, far_axis) = (Axis::Z, Axis::new(offset, DVec3::Z).expect("axis"));
+    let tf = transfer(false);
+    for kind in [StructureKind::CylBvh, StructureKind::CartBvh] {
+        let build = |m: &Mesh, a: &Axis| Accel::build(m, kind, a, &AccelParams::default());
+        let (near_accel, far_accel) = (
+            build(&near, &near_axis).unwrap(),
+            build(&far, &far_axis).unwrap(),
+        );
+        let near_volume = Volume::new(&near, &near_accel).expect("volume");
+        let far_volume = Volume::new(&far, &far_accel).expect("volume");
+        for blend in [Blend::Maximum, Blend::Minimum] {
+            let o = options(RenderPath::Fast, blend);
+            let a = Renderer::new(&near_volume, &tf, &o).expect("renderer");
+            let b = Renderer::new(&far_volume, &tf, &o).expect("renderer");
+            let (mut sa, mut sb) = (RenderStats::default(), RenderStats::default());
+            for (x, y) in rays() {
+                let origin = DVec3::new(x, y, 2.0);
+                let got = a.cast(origin, DVec3::NEG_Z, f64::NAN, &mut sa).rgba;
+                let away = b
+                    .cast(origin + offset, DVec3::NEG_Z, f64::NAN, &mut sb)
+                    .rgba;
+                assert!(
+                    max_difference(got, away) <= 1.0 / 255.0,
+                    "{kind} {blend:?} at ({x}, {y}): {got:?} against {away:?} far away"
+                );
+                assert!(got[3] > 0.0);
+            }
+            if blend == Blend::Maximum {
+                assert!(sa.extreme_jumps > 0, "{kind}: {sa:?}");
+            }
+            assert_eq!(sa.extreme_jumps, sb.extreme_jumps, "{kind} {blend:?}");
+        }
+    }
+}
+
 #[test]
 fn blend_names_parse() {
     for b in Blend::ALL {
