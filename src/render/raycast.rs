@@ -874,6 +874,18 @@ enum Local {
     Undecided,
 }
 
+/// `Some(expr)` with `b` bound to the structure's BVH (of boxes or of sectors), `None` for a
+/// grid: what the renderer derives per node, written once for both kinds of BVH.
+macro_rules! on_bvh {
+    ($structure:expr, $b:ident => $e:expr) => {
+        match $structure {
+            Structure::CartBvh($b) => Some($e),
+            Structure::CylBvh($b) => Some($e),
+            Structure::Grid(_) => None,
+        }
+    };
+}
+
 /// Samples per ray beyond which a render is refused (a step far too small for the mesh).
 pub const MAX_SAMPLES_PER_RAY: f64 = 1e7;
 
@@ -998,39 +1010,21 @@ impl<'a> Renderer<'a> {
 
     fn make_extreme_nodes(&self, parallel: bool) -> Option<NodeRanges> {
         let range = |c: u32| self.volume.cell_range(c);
-        macro_rules! of {
-            ($b:expr) => {
-                Some(if parallel {
-                    $b.node_ranges(range)
-                } else {
-                    $b.node_ranges_sequential(range)
-                })
-            };
-        }
-        match self.volume.accel.structure() {
-            Structure::CartBvh(b) => of!(b),
-            Structure::CylBvh(b) => of!(b),
-            Structure::Grid(_) => None,
-        }
+        on_bvh!(self.volume.accel.structure(), b => if parallel {
+            b.node_ranges(range)
+        } else {
+            b.node_ranges_sequential(range)
+        })
     }
 
     fn make_visible_nodes(&self, parallel: bool) -> Option<NodeMask> {
         let transparent = self.transparent_cells();
         let visible = |c: u32| !transparent.contains(c);
-        macro_rules! of {
-            ($b:expr) => {
-                Some(if parallel {
-                    $b.nodes_holding(visible)
-                } else {
-                    $b.nodes_holding_sequential(visible)
-                })
-            };
-        }
-        match self.volume.accel.structure() {
-            Structure::CartBvh(b) => of!(b),
-            Structure::CylBvh(b) => of!(b),
-            Structure::Grid(_) => None,
-        }
+        on_bvh!(self.volume.accel.structure(), b => if parallel {
+            b.nodes_holding(visible)
+        } else {
+            b.nodes_holding_sequential(visible)
+        })
     }
 
     /// The ray's `[t_in, t_out]` within the mesh's (padded) box and `t ≥ 0`, if not empty.

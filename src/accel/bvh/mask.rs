@@ -225,6 +225,24 @@ mod tests {
         }
     }
 
+    /// `cells` cells' boxes scattered by `next` in a 10-unit cube, every `split`-th cell in
+    /// two pieces.
+    fn scattered(next: &mut impl FnMut() -> f64, cells: u32, split: u32) -> Pieces<Aabb> {
+        let mut pieces = Pieces {
+            bounds: Vec::new(),
+            cells: Vec::new(),
+        };
+        for c in 0..cells {
+            for _ in 0..1 + (c % split == 0) as usize {
+                let lo = DVec3::new(next(), next(), next()) * 10.0;
+                let size = DVec3::new(next(), next(), next());
+                pieces.bounds.push(Aabb::new(lo, lo + size));
+                pieces.cells.push(c);
+            }
+        }
+        pieces
+    }
+
     /// The union of `range` over node `i`'s subtree, by walking it.
     fn range_below<B: super::BvhBounds>(
         bvh: &super::Bvh<B>,
@@ -249,21 +267,12 @@ mod tests {
     #[test]
     fn node_ranges_equal_a_walk_of_each_subtree_for_every_preset() {
         let mut next = crate::testing::uniform(54321);
-        let mut bounds = Vec::new();
-        let mut cells = Vec::new();
-        for c in 0..2000u32 {
-            for _ in 0..1 + (c % 5 == 0) as usize {
-                let lo = DVec3::new(next(), next(), next()) * 10.0;
-                bounds.push(Aabb::new(lo, lo + DVec3::new(next(), next(), next())));
-                cells.push(c);
-            }
-        }
+        let pieces = scattered(&mut next, 2000, 5);
         let values: Vec<f64> = (0..2000).map(|_| next() * 100.0 - 50.0).collect();
         let range = |c: u32| {
             let v = values[c as usize];
             [v, v + (c % 3) as f64]
         };
-        let pieces = Pieces { bounds, cells };
         for (name, params) in BvhParams::PRESETS {
             let bvh = build_bvh(&pieces, &params);
             let ranges = bvh.node_ranges(range);
@@ -289,18 +298,7 @@ mod tests {
 
     #[test]
     fn the_mask_equals_a_walk_of_each_subtree_for_every_preset() {
-        // Boxes scattered by a fixed sequence; two pieces per cell for some cells.
-        let mut next = crate::testing::uniform(12345);
-        let mut bounds = Vec::new();
-        let mut cells = Vec::new();
-        for c in 0..3000u32 {
-            for _ in 0..1 + (c % 7 == 0) as usize {
-                let lo = DVec3::new(next(), next(), next()) * 10.0;
-                bounds.push(Aabb::new(lo, lo + DVec3::new(next(), next(), next())));
-                cells.push(c);
-            }
-        }
-        let pieces = Pieces { bounds, cells };
+        let pieces = scattered(&mut crate::testing::uniform(12345), 3000, 7);
         let keeps: [&(dyn Fn(u32) -> bool + Sync); 4] =
             [&|_| false, &|_| true, &|c| c % 97 == 3, &|c| {
                 (c / 100) % 2 == 0
