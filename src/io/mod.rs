@@ -7,10 +7,12 @@
 //! | legacy VTK (`.vtk`), ASCII and BINARY, `UNSTRUCTURED_GRID` and `STRUCTURED_GRID` | [`legacy::read`] | [`legacy::write`] (BINARY unstructured grid) |
 //! | VTU (`.vtu`), ascii, base64, raw appended, zlib, 32/64-bit headers | [`vtu::read`] | [`vtu::write`] |
 //! | PLOT3D whole single-grid `*xyz.bin` + `*q.bin` | [`plot3d::read`] | — |
+//! | VTK image data (`.vti`), one `Float32` array over a 2-D image (a render's depth) | — | [`vti::write_point_scalars`] |
 
 pub mod legacy;
 pub mod plot3d;
 pub mod structured;
+pub mod vti;
 pub mod vtu;
 
 use std::path::{Path, PathBuf};

@@ -90,4 +90,39 @@ impl Image {
             .map_err(enc)?;
         writer.finish().map_err(enc)
     }
+
+    /// The depth image as VTK stores images: rows bottom to top, NaN where a pixel has no
+    /// depth sample (`+∞` in [`Image::depth`]), so that VTK's and ParaView's ranges and colour
+    /// maps skip it.
+    pub fn depth_bottom_up(&self) -> Vec<f32> {
+        let w = self.width as usize;
+        if w == 0 {
+            return Vec::new();
+        }
+        self.depth
+            .chunks_exact(w)
+            .rev()
+            .flatten()
+            .map(|&d| if d.is_infinite() { f32::NAN } else { d })
+            .collect()
+    }
+
+    /// Writes [`Image::depth_bottom_up`] as VTK image data (`.vti`), one point array `depth`
+    /// over a `width × height` image ([`crate::io::vti::write_point_scalars`]).
+    pub fn write_depth_vti(&self, path: &Path) -> Result<(), Error> {
+        let io_error = |source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        let mut out = BufWriter::new(File::create(path).map_err(io_error)?);
+        crate::io::vti::write_point_scalars(
+            &mut out,
+            self.width,
+            self.height,
+            "depth",
+            &self.depth_bottom_up(),
+        )
+        .and_then(|()| std::io::Write::flush(&mut out))
+        .map_err(io_error)
+    }
 }

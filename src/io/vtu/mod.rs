@@ -24,6 +24,8 @@ mod write;
 mod xml;
 
 pub use write::{ByteOrder, Encoding, HeaderType, VtuOptions};
+/// XML attribute escaping, shared with the other VTK XML writer ([`super::vti`]).
+pub(crate) use xml::escape as xml_escape;
 
 use crate::{Error, Mesh};
 

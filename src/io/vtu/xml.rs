@@ -290,7 +290,7 @@ pub(super) fn unescape(raw: &str) -> Option<Cow<'_, str>> {
 }
 
 /// Escapes text for use inside a double-quoted attribute value.
-pub(super) fn escape(text: &str) -> Cow<'_, str> {
+pub(crate) fn escape(text: &str) -> Cow<'_, str> {
     if !text.contains(['<', '>', '&', '"', '\'', '\n', '\r', '\t']) {
         return Cow::Borrowed(text);
     }
