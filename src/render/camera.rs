@@ -193,11 +193,25 @@ impl Camera {
         elevation: f64,
         zoom: f64,
     ) -> Camera {
-        let mut c = Camera::reset(bounds, width, height, false);
-        c.azimuth(azimuth);
-        c.elevation(elevation);
-        c.zoom(zoom);
-        c
+        Camera::reset(bounds, width, height, false).turned(azimuth, elevation, zoom)
+    }
+
+    /// The camera moved as the `--view` preset moves the reset one: [`Camera::azimuth`], then
+    /// [`Camera::elevation`] and [`Camera::zoom`].
+    ///
+    /// ```
+    /// use cylvol::render::{Camera, Projection};
+    /// let bounds = [0.0, 1.0, 0.0, 1.0, 0.0, 1.0];
+    /// let c = Camera::reset(bounds, 64, 64, true).turned(90.0, 0.0, 2.0);
+    /// let Projection::Parallel(scale) = c.projection else { unreachable!() };
+    /// assert!((scale - 3f64.sqrt() / 4.0).abs() < 1e-12);
+    /// assert!((c.eye.x - c.focal.x) > 0.0 && (c.eye.z - c.focal.z).abs() < 1e-9);
+    /// ```
+    pub fn turned(mut self, azimuth: f64, elevation: f64, zoom: f64) -> Camera {
+        self.azimuth(azimuth);
+        self.elevation(elevation);
+        self.zoom(zoom);
+        self
     }
 
     /// Rotates the eye about the view-up vector through the focal point by `degrees`.
