@@ -2,6 +2,7 @@
 
 mod accuracy;
 mod bench;
+mod camera;
 mod demo;
 mod gen;
 mod info;
@@ -29,7 +30,7 @@ enum Command {
     /// Build the four acceleration structures and report their size, with cyl ÷ cart ratios.
     Stats(stats::StatsArgs),
     /// Volume-render a mesh to a PNG image.
-    Render(render::RenderArgs),
+    Render(Box<render::RenderArgs>),
     /// Render with each structure, paper and fast paths, and report the work and times.
     Bench(bench::BenchArgs),
     /// Error against a converged reference, and time, as the sample step shrinks.

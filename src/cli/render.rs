@@ -1,9 +1,10 @@
 //! `cylvol render INPUT -o OUT.png [--structure …] [--size WxH] [--step S] [--scalar NAME]
 //! [--view AZIMUTH,ELEVATION,ZOOM] [--path paper|fast] [--shade] [--interpolation linear|nearest]
 //! [--gradient-opacity M:G,M:G,...] [--opacity S:A,...] [--color S:R:G:B,...]
-//! [--unit-distance D] [--blend composite|max|min]`: renders one image and
-//! reports the time and the work counters on standard error (as JSON on standard output with
-//! `--json`).
+//! [--unit-distance D] [--blend composite|max|min] [--camera POSITION:FOCAL:UP]
+//! [--view-angle DEG] [--parallel [--parallel-scale S]] [--depth OUT.vti [--depth-opacity A]]`:
+//! renders one image (and its depth image with `--depth`) and reports the time and the work
+//! counters on standard error (as JSON on standard output with `--json`).
 //!
 //! Defaults: `--structure auto` (the cylindrical BVH when the detected axis is clear, else the
 //! Cartesian BVH), `--size 512x512`, `--step` half the mean cell size
@@ -12,13 +13,15 @@
 //! are maximum- and minimum-intensity projections, [`cylvol::render::Blend`]). The transfer function is
 //! [`cylvol::render::TransferFunction::default_for_range`] over the scalar range with a
 //! maximum opacity of 0.3 per hundredth of the mesh's diagonal, or what `--opacity`, `--color`
-//! and `--unit-distance` set ([`super::transfer`]); the background is black.
+//! and `--unit-distance` set ([`super::transfer`]); the background is black. The camera
+//! options are [`super::camera`]'s.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use serde_json::json;
 
+use super::camera::CameraArgs;
 use super::transfer::TransferArgs;
 use super::{log, scene, InputArgs};
 use cylvol::accel::AccelParams;
@@ -44,9 +47,8 @@ pub struct RenderArgs {
     /// Sample spacing in world units (default: half the mean cell size).
     #[arg(long)]
     step: Option<f64>,
-    /// Camera preset AZIMUTH,ELEVATION,ZOOM in degrees, degrees and a factor.
-    #[arg(long, value_name = "AZIMUTH,ELEVATION,ZOOM", value_parser = super::scene::parse_view, allow_hyphen_values = true)]
-    view: Option<[f64; 3]>,
+    #[command(flatten)]
+    camera: CameraArgs,
     /// paper (locate every sample through the structure) or fast.
     #[arg(long, default_value = "fast")]
     path: String,
@@ -70,9 +72,25 @@ pub struct RenderArgs {
     blend: String,
     #[command(flatten)]
     transfer: TransferArgs,
+    /// Also write the depth image as VTK image data (`.vti`, a `depth` point array over a
+    /// WxH image, rows bottom to top): per pixel, the distance from the camera (from its plane
+    /// with `--parallel`) of the sample at which the accumulated opacity reaches
+    /// `--depth-opacity`, NaN where it never does.
+    #[arg(long, value_name = "OUT.vti")]
+    depth: Option<PathBuf>,
+    /// The accumulated opacity, in (0, 1], at which a pixel's depth is taken [default: 0.5].
+    #[arg(long, value_name = "A", value_parser = parse_depth_opacity, requires = "depth")]
+    depth_opacity: Option<f64>,
     /// Print the figures as JSON on standard output.
     #[arg(long)]
     json: bool,
+}
+
+fn parse_depth_opacity(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(a) if a > 0.0 && a <= 1.0 => Ok(a),
+        _ => Err(format!("depth opacity '{s}' must be a number in (0, 1]")),
+    }
 }
 
 fn parse_gradient_opacity(s: &str) -> Result<Box<GradientOpacity>, String> {
@@ -138,6 +156,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     options.interpolation = interpolation;
     options.gradient_opacity = args.gradient_opacity.as_deref().copied();
     options.blend = blend;
+    if let Some(a) = args.depth_opacity {
+        options.depth_opacity = a;
+    }
     // The fast path walks from a sample's cell to its face neighbours (across duplicated
     // seams too); the paper path locates every sample from scratch and needs none.
     let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh, &accel));
@@ -145,11 +166,15 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     if let Some(n) = &neighbours {
         renderer = renderer.with_neighbours(n);
     }
-    let camera = scene::camera(&mesh, width, height, args.view);
+    let camera = args.camera.camera(&mesh, width, height)?;
     let started = Instant::now();
     let (image, stats) = renderer.render(&camera, None)?;
     let frame_s = started.elapsed().as_secs_f64();
     image.write_png(&args.output, Some([0.0; 3]))?;
+    if let Some(depth) = &args.depth {
+        image.write_depth_vti(depth)?;
+        log(format_args!("wrote the depth image {}", depth.display()));
+    }
     log(format_args!(
         "rendered {width}x{height} with {kind} ({}, step {step:.4e}) in {frame_s:.3} s: {} samples ({} skipped), {} hexahedra tested, {} internal / {} leaf visits, {} gradients; wrote {}",
         path.name(),

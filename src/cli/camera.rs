@@ -1,0 +1,125 @@
+//! The camera options of `cylvol render`: the `--view AZIMUTH,ELEVATION,ZOOM` preset around
+//! the data, or a camera set as VTK sets one (`--camera POSITION:FOCAL_POINT:VIEW_UP`,
+//! `vtkCamera::SetPosition`, `SetFocalPoint`, `SetViewUp`), with `--view-angle`
+//! (`SetViewAngle`), `--parallel` (`ParallelProjectionOn`) and `--parallel-scale`
+//! (`SetParallelScale`).
+//!
+//! Without `--camera` the preset places the camera ([`cylvol::render::Camera::reset`], then
+//! azimuth, elevation and zoom), in parallel projection with `--parallel` (the reset's parallel
+//! scale is the bounding sphere's radius, which the zoom divides); `--view-angle` and
+//! `--parallel-scale` then replace what the preset made, as the `vtkCamera` calls would after
+//! `ResetCamera`. With `--camera` the view angle defaults to VTK's 30° and the parallel scale
+//! to the bounding sphere's radius.
+
+use glam::DVec3;
+
+use super::scene;
+use cylvol::render::{Camera, Projection};
+use cylvol::{Error, Mesh};
+
+/// The camera options.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct CameraArgs {
+    /// Camera preset AZIMUTH,ELEVATION,ZOOM in degrees, degrees and a factor.
+    #[arg(long, value_name = "AZIMUTH,ELEVATION,ZOOM", value_parser = scene::parse_view, allow_hyphen_values = true)]
+    pub view: Option<[f64; 3]>,
+    /// The camera as VTK sets it, instead of `--view`: its position, focal point and view-up
+    /// vector, each `X,Y,Z` in world units, e.g. `0,0,50:0,0,0:0,1,0`.
+    #[arg(long, value_name = "X,Y,Z:X,Y,Z:X,Y,Z", value_parser = parse_camera, allow_hyphen_values = true, conflicts_with = "view")]
+    pub camera: Option<[DVec3; 3]>,
+    /// The perspective camera's full vertical view angle in degrees, in (0, 180) (VTK's
+    /// `ViewAngle`; default 30, which `--view`'s zoom divides).
+    #[arg(long, value_name = "DEGREES", value_parser = parse_view_angle, conflicts_with = "parallel")]
+    pub view_angle: Option<f64>,
+    /// Parallel projection (VTK's `ParallelProjection`) instead of perspective.
+    #[arg(long)]
+    pub parallel: bool,
+    /// With `--parallel`: half the viewport height in world units (VTK's `ParallelScale`;
+    /// default the bounding sphere's radius, which `--view`'s zoom divides).
+    #[arg(long, value_name = "S", value_parser = parse_parallel_scale, requires = "parallel")]
+    pub parallel_scale: Option<f64>,
+}
+
+/// Parses `--camera X,Y,Z:X,Y,Z:X,Y,Z` (position, focal point, view-up; finite numbers).
+pub fn parse_camera(s: &str) -> Result<[DVec3; 3], String> {
+    let bad = || format!("camera '{s}' is not POSITION:FOCAL_POINT:VIEW_UP, each X,Y,Z");
+    let vectors: Vec<DVec3> = s
+        .split(':')
+        .map(|part| {
+            let v: Vec<f64> = part
+                .split(',')
+                .map(|x| x.trim().parse::<f64>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| bad())?;
+            match v[..] {
+                [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => {
+                    Ok(DVec3::new(x, y, z))
+                }
+                _ => Err(bad()),
+            }
+        })
+        .collect::<Result<_, _>>()?;
+    <[DVec3; 3]>::try_from(vectors).map_err(|_| bad())
+}
+
+/// Parses `--view-angle DEGREES`, in (0, 180).
+pub fn parse_view_angle(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(a) if a > 0.0 && a < 180.0 => Ok(a),
+        _ => Err(format!(
+            "view angle '{s}' must be a number of degrees in (0, 180)"
+        )),
+    }
+}
+
+/// Parses `--parallel-scale S`, positive and finite.
+pub fn parse_parallel_scale(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        _ => Err(format!(
+            "parallel scale '{s}' must be a positive, finite length"
+        )),
+    }
+}
+
+impl CameraArgs {
+    /// The camera these options describe for a `width × height` image of `mesh`, checked: a
+    /// degenerate one (the position on the focal point, the view-up along the view) is an
+    /// error.
+    pub fn camera(&self, mesh: &Mesh, width: u32, height: u32) -> Result<Camera, Error> {
+        let bounds = mesh.bounds();
+        let mut camera = match self.camera {
+            Some([eye, focal, up]) => {
+                let reset = Camera::reset(bounds, width, height, self.parallel);
+                Camera {
+                    eye,
+                    focal,
+                    up,
+                    projection: reset.projection,
+                }
+            }
+            None => {
+                let [azimuth, elevation, zoom] = self.view.unwrap_or(scene::DEFAULT_VIEW);
+                Camera::reset(bounds, width, height, self.parallel).turned(azimuth, elevation, zoom)
+            }
+        };
+        if let Some(angle) = self.view_angle {
+            camera.projection = Projection::Perspective(angle);
+        }
+        if let Some(scale) = self.parallel_scale {
+            camera.projection = Projection::Parallel(scale);
+        }
+        let checked = match camera.projection {
+            Projection::Perspective(a) => {
+                Camera::perspective(camera.eye, camera.focal, camera.up, a)
+            }
+            Projection::Parallel(s) => Camera::parallel(camera.eye, camera.focal, camera.up, s),
+        };
+        let option = if self.camera.is_some() {
+            "--camera"
+        } else {
+            "--view"
+        };
+        checked.map_err(|e| Error::Invalid(format!("{option}: {e}")))
+    }
+}
