@@ -9,7 +9,7 @@
 //! scale is the bounding sphere's radius, which the zoom divides); `--view-angle` and
 //! `--parallel-scale` then replace what the preset made, as the `vtkCamera` calls would after
 //! `ResetCamera`. With `--camera` the view angle defaults to VTK's 30° and the parallel scale
-//! to the bounding sphere's radius.
+//! to the reset's ([`cylvol::render::Camera::reset`]).
 
 use glam::DVec3;
 
@@ -35,7 +35,8 @@ pub struct CameraArgs {
     #[arg(long)]
     pub parallel: bool,
     /// With `--parallel`: half the viewport height in world units (VTK's `ParallelScale`;
-    /// default the bounding sphere's radius, which `--view`'s zoom divides).
+    /// default as `ResetCamera` sets it, the bounding sphere's radius, over the aspect ratio
+    /// when the image is taller than wide; `--view`'s zoom divides it).
     #[arg(long, value_name = "S", value_parser = parse_parallel_scale, requires = "parallel")]
     pub parallel_scale: Option<f64>,
 }
