@@ -24,6 +24,20 @@ fn cylvol(args: &[&str]) -> Output {
         .expect("cylvol runs")
 }
 
+/// `render INPUT -o OUT --size SIZE`, then each group of `options` in order.
+fn render_args<'a>(
+    input: &'a str,
+    out: &'a str,
+    size: &'a str,
+    options: &[&[&'a str]],
+) -> Vec<&'a str> {
+    let mut args = vec!["render", input, "-o", out, "--size", size];
+    for group in options {
+        args.extend_from_slice(group);
+    }
+    args
+}
+
 fn json_of(args: &[&str]) -> Value {
     let out = cylvol(args);
     assert!(
@@ -314,16 +328,7 @@ fn boundary_segments_cost_tests_and_buy_accuracy() {
     let png = dir.path().join("x.png");
     let png = png.to_str().unwrap();
     let render = |extra: &[&str]| {
-        let mut args = vec![
-            "render",
-            "pump-rotor:5000",
-            "-o",
-            png,
-            "--size",
-            "48x48",
-            "--json",
-        ];
-        args.extend_from_slice(extra);
+        let args = render_args("pump-rotor:5000", png, "48x48", &[&["--json"], extra]);
         json_of(&args)["stats"].clone()
     };
     let cut = render(&[]);
@@ -358,16 +363,7 @@ fn render_takes_interpolation_and_gradient_opacity_and_counts_gradients_only_for
     let out = dir.path().join("r.png");
     let out = out.to_str().expect("utf-8 path");
     let gradients = |extra: &[&str]| {
-        let mut args = vec![
-            "render",
-            "pump-inlet:3000",
-            "-o",
-            out,
-            "--size",
-            "24x24",
-            "--json",
-        ];
-        args.extend_from_slice(extra);
+        let args = render_args("pump-inlet:3000", out, "24x24", &[&["--json"], extra]);
         json_of(&args)["stats"]["gradient_evaluations"]
             .as_u64()
             .expect("a count")
@@ -381,8 +377,7 @@ fn render_takes_interpolation_and_gradient_opacity_and_counts_gradients_only_for
         &["--gradient-opacity", "0:2"][..],
         &["--gradient-opacity", "zero"][..],
     ] {
-        let mut args = vec!["render", "pump-inlet:3000", "-o", out, "--size", "8x8"];
-        args.extend_from_slice(bad);
+        let args = render_args("pump-inlet:3000", out, "8x8", &[bad]);
         let o = cylvol(&args);
         assert!(!o.status.success(), "{bad:?} accepted");
         let err = String::from_utf8_lossy(&o.stderr);
@@ -401,19 +396,15 @@ fn render_takes_a_blend_mode() {
     let dir = tempfile::tempdir().expect("temp dir");
     let png = |name: &str| dir.path().join(name).to_str().expect("utf-8").to_string();
     let run = |out: &str, extra: &[&str]| {
-        let mut args = vec![
-            "render",
+        let args = render_args(
             "pump-inlet:3000",
-            "-o",
             out,
-            "--size",
             "24x24",
-            "--shade",
-            "--opacity",
-            "0%:0,60%:0,100%:1",
-            "--json",
-        ];
-        args.extend_from_slice(extra);
+            &[
+                &["--shade", "--opacity", "0%:0, 60%:0, 100%:1", "--json"],
+                extra,
+            ],
+        );
         json_of(&args)
     };
     let composite = run(&png("c.png"), &[]);
@@ -458,20 +449,15 @@ fn render_takes_a_transfer_function_like_vtk_and_skips_what_it_makes_transparent
     let dir = tempfile::tempdir().expect("temp dir");
     let png = |name: &str| dir.path().join(name).to_str().expect("utf-8").to_string();
     let render = |out: &str, extra: &[&str]| {
-        let mut args = vec![
-            "render",
+        let args = render_args(
             "pump-rotor:3000",
-            "-o",
             out,
-            "--size",
             "32x32",
-            "--structure",
-            "cyl-bvh",
-            "--view",
-            "30,20,2",
-            "--json",
-        ];
-        args.extend_from_slice(extra);
+            &[
+                &["--structure", "cyl-bvh", "--view", "30, 20, 2", "--json"],
+                extra,
+            ],
+        );
         json_of(&args)["stats"].clone()
     };
     let count = |v: &Value, key: &str| v[key].as_u64().expect("a count");
@@ -525,8 +511,7 @@ fn render_takes_a_transfer_function_like_vtk_and_skips_what_it_makes_transparent
         (&["--unit-distance", "-5%"][..], "--unit-distance"),
     ] {
         let out = png("bad.png");
-        let mut args = vec!["render", "pump-rotor:3000", "-o", &out, "--size", "8x8"];
-        args.extend_from_slice(bad);
+        let args = render_args("pump-rotor:3000", &out, "8x8", &[bad]);
         let o = cylvol(&args);
         assert!(!o.status.success(), "{bad:?} accepted");
         let err = String::from_utf8_lossy(&o.stderr);
@@ -545,22 +530,23 @@ fn opacity_convention_attenuation_lets_more_through() {
     let render = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
         let out = out.to_str().unwrap().to_string();
-        let mut args = vec![
-            "render",
+        let args = render_args(
             "pump-rotor:4000",
-            "-o",
             &out,
-            "--size",
             "24x24",
-            "--opacity",
-            "0%:0.2,100%:0.9",
-            "--color",
-            "0%:1:1:1",
-            "--unit-distance",
-            "5%",
-            "--json",
-        ];
-        args.extend_from_slice(extra);
+            &[
+                &[
+                    "--opacity",
+                    "0%:0.2, 100%:0.9",
+                    "--color",
+                    "0%:1:1:1",
+                    "--unit-distance",
+                    "5%",
+                    "--json",
+                ],
+                extra,
+            ],
+        );
         let stats = json_of(&args)["stats"].clone();
         let decoder = png::Decoder::new(std::fs::File::open(&out).unwrap());
         let mut reader = decoder.read_info().unwrap();

@@ -113,9 +113,7 @@ impl<B: BvhBounds> Bvh<B> {
             .par_iter()
             .map(|n| self.leaf_range(n, &range))
             .collect();
-        NodeRanges {
-            ranges: self.spread_upwards(leaves, EMPTY_RANGE, union),
-        }
+        self.node_ranges_from_leaves(leaves)
     }
 
     /// [`Bvh::node_ranges`] on the calling thread only (for ranges made lazily, as
@@ -126,6 +124,11 @@ impl<B: BvhBounds> Bvh<B> {
             .iter()
             .map(|n| self.leaf_range(n, &range))
             .collect();
+        self.node_ranges_from_leaves(leaves)
+    }
+
+    /// The node ranges from each node's own leaf range (empty for internal nodes).
+    fn node_ranges_from_leaves(&self, leaves: Vec<[f64; 2]>) -> NodeRanges {
         NodeRanges {
             ranges: self.spread_upwards(leaves, EMPTY_RANGE, union),
         }
