@@ -1,7 +1,8 @@
 //! Ray-casting measurements (a plain program, not criterion: it prints a table).
 //!
-//! `cargo bench --bench render -- [DATASET[:CELLS]] [SIZE] [FRAMES] [STRUCTURES] [PATHS]
-//! [SEGMENTS]` (default `pump-rotor:200000 256 3 all both segments`): builds the face
+//! `cargo bench --bench render -- [INPUT] [SIZE] [FRAMES] [STRUCTURES] [PATHS] [SEGMENTS]`
+//! (default `pump-rotor:200000 256 3 all both segments`; `INPUT` a dataset `NAME[:CELLS]` or a
+//! mesh file, as the CLI takes it, `--scalar=NAME` its scalar array): builds the face
 //! neighbours and each chosen structure once (not timed as frames), then renders `FRAMES`
 //! frames per structure and path at `SIZE × SIZE` with the default step and view, and prints
 //! the best frame time (wall and process CPU seconds, the latter less sensitive to other
@@ -25,8 +26,9 @@ use std::time::Instant;
 mod timing;
 
 use cylvol::accel::{Accel, AccelParams, StructureKind};
-use cylvol::datasets::{generate, Dataset};
 use cylvol::geometry::bounds::Aabb;
+use cylvol::input::Input;
+use cylvol::io::ReadOptions;
 use cylvol::render::{
     default_step, face_neighbours, Camera, RenderOptions, RenderPath, RenderStats, Renderer,
     TransferFunction, Volume,
@@ -40,17 +42,14 @@ fn main() {
         .iter()
         .find_map(|a| a.strip_prefix("--step-factor="))
         .map_or(1.0, |f| f.parse().expect("a step factor"));
+    let scalar = all
+        .iter()
+        .find_map(|a| a.strip_prefix("--scalar="))
+        .map(str::to_string);
     let args: Vec<String> = all.into_iter().filter(|a| !a.starts_with("--")).collect();
     let spec = args.first().map_or("pump-rotor:200000", |s| s.as_str());
     let size: u32 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(256);
     let frames: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(3);
-    let (name, cells) = spec.split_once(':').unwrap_or((spec, "200000"));
-    let dataset = match name {
-        "pump-inlet" => Dataset::PumpInlet,
-        "pump-diffuser" => Dataset::PumpDiffuser,
-        _ => Dataset::PumpRotor,
-    };
-    let cells: usize = cells.parse().unwrap_or(200_000);
     let kinds: Vec<StructureKind> = match args.get(3).map(|s| s.as_str()) {
         None | Some("all") => StructureKind::ALL.to_vec(),
         Some(list) => list
@@ -63,7 +62,13 @@ fn main() {
         Some(p) => vec![p.parse().expect("paper, fast or both")],
     };
     let segments = args.get(5).map_or(true, |s| s != "whole");
-    let mesh = generate(dataset, cells).expect("dataset");
+    let input = Input::parse(spec).expect("an input");
+    let mut mesh = input.load(&ReadOptions::default()).expect("input");
+    if let Some(name) = &scalar {
+        mesh.set_active_scalar(name).expect("scalar");
+    }
+    let synthetic = matches!(input, Input::Synthetic(..));
+    let name = input.label();
     let axis = cylvol::axis::detect(&mesh);
     let neighbours = {
         let check = Accel::build(
@@ -74,11 +79,13 @@ fn main() {
         )
         .expect("build");
         let n = face_neighbours(&mesh, &check);
-        assert_eq!(
-            n.hanging_faces(),
-            Some(0),
-            "the synthetic datasets are conforming"
-        );
+        if synthetic {
+            assert_eq!(
+                n.hanging_faces(),
+                Some(0),
+                "the synthetic datasets are conforming"
+            );
+        }
         n
     };
     let step = default_step(&mesh) * step_factor;
