@@ -18,8 +18,8 @@ use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::io::structured::hexahedra;
 use cylvol::render::boundary::BISECTIONS;
 use cylvol::render::{
-    Camera, Image, RenderOptions, RenderPath, RenderStats, Renderer, Shading, TransferFunction,
-    Volume,
+    Camera, ClipPlanes, Image, RenderOptions, RenderPath, RenderStats, Renderer, Shading,
+    TransferFunction, Volume,
 };
 use cylvol::{CellKind, DataArray, Mesh, MeshParts};
 use glam::{DVec2, DVec3};
@@ -347,6 +347,13 @@ fn renderer_options(step: f64, path: RenderPath) -> RenderOptions {
 /// two steps (two crossings between two samples are not seen by sampling); they are skipped,
 /// at most 10 % may be.
 fn check_beer_lambert(case: &Case, step: f64) {
+    check_beer_lambert_clipped(case, step, ClipPlanes::NONE);
+}
+
+/// [`check_beer_lambert`] with clipping planes: the analytic intervals are cut to the span
+/// the planes keep, so the transmittance checks that the volume ends exactly on a plane that
+/// cuts the mesh (the ray starting or ending in it) and nowhere else.
+fn check_beer_lambert_clipped(case: &Case, step: f64, planes: ClipPlanes) {
     let (alpha, unit) = (0.4, 0.5);
     let sigma = -(1.0f64 - alpha).ln() / unit;
     let color = [0.2, 0.6, 1.0];
@@ -360,19 +367,31 @@ fn check_beer_lambert(case: &Case, step: f64) {
             Accel::build(&case.mesh, kind, &case.axis, &AccelParams::default()).expect("build");
         let volume = Volume::new(&case.mesh, &accel).expect("volume");
         for (path, with_neighbours) in PATHS.into_iter().flat_map(|p| [(p, false), (p, true)]) {
-            let r = Renderer::new(&volume, &tf, &renderer_options(step, path)).expect("renderer");
+            let mut options = renderer_options(step, path);
+            options.clip_planes = planes;
+            let r = Renderer::new(&volume, &tf, &options).expect("renderer");
             let r = if with_neighbours {
                 r.with_neighbours(&neighbours)
             } else {
                 r
             };
             let (mut checked, mut skipped, mut inside) = (0usize, 0usize, 0usize);
+            let mut cut_in_mesh = 0usize;
             let mut max_rel = 0.0f64;
             for (o, d, what) in &rays {
                 let mut stats = RenderStats::default();
                 let res = r.cast(*o, *d, f64::INFINITY, &mut stats);
                 assert!(res.rgba.iter().all(|v| v.is_finite()), "{}: NaN", case.name);
-                let intervals = (case.intervals)(*o, *d);
+                let kept = planes.clip_span(*o, *d, (f64::NEG_INFINITY, f64::INFINITY));
+                let whole = (case.intervals)(*o, *d);
+                let intervals: Vec<(f64, f64)> = whole
+                    .iter()
+                    .filter_map(|&(a, b)| {
+                        let (lo, hi) = kept?;
+                        let (a, b) = (a.max(lo), b.min(hi));
+                        (a < b).then_some((a, b))
+                    })
+                    .collect();
                 let Some((t_in, t_out)) = r.clip(*o, *d) else {
                     assert!(
                         intervals.iter().all(|(a, b)| b - a < 1e-9),
@@ -414,6 +433,9 @@ fn check_beer_lambert(case: &Case, step: f64) {
                 }
                 checked += 1;
                 inside += usize::from(n > 0);
+                // A plane's crossing inside the mesh, where the volume must end.
+                let in_mesh = |t: f64| whole.iter().any(|&(a, b)| t > a && t < b);
+                cut_in_mesh += usize::from(kept.is_some_and(|(lo, hi)| in_mesh(lo) || in_mesh(hi)));
                 let length: f64 = intervals.iter().map(|(a, b)| (b - a).max(0.0)).sum();
                 let expected = (-sigma * length).exp();
                 let got = 1.0 - res.rgba[3];
@@ -442,8 +464,9 @@ fn check_beer_lambert(case: &Case, step: f64) {
                 max_rel = max_rel.max((got - expected).abs() / expected);
             }
             eprintln!(
-                "{}: {kind} {} (neighbours: {with_neighbours}): {checked} rays checked ({inside} through the mesh), {skipped} ambiguous, max relative transmittance error {max_rel:.2e}",
+                "{}{}: {kind} {} (neighbours: {with_neighbours}): {checked} rays checked ({inside} through the mesh, {cut_in_mesh} cut by a plane in it), {skipped} ambiguous, max relative transmittance error {max_rel:.2e}",
                 case.name,
+                if planes.is_empty() { "" } else { " (clipped)" },
                 path.name()
             );
             assert!(
@@ -456,6 +479,11 @@ fn check_beer_lambert(case: &Case, step: f64) {
                 "{}: too few rays inside",
                 case.name
             );
+            assert!(
+                planes.is_empty() || cut_in_mesh * 4 > checked,
+                "{}: {cut_in_mesh} of {checked} rays cut by a plane in the mesh",
+                case.name
+            );
         }
     }
 }
@@ -463,6 +491,27 @@ fn check_beer_lambert(case: &Case, step: f64) {
 #[test]
 fn constant_medium_is_crack_free_in_a_closed_annulus() {
     check_beer_lambert(&annulus(true), 0.0137);
+}
+
+/// Two planes across the annulus, slanted to every axis: one cuts a cap off its side (rays
+/// start and end in the mesh on it), the other its top, through the axis and the seam.
+fn annulus_clip_planes() -> ClipPlanes {
+    ClipPlanes::new(&[
+        ClipPlanes::equation(
+            DVec3::new(-0.55, 0.1, 0.5),
+            DVec3::new(1.0, 0.3, 0.2).normalize(),
+        ),
+        ClipPlanes::equation(
+            DVec3::new(0.0, 0.0, 0.8),
+            DVec3::new(0.15, -0.2, -1.0).normalize(),
+        ),
+    ])
+    .expect("two planes")
+}
+
+#[test]
+fn constant_medium_ends_exactly_on_clipping_planes() {
+    check_beer_lambert_clipped(&annulus(true), 0.0137, annulus_clip_planes());
 }
 
 #[test]

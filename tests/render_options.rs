@@ -2,14 +2,16 @@
 //! so a two-valued field shows two colours only) and gradient opacity (a factor of the
 //! gradient magnitude on the opacity per unit distance; gradients evaluated only when it or
 //! shading is on; zero below a threshold hides a constant volume; one everywhere changes
-//! nothing; a constant factor equals scaling the opacity per unit distance).
+//! nothing; a constant factor equals scaling the opacity per unit distance) and clipping
+//! planes (a plane that keeps the mesh changes nothing, one that keeps none of it samples
+//! nothing; `tests/render.rs` checks the exact transmittance of rays that planes cut).
 
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::Axis;
 use cylvol::io::structured::hexahedra;
 use cylvol::render::{
-    Camera, GradientOpacity, Image, Interpolation, RenderOptions, RenderPath, RenderStats,
-    Renderer, TransferFunction, Volume,
+    Camera, ClipPlanes, GradientOpacity, Image, Interpolation, RenderOptions, RenderPath,
+    RenderStats, Renderer, TransferFunction, Volume,
 };
 use cylvol::{CellKind, DataArray, Mesh, MeshParts};
 use glam::DVec3;
@@ -238,5 +240,35 @@ fn a_constant_factor_scales_the_opacity_per_unit_distance() {
         assert!(b.rgba.iter().any(|p| p[3] > 0.3));
         let diff = a.max_abs_difference(&b);
         assert!(diff < 1e-6, "step {step}: {diff}");
+    }
+}
+
+#[test]
+fn clipping_planes_keep_all_or_nothing_of_the_mesh_as_they_say() {
+    let mesh = smooth(5);
+    let tf = TransferFunction::default_for_range(0.0, 2.6, 0.6, 0.2);
+    let plane =
+        |x: f64| ClipPlanes::new(&[ClipPlanes::equation(DVec3::new(x, 0.0, 0.0), DVec3::X)]);
+    for kind in StructureKind::ALL {
+        for path in PATHS {
+            let (plain, sp) = render(&mesh, kind, &tf, |o| o.path = path);
+            assert!(plain.rgba.iter().any(|p| p[3] > 0.3));
+            // x ≥ −1 holds the whole (sheared) cube: the same image and work.
+            let (all, sa) = render(&mesh, kind, &tf, |o| {
+                o.path = path;
+                o.clip_planes = plane(-1.0).expect("plane");
+            });
+            assert_eq!(plain.rgba, all.rgba, "{kind} {}", path.name());
+            assert_eq!(plain.depth, all.depth);
+            assert_eq!(sp, sa);
+            // x ≥ 2 holds none of it: nothing drawn and no sample taken.
+            let (none, sn) = render(&mesh, kind, &tf, |o| {
+                o.path = path;
+                o.clip_planes = plane(2.0).expect("plane");
+            });
+            assert!(none.rgba.iter().all(|p| *p == [0.0; 4]));
+            assert!(none.depth.iter().all(|d| d.is_infinite()));
+            assert_eq!((sn.rays, sn.samples, sn.hex_tests), (24 * 24, 0, 0));
+        }
     }
 }

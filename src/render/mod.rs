@@ -21,6 +21,7 @@
 pub mod accuracy;
 pub mod boundary;
 pub mod camera;
+pub mod clip;
 pub mod image;
 pub mod march;
 pub mod plot;
@@ -37,6 +38,7 @@ pub mod walk;
 pub use camera::{
     Camera, CameraFrame, MatrixRays, Projection, RayGenerator, RaySource, DEFAULT_VIEW_ANGLE,
 };
+pub use clip::{ClipPlanes, MAX_CLIP_PLANES};
 pub use image::Image;
 pub use raycast::{
     default_step, Blend, Derived, Interpolation, Neighbours, NoNeighbours, RayResult,

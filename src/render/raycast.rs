@@ -4,9 +4,11 @@
 //! # Sampling
 //! A ray (origin `o`, unit direction `d`) is clipped to the mesh's bounding box (padded by
 //! `1e-9` of its diagonal so samples on the boundary are kept) and to `t ≥ 0` (a camera inside
-//! the mesh starts at the eye), then to the opaque-geometry depth if one is given. Samples lie
-//! at `t_k = t_in + (k + ½)·step`, `k = 0, 1, …` while `t_k < t_out`; each stands for a segment
-//! of length `step` (midpoint rule), so the transfer table's opacities are corrected to `step`.
+//! the mesh starts at the eye), then to the clipping planes if any
+//! ([`RenderOptions::clip_planes`]), then to the opaque-geometry depth if one is given. Samples
+//! lie at `t_k = t_in + (k + ½)·step`, `k = 0, 1, …` while `t_k < t_out`; each stands for a
+//! segment of length `step` (midpoint rule), so the transfer table's opacities are corrected to
+//! `step`.
 //!
 //! # Boundary-aware segments
 //! Where a located sample follows an unlocated one (or the ray's start), or an unlocated one
@@ -23,8 +25,12 @@
 //! crossing search count in [`RenderStats::hex_tests`] and
 //! [`RenderStats::boundary_refinements`], not in the sample counts; a point outside the box of
 //! the mesh's points (the ray's end on the clip box, typically) is outside with no search.
-//! Where the opaque-geometry depth stops a ray inside the mesh, the last sample keeps its full
-//! step.
+//! Where a clipping plane starts a ray inside the mesh, the first sample stands for the ray
+//! from the plane (its step starts there); where one ends it inside the mesh, the last sample
+//! ends at the plane, as at a boundary crossing (a piece of the mesh between a plane and the
+//! boundary that holds no sample is not seen, as a chord shorter than a step is not). Where
+//! the opaque-geometry depth stops a ray
+//! inside the mesh, the last sample keeps its full step.
 //!
 //! # Interpolation and gradient opacity
 //! A located sample's scalar is the trilinear interpolant of its cell's corner values, or with
@@ -100,6 +106,7 @@ use serde::Serialize;
 
 use super::boundary::{face_violation, interpolate_crossing, partial_opacity, BISECTIONS};
 use super::camera::{Camera, RayGenerator, RaySource};
+use super::clip::ClipPlanes;
 use super::image::Image;
 use super::march::{boundary_face_crossing, boundary_plane_crossing, March};
 use super::ray_faces::{FaceBins, RayFaces, TileFaces};
@@ -497,12 +504,16 @@ pub struct RenderOptions {
     pub gradient_opacity: Option<GradientOpacity>,
     /// How the samples make the pixel (default compositing; see [`Blend`]).
     pub blend: Blend,
+    /// Clipping planes (default none): each ray is rendered only where every plane keeps it
+    /// (see [`super::clip`]); where a plane cuts the mesh the volume ends there, as at its
+    /// boundary.
+    pub clip_planes: ClipPlanes,
 }
 
 impl RenderOptions {
     /// Defaults for a `width × height` image with the given step: fast path, no shading,
     /// early termination at 0.99, depth at 0.5, 16-pixel tiles, 1024 table entries, boundary
-    /// segments on, linear interpolation, no gradient opacity, compositing.
+    /// segments on, linear interpolation, no gradient opacity, compositing, no clipping plane.
     pub fn new(width: u32, height: u32, step: f64) -> RenderOptions {
         RenderOptions {
             width,
@@ -518,6 +529,7 @@ impl RenderOptions {
             interpolation: Interpolation::Linear,
             gradient_opacity: None,
             blend: Blend::Composite,
+            clip_planes: ClipPlanes::NONE,
         }
     }
 }
@@ -1027,8 +1039,15 @@ impl<'a> Renderer<'a> {
         })
     }
 
-    /// The ray's `[t_in, t_out]` within the mesh's (padded) box and `t ≥ 0`, if not empty.
+    /// The ray's `[t_in, t_out]` within the mesh's (padded) box, `t ≥ 0` and the clipping
+    /// planes, if not empty.
     pub fn clip(&self, origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
+        let span = self.box_span(origin, dir)?;
+        self.options.clip_planes.clip_span(origin, dir, span)
+    }
+
+    /// The ray's `[t_in, t_out]` within the mesh's (padded) box and `t ≥ 0`, if not empty.
+    fn box_span(&self, origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
         let (mut t_in, mut t_out) = (0.0f64, f64::INFINITY);
         for a in 0..3 {
             let (o, d) = (origin[a], dir[a]);
@@ -1600,15 +1619,21 @@ impl<'a> Renderer<'a> {
         if self.nothing_visible() {
             return out;
         }
-        let Some((t_in, t_out)) = self.clip(origin, dir) else {
+        let opts = &self.options;
+        let Some(box_span) = self.box_span(origin, dir) else {
             return out;
         };
-        let t_out = if t_stop.is_nan() {
-            t_out
-        } else {
-            t_out.min(t_stop)
+        let Some((t_in, t_out)) = opts.clip_planes.clip_span(origin, dir, box_span) else {
+            return out;
         };
-        let opts = &self.options;
+        // Whether a clipping plane moved the ray's start (which may then lie in the mesh) or
+        // its end (where, in the mesh, the last sample's segment ends).
+        let starts_on_plane = t_in > box_span.0;
+        let (t_out, ends_on_plane) = if t_stop.is_nan() || t_stop >= t_out {
+            (t_out, t_out < box_span.1)
+        } else {
+            (t_stop, false)
+        };
         let step = opts.step;
         let vol = self.volume;
         let mesh = vol.mesh;
@@ -1715,8 +1740,9 @@ impl<'a> Renderer<'a> {
                 None => (f64::NEG_INFINITY, None),
             }
         };
-        // A ray starting on the (padded) box of the mesh starts outside it.
-        let (mut outside_until, mut surface_cell) = if t_in > 0.0 {
+        // A ray starting on the (padded) box of the mesh starts outside it; one starting at
+        // the eye or on a clipping plane may start inside.
+        let (mut outside_until, mut surface_cell) = if t_in > 0.0 && !starts_on_plane {
             next_surface_crossing(t_in)
         } else {
             (f64::NEG_INFINITY, None)
@@ -2111,7 +2137,8 @@ impl<'a> Renderer<'a> {
                 }
             }
         }
-        // The ray's end: where it is outside the mesh, the last sample ends at the crossing.
+        // The ray's end: where it is outside the mesh, the last sample ends at the crossing;
+        // where it is in the mesh on a clipping plane, at the plane.
         if let Some(l) = acc.last.take() {
             let seg = Segment {
                 origin,
@@ -2121,22 +2148,25 @@ impl<'a> Renderer<'a> {
                 t: t_out,
                 inside_cell: l.inside.0,
             };
-            if t_out.is_finite()
-                && self
+            if t_out.is_finite() {
+                if self
                     .boundary_locate(seg, l.inside.0, l.inside.1, &mut counters, stats)
                     .is_none()
-            {
-                let e = self.crossing(
-                    faces,
-                    origin,
-                    dir,
-                    t_out,
-                    l.t,
-                    l.inside,
-                    &mut counters,
-                    stats,
-                );
-                acc.exit(l, e, step, opts.depth_opacity);
+                {
+                    let e = self.crossing(
+                        faces,
+                        origin,
+                        dir,
+                        t_out,
+                        l.t,
+                        l.inside,
+                        &mut counters,
+                        stats,
+                    );
+                    acc.exit(l, e, step, opts.depth_opacity);
+                } else if ends_on_plane {
+                    acc.exit(l, t_out, step, opts.depth_opacity);
+                }
             }
         }
         if first_cell.is_some() {
