@@ -19,6 +19,11 @@
 #include <stdint.h>
 
 /**
+ * The most clipping planes a render takes (`CylvolRenderParams::clip_planes`).
+ */
+#define CYLVOL_MAX_CLIP_PLANES 6
+
+/**
  * The result of every fallible call.
  */
 typedef enum CylvolStatus {
@@ -431,6 +436,18 @@ typedef struct CylvolRenderParams {
    * fields above: fill the struct with cylvol_render_params_default() first.
    */
   CylvolBlend blend;
+  /**
+   * Clipping planes in use: the first `clip_plane_count` rows of `clip_planes`, 0 (the
+   * default) to CYLVOL_MAX_CLIP_PLANES. Added after the fields above.
+   */
+  uint32_t clip_plane_count;
+  /**
+   * Plane equations `{a, b, c, d}`: the volume is rendered only where
+   * `a x + b y + c z + d ≥ 0` for every plane in use (VTK's clipping planes, as
+   * `vtkAbstractMapper3D::GetClippingPlaneInDataCoords` gives them); each finite, with
+   * `(a, b, c)` not zero.
+   */
+  double clip_planes[CYLVOL_MAX_CLIP_PLANES][4];
 } CylvolRenderParams;
 
 /**
@@ -761,7 +778,8 @@ enum CylvolStatus cylvol_render(struct CylvolVolume *volume,
 
 /**
  * Fills `params` with the defaults: 512 × 512, the default step, FAST, LINEAR, no shading
- * (coefficients 0.1, 0.7, 0.2, 10), early termination at 0.99, rows top-down.
+ * (coefficients 0.1, 0.7, 0.2, 10), early termination at 0.99, rows top-down, compositing,
+ * no clipping plane.
  *
  * # Safety
  * `params` NULL (nothing happens) or valid for writing a `CylvolRenderParams`.

@@ -856,6 +856,36 @@ fn render_reports_every_bad_input() {
         ),
         (
             CylvolRenderParams {
+                clip_plane_count: 7,
+                ..p
+            },
+            "params->clip_plane_count = 7 (at most 6)",
+        ),
+        (
+            CylvolRenderParams {
+                clip_plane_count: 2,
+                clip_planes: [
+                    [1.0, 0.0, 0.0, 0.0],
+                    [0.0, 0.0, 0.0, 1.0],
+                    [0.0; 4],
+                    [0.0; 4],
+                    [0.0; 4],
+                    [0.0; 4],
+                ],
+                ..p
+            },
+            "params->clip_planes: clipping plane 1: [0.0, 0.0, 0.0, 1.0] has no normal",
+        ),
+        (
+            CylvolRenderParams {
+                clip_plane_count: 1,
+                clip_planes: [[1.0, f64::NAN, 0.0, 0.0]; 6],
+                ..p
+            },
+            "not finite",
+        ),
+        (
+            CylvolRenderParams {
                 step: f64::NAN,
                 ..p
             },
@@ -1659,6 +1689,37 @@ fn intensity_projections_match_the_rust_api() {
         images.push(out.f32);
     }
     assert_ne!(images[0], images[1]);
+    unsafe { cylvol_volume_free(v) };
+}
+
+/// Clipping planes through the C ABI: the image equals the Rust API's with the same planes
+/// (equations as VTK's `GetClippingPlaneInDataCoords` gives them), differs from the unclipped
+/// one, samples less, and unused rows of `clip_planes` are ignored (even when not finite).
+#[test]
+fn clipping_planes_match_the_rust_api() {
+    let (a, v, tables, c, camera) = sector_scene();
+    let (w, h) = (20, 14);
+    assert_eq!(params(w, h).clip_plane_count, 0);
+    let whole = render_f32(v, &c, &tables.c(), &params(w, h), None);
+    let mut all = CylvolRenderStats::default();
+    unsafe { cylvol_volume_render_stats(v, &mut all) };
+    let planes = [[1.0, 0.2, -0.1, -1.1], [-0.1, 0.0, -1.0, 0.8]];
+    let mut p = params(w, h);
+    p.clip_plane_count = 2;
+    p.clip_planes[..2].copy_from_slice(&planes);
+    p.clip_planes[2] = [f64::NAN; 4];
+    let out = render_f32(v, &c, &tables.c(), &p, None);
+    assert_eq!(out.status, S::Ok, "{}", last_error());
+    let mut stats = CylvolRenderStats::default();
+    unsafe { cylvol_volume_render_stats(v, &mut stats) };
+    assert!(stats.samples_located < all.samples_located);
+    assert_ne!(out.f32, whole.f32);
+    assert!(out.f32.iter().any(|&x| x > 0.0));
+    let (reference, rust) = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
+        o.clip_planes = cylvol::render::ClipPlanes::new(&planes).unwrap()
+    });
+    assert_eq!(out.f32, reference);
+    assert_eq!(stats.samples_located, rust.samples_located);
     unsafe { cylvol_volume_free(v) };
 }
 

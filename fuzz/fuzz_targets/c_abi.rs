@@ -367,6 +367,13 @@ fn render(u: &mut Unstructured, v: *mut CylvolVolume) -> Result<()> {
     params.path = PathCode(code(u, 2)?);
     params.interpolation = InterpolationCode(code(u, 2)?);
     params.blend = BlendCode(code(u, 3)?);
+    // Clipping planes: counts past the limit, equations any float (NaN, no normal) included.
+    params.clip_plane_count = u.int_in_range(0u32..=7)?;
+    for plane in params.clip_planes.iter_mut().take(params.clip_plane_count as usize) {
+        for v in plane.iter_mut() {
+            *v = float(u, -2.0, 2.0)?;
+        }
+    }
     params.shading = u.int_in_range(0..=1)?;
     params.specular_power = float(u, 0.0, 50.0)?;
     params.early_termination = float(u, 0.1, 1.5)?;

@@ -16,8 +16,8 @@ use super::codes::{
 use super::status::{CylvolStatus, Failure};
 use super::volume::{on_volume, CylvolVolume};
 use crate::render::{
-    Blend, GradientOpacity, Image, Interpolation, RenderOptions, RenderPath, RenderStats, Renderer,
-    Shading, TransferFunction, Volume, DEFAULT_TABLE_SIZE,
+    Blend, ClipPlanes, GradientOpacity, Image, Interpolation, RenderOptions, RenderPath,
+    RenderStats, Renderer, Shading, TransferFunction, Volume, DEFAULT_TABLE_SIZE,
 };
 
 /// The transfer function: colour and opacity tables evenly spaced over a scalar range.
@@ -77,11 +77,23 @@ pub struct CylvolRenderParams {
     /// COMPOSITE (the default), MAXIMUM or MINIMUM (intensity projections). Added after the
     /// fields above: fill the struct with cylvol_render_params_default() first.
     pub blend: BlendCode,
+    /// Clipping planes in use: the first `clip_plane_count` rows of `clip_planes`, 0 (the
+    /// default) to CYLVOL_MAX_CLIP_PLANES. Added after the fields above.
+    pub clip_plane_count: u32,
+    /// Plane equations `{a, b, c, d}`: the volume is rendered only where
+    /// `a x + b y + c z + d ≥ 0` for every plane in use (VTK's clipping planes, as
+    /// `vtkAbstractMapper3D::GetClippingPlaneInDataCoords` gives them); each finite, with
+    /// `(a, b, c)` not zero.
+    pub clip_planes: [[f64; 4]; CYLVOL_MAX_CLIP_PLANES],
 }
+
+/// The most clipping planes a render takes (`CylvolRenderParams::clip_planes`).
+pub const CYLVOL_MAX_CLIP_PLANES: usize = 6;
+const _: () = assert!(CYLVOL_MAX_CLIP_PLANES == crate::render::MAX_CLIP_PLANES);
 
 impl Default for CylvolRenderParams {
     /// 512 × 512, the default step, FAST, LINEAR, no shading (coefficients 0.1, 0.7, 0.2, 10),
-    /// early termination at 0.99, rows top-down, compositing.
+    /// early termination at 0.99, rows top-down, compositing, no clipping plane.
     fn default() -> Self {
         let s = Shading::default();
         CylvolRenderParams {
@@ -98,6 +110,8 @@ impl Default for CylvolRenderParams {
             early_termination: 0.99,
             rows_bottom_up: 0,
             blend: CylvolBlend::Composite.into(),
+            clip_plane_count: 0,
+            clip_planes: [[0.0; 4]; CYLVOL_MAX_CLIP_PLANES],
         }
     }
 }
@@ -350,7 +364,16 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
             p.early_termination
         )));
     }
+    let count = p.clip_plane_count as usize;
+    if count > CYLVOL_MAX_CLIP_PLANES {
+        return Err(Failure::invalid(format!(
+            "params->clip_plane_count = {count} (at most {CYLVOL_MAX_CLIP_PLANES})"
+        )));
+    }
+    let clip_planes = ClipPlanes::new(&p.clip_planes[..count])
+        .map_err(|e| Failure::invalid(format!("params->clip_planes: {e}")))?;
     let mut o = RenderOptions::new(p.width, p.height, step);
+    o.clip_planes = clip_planes;
     o.path = path;
     o.shading = shading;
     o.early_termination = p.early_termination;
@@ -536,7 +559,8 @@ unsafe fn write_pixels(
 }
 
 /// Fills `params` with the defaults: 512 × 512, the default step, FAST, LINEAR, no shading
-/// (coefficients 0.1, 0.7, 0.2, 10), early termination at 0.99, rows top-down.
+/// (coefficients 0.1, 0.7, 0.2, 10), early termination at 0.99, rows top-down, compositing,
+/// no clipping plane.
 ///
 /// # Safety
 /// `params` NULL (nothing happens) or valid for writing a `CylvolRenderParams`.

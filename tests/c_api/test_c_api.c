@@ -347,6 +347,19 @@ static void test_mixed_cells(void) {
         "render: %s", cylvol_last_error());
   for (k = 0; k < W * H; ++k) seen += f[4 * k + 3] > 0.01f;
   CHECK(seen > 10, "only %d pixels see the sector", seen);
+  /* A clipping plane keeping z >= 2 (above the sector) leaves nothing to draw; more planes
+     than CYLVOL_MAX_CLIP_PLANES are refused. */
+  p.clip_plane_count = 1;
+  p.clip_planes[0][2] = 1.0;
+  p.clip_planes[0][3] = -2.0;
+  CHECK(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, f, W * H * 4) ==
+            CYLVOL_STATUS_OK,
+        "clipped render: %s", cylvol_last_error());
+  for (k = 0; k < W * H * 4; ++k) CHECK(f[k] == 0.0f, "clipped pixel %g", f[k]);
+  p.clip_plane_count = CYLVOL_MAX_CLIP_PLANES + 1;
+  CHECK(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, f, W * H * 4) ==
+            CYLVOL_STATUS_INVALID_ARGUMENT,
+        "7 clipping planes");
   cylvol_volume_free(v);
   cylvol_mesh_free(mesh);
   arrays_free(&a);
