@@ -768,6 +768,15 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.early_termination = this->EarlyTermination;
   params.rows_bottom_up = 1;
   params.blend = blend;
+  // Clipping planes (vtkAbstractMapper::AddClippingPlane) in the data's coordinates, where the
+  // rays are cast: the side each plane's normal points into is kept. More than cylvol takes
+  // are passed on as a count, which cylvol_render refuses with a message (nothing drawn).
+  const int planeCount = this->GetNumberOfClippingPlanes();
+  params.clip_plane_count = static_cast<uint32_t>(planeCount);
+  for (int i = 0; i < std::min(planeCount, static_cast<int>(CYLVOL_MAX_CLIP_PLANES)); ++i)
+  {
+    this->GetClippingPlaneInDataCoords(vol->GetMatrix(), i, params.clip_planes[i]);
+  }
   this->LastSampleDistance = this->SampleDistance;
   if (!(this->SampleDistance > 0.0))
   {

@@ -18,7 +18,9 @@
  * distance, shading with ambient/diffuse/specular/specular power, gradient opacity when
  * one is set and enabled, nearest or linear interpolation), the mapper's scalar mode and
  * SelectScalarArray, the volume's matrix, perspective and parallel cameras, viewports,
- * and the depth of opaque geometry already drawn.
+ * the depth of opaque geometry already drawn, and up to six clipping planes
+ * (AddClippingPlane: the volume on the side each plane's normal points to is drawn, and it
+ * ends exactly on the plane; more planes are an error and nothing is drawn).
  *
  * Blend modes: compositing (the default), SetBlendModeToMaximumIntensity() and
  * SetBlendModeToMinimumIntensity() (vtkVolumeMapper's value 2). A projection shows the colour
