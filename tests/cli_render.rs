@@ -567,3 +567,66 @@ fn opacity_convention_attenuation_lets_more_through() {
         sum(&bright)
     );
 }
+
+/// `--clip-plane POINT:NORMAL` as VTK's clipping planes: a plane beyond the mesh on its
+/// normal's far side keeps everything (the same PNG bytes and work); one through the rotor's
+/// axis keeps the side its normal points to (fewer samples, another image, the equation in the
+/// JSON); bad planes and seven of them fail before anything is written.
+#[test]
+fn render_takes_clipping_planes() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let png = |name: &str| dir.path().join(name).to_str().expect("utf-8").to_string();
+    let run = |out: &str, planes: &[&str]| {
+        let mut clip: Vec<&str> = Vec::new();
+        for p in planes {
+            clip.extend(["--clip-plane", p]);
+        }
+        json_of(&render_args(
+            "pump-rotor:3000",
+            out,
+            "24x24",
+            &[&["--view", "30,30,1", "--json"], &clip],
+        ))
+    };
+    let whole = run(&png("whole.png"), &[]);
+    assert_eq!(whole["clip_planes"], serde_json::json!([]));
+    let kept = run(&png("kept.png"), &["-1e3,0,0:1,0,0"]);
+    let half = run(&png("half.png"), &["0,0,0:2,0,0"]);
+    let bytes = |name: &str| std::fs::read(dir.path().join(name)).expect("png written");
+    assert_eq!(bytes("whole.png"), bytes("kept.png"));
+    assert_eq!(whole["stats"], kept["stats"]);
+    assert_ne!(bytes("whole.png"), bytes("half.png"));
+    assert_eq!(
+        half["clip_planes"],
+        serde_json::json!([[2.0, 0.0, 0.0, -0.0]])
+    );
+    let located = |j: &Value| j["stats"]["samples_located"].as_u64().unwrap();
+    assert!(located(&half) > 0 && located(&half) < located(&whole) * 3 / 4);
+    // The other side's samples make up the rest, give or take the ones the cut moves.
+    let other = run(&png("other.png"), &["0,0,0:-1,0,0"]);
+    let sum = located(&half) + located(&other);
+    assert!(
+        sum.abs_diff(located(&whole)) * 20 < located(&whole),
+        "{sum}"
+    );
+
+    let out = png("bad.png");
+    for (plane, message) in [
+        ("0,0,0:0,0,0", "zero normal"),
+        ("0,0:1,0,0", "is not POINT:NORMAL"),
+        ("0,0,0:1,0,nan", "is not POINT:NORMAL"),
+    ] {
+        fails_with(
+            &render_args("pump-rotor:3000", &out, "8x8", &[&["--clip-plane", plane]]),
+            message,
+        );
+    }
+    let seven: Vec<&str> = (0..7)
+        .flat_map(|_| ["--clip-plane", "0,0,0:1,0,0"])
+        .collect();
+    fails_with(
+        &render_args("pump-rotor:3000", &out, "8x8", &[&seven]),
+        "--clip-plane: 7 clipping planes (at most 6)",
+    );
+    assert!(!Path::new(&out).exists(), "nothing written");
+}

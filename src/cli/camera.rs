@@ -43,7 +43,12 @@ pub struct CameraArgs {
 
 /// Parses `--camera X,Y,Z:X,Y,Z:X,Y,Z` (position, focal point, view-up; finite numbers).
 pub fn parse_camera(s: &str) -> Result<[DVec3; 3], String> {
-    let bad = || format!("camera '{s}' is not POSITION:FOCAL_POINT:VIEW_UP, each X,Y,Z");
+    parse_vectors(s)
+        .ok_or_else(|| format!("camera '{s}' is not POSITION:FOCAL_POINT:VIEW_UP, each X,Y,Z"))
+}
+
+/// `N` vectors `X,Y,Z` of finite numbers separated by `:`, if `s` is that.
+pub fn parse_vectors<const N: usize>(s: &str) -> Option<[DVec3; N]> {
     let vectors: Vec<DVec3> = s
         .split(':')
         .map(|part| {
@@ -51,16 +56,16 @@ pub fn parse_camera(s: &str) -> Result<[DVec3; 3], String> {
                 .split(',')
                 .map(|x| x.trim().parse::<f64>())
                 .collect::<Result<_, _>>()
-                .map_err(|_| bad())?;
+                .ok()?;
             match v[..] {
                 [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => {
-                    Ok(DVec3::new(x, y, z))
+                    Some(DVec3::new(x, y, z))
                 }
-                _ => Err(bad()),
+                _ => None,
             }
         })
-        .collect::<Result<_, _>>()?;
-    <[DVec3; 3]>::try_from(vectors).map_err(|_| bad())
+        .collect::<Option<_>>()?;
+    <[DVec3; N]>::try_from(vectors).ok()
 }
 
 /// Parses `--view-angle DEGREES`, in (0, 180).

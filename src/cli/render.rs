@@ -2,7 +2,8 @@
 //! [--view AZIMUTH,ELEVATION,ZOOM] [--path paper|fast] [--shade] [--interpolation linear|nearest]
 //! [--gradient-opacity M:G,M:G,...] [--opacity S:A,...] [--color S:R:G:B,...]
 //! [--unit-distance D] [--blend composite|max|min] [--camera POSITION:FOCAL:UP]
-//! [--view-angle DEG] [--parallel [--parallel-scale S]] [--depth OUT.vti [--depth-opacity A]]`:
+//! [--view-angle DEG] [--parallel [--parallel-scale S]] [--clip-plane X,Y,Z:NX,NY,NZ]...
+//! [--depth OUT.vti [--depth-opacity A]]`:
 //! renders one image (and its depth image with `--depth`) and reports the time and the work
 //! counters on standard error (as JSON on standard output with `--json`).
 //!
@@ -19,6 +20,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use glam::DVec3;
 use serde_json::json;
 
 use super::camera::CameraArgs;
@@ -26,7 +28,8 @@ use super::transfer::TransferArgs;
 use super::{log, scene, InputArgs};
 use cylvol::accel::AccelParams;
 use cylvol::render::{
-    Blend, GradientOpacity, Interpolation, RenderOptions, RenderPath, Renderer, Shading, Volume,
+    Blend, ClipPlanes, GradientOpacity, Interpolation, RenderOptions, RenderPath, Renderer,
+    Shading, Volume,
 };
 use cylvol::Error;
 
@@ -81,9 +84,24 @@ pub struct RenderArgs {
     /// The accumulated opacity, in (0, 1], at which a pixel's depth is taken [default: 0.5].
     #[arg(long, value_name = "A", value_parser = parse_depth_opacity, requires = "depth")]
     depth_opacity: Option<f64>,
+    /// A clipping plane, as VTK's mappers take one: a point on it and its normal, in world
+    /// units; only the side the normal points to is rendered, and the volume ends on the plane.
+    /// Up to 6 (repeat the option).
+    #[arg(long = "clip-plane", value_name = "X,Y,Z:NX,NY,NZ", value_parser = parse_clip_plane, allow_hyphen_values = true)]
+    clip_planes: Vec<[f64; 4]>,
     /// Print the figures as JSON on standard output.
     #[arg(long)]
     json: bool,
+}
+
+/// Parses `--clip-plane X,Y,Z:NX,NY,NZ` into the plane's equation (see [`ClipPlanes`]).
+fn parse_clip_plane(s: &str) -> Result<[f64; 4], String> {
+    let [point, normal] = super::camera::parse_vectors(s)
+        .ok_or_else(|| format!("clip plane '{s}' is not POINT:NORMAL, each X,Y,Z"))?;
+    if normal == DVec3::ZERO {
+        return Err(format!("clip plane '{s}' has a zero normal"));
+    }
+    Ok(ClipPlanes::equation(point, normal))
 }
 
 fn parse_depth_opacity(s: &str) -> Result<f64, String> {
@@ -135,6 +153,9 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
+    // Checked before any work (clap has checked each plane; this, their number).
+    let clip_planes = ClipPlanes::new(&args.clip_planes)
+        .map_err(|e| Error::Invalid(format!("--clip-plane: {e}")))?;
     let mesh = args.input.load()?;
     let (axis, _) = args.input.axis(&mesh);
     let kind = scene::structure(&args.structure, &mesh, &axis)?;
@@ -156,6 +177,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     options.interpolation = interpolation;
     options.gradient_opacity = args.gradient_opacity.as_deref().copied();
     options.blend = blend;
+    options.clip_planes = clip_planes;
     if let Some(a) = args.depth_opacity {
         options.depth_opacity = a;
     }
@@ -193,6 +215,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             "structure": kind.name(),
             "path": path.name(),
             "blend": blend.name(),
+            "clip_planes": options.clip_planes.equations(),
             "width": width,
             "height": height,
             "step": step,
