@@ -29,8 +29,7 @@
 //! from the plane (its step starts there); where one ends it inside the mesh, the last sample
 //! ends at the plane, as at a boundary crossing (a piece of the mesh between a plane and the
 //! boundary that holds no sample is not seen, as a chord shorter than a step is not). Where
-//! the opaque-geometry depth stops a ray
-//! inside the mesh, the last sample keeps its full step.
+//! the opaque-geometry depth stops a ray inside the mesh, the last sample keeps its full step.
 //!
 //! # Interpolation and gradient opacity
 //! A located sample's scalar is the trilinear interpolant of its cell's corner values, or with
