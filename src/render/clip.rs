@@ -14,6 +14,7 @@
 
 use glam::DVec3;
 
+use crate::accel::bvh::ray::clip_to_slab;
 use crate::Error;
 
 /// The most clipping planes a render takes (VTK's OpenGL mappers take six).
@@ -104,26 +105,14 @@ impl ClipPlanes {
     /// The part of the span `(t0, t1)` of the ray `o + t d` that every plane keeps, `None` if
     /// it is empty. A ray parallel to a plane is kept whole where its origin is kept and not at
     /// all otherwise.
-    pub fn clip_span(&self, o: DVec3, d: DVec3, (t0, t1): (f64, f64)) -> Option<(f64, f64)> {
-        let (mut t0, mut t1) = (t0, t1);
-        for e in self.equations() {
-            let n = DVec3::new(e[0], e[1], e[2]);
-            let (at_origin, rate) = (value(e, o), n.dot(d));
-            if rate == 0.0 {
-                if at_origin < 0.0 {
-                    return None;
-                }
-                continue;
-            }
-            // The plane's crossing; the ray enters the kept side there where the value grows.
-            let t = -at_origin / rate;
-            if rate > 0.0 {
-                t0 = t0.max(t);
-            } else {
-                t1 = t1.min(t);
-            }
-        }
-        (t0 < t1).then_some((t0, t1))
+    pub fn clip_span(&self, o: DVec3, d: DVec3, span: (f64, f64)) -> Option<(f64, f64)> {
+        // Along the ray a plane's value is `value(o) + t n·d`: the kept half-space is the slab
+        // `[0, +∞)` of that value, clipped as the BVH's ray queries clip a box's slabs.
+        let span = self.equations().iter().fold(span, |span, e| {
+            let rate = e[0] * d.x + e[1] * d.y + e[2] * d.z;
+            clip_to_slab(value(e, o), 1.0 / (rate + 0.0), 0.0, f64::INFINITY, span)
+        });
+        (span.0 < span.1).then_some(span)
     }
 }
 
