@@ -354,6 +354,19 @@ fn check_beer_lambert(case: &Case, step: f64) {
 /// the planes keep, so the transmittance checks that the volume ends exactly on a plane that
 /// cuts the mesh (the ray starting or ending in it) and nowhere else.
 fn check_beer_lambert_clipped(case: &Case, step: f64, planes: ClipPlanes) {
+    check_beer_lambert_with(
+        case,
+        step,
+        planes,
+        RenderOptions::new(1, 1, step).march_reach,
+    );
+}
+
+/// [`check_beer_lambert_clipped`] with the fast path's [`RenderOptions::march_reach`] set;
+/// below one cell, every sample past the previous one's cell is located through the
+/// structure wherever the boundary surface proves the ray stays in the mesh up to it, which
+/// the test then asserts happens (with face neighbours, which bring the surface).
+fn check_beer_lambert_with(case: &Case, step: f64, planes: ClipPlanes, march_reach: f64) {
     let (alpha, unit) = (0.4, 0.5);
     let sigma = -(1.0f64 - alpha).ln() / unit;
     let color = [0.2, 0.6, 1.0];
@@ -369,6 +382,8 @@ fn check_beer_lambert_clipped(case: &Case, step: f64, planes: ClipPlanes) {
         for (path, with_neighbours) in PATHS.into_iter().flat_map(|p| [(p, false), (p, true)]) {
             let mut options = renderer_options(step, path);
             options.clip_planes = planes;
+            options.march_reach = march_reach;
+            let mut far_locates = 0u64;
             let r = Renderer::new(&volume, &tf, &options).expect("renderer");
             let r = if with_neighbours {
                 r.with_neighbours(&neighbours)
@@ -462,13 +477,23 @@ fn check_beer_lambert_clipped(case: &Case, step: f64, planes: ClipPlanes) {
                 // The sample count approximates the analytic length within a step per end.
                 assert!((n as f64 * step - length).abs() <= step * intervals.len() as f64 + 1e-9);
                 max_rel = max_rel.max((got - expected).abs() / expected);
+                far_locates += stats.far_locates;
             }
             eprintln!(
-                "{}{}: {kind} {} (neighbours: {with_neighbours}): {checked} rays checked ({inside} through the mesh, {cut_in_mesh} cut by a plane in it), {skipped} ambiguous, max relative transmittance error {max_rel:.2e}",
+                "{}{}: {kind} {} (neighbours: {with_neighbours}, march reach {march_reach}): {checked} rays checked ({inside} through the mesh, {cut_in_mesh} cut by a plane in it), {skipped} ambiguous, {far_locates} samples located far ahead, max relative transmittance error {max_rel:.2e}",
                 case.name,
                 if planes.is_empty() { "" } else { " (clipped)" },
                 path.name()
             );
+            if path == RenderPath::Paper || !with_neighbours {
+                assert_eq!(far_locates, 0, "only the fast path with the surface jumps");
+            } else if march_reach < 1.0 {
+                assert!(
+                    far_locates as usize > checked,
+                    "{}: {kind}: {far_locates} samples located far ahead on {checked} rays",
+                    case.name
+                );
+            }
             assert!(
                 skipped * 10 <= rays.len(),
                 "{}: {skipped} ambiguous rays",
@@ -512,6 +537,18 @@ fn annulus_clip_planes() -> ClipPlanes {
 #[test]
 fn constant_medium_ends_exactly_on_clipping_planes() {
     check_beer_lambert_clipped(&annulus(true), 0.0137, annulus_clip_planes());
+}
+
+/// The fast path locating every sample past the previous one's cell through the structure
+/// (march reach 0), where the boundary surface proves the ray stays in the mesh up to it:
+/// still the exact transmittance — no jump passes over the annulus's hole, the O-grid's
+/// axis or a twisted cell's boundary, and no sample is located twice or lost.
+#[test]
+fn constant_medium_is_crack_free_when_far_samples_are_located_through_the_structure() {
+    check_beer_lambert_with(&annulus(true), 0.0137, ClipPlanes::NONE, 0.0);
+    check_beer_lambert_with(&annulus(false), 0.0137, annulus_clip_planes(), 0.0);
+    check_beer_lambert_with(&o_grid(), 0.0113, ClipPlanes::NONE, 0.0);
+    check_beer_lambert_with(&jittered_cube(6), 0.0091, ClipPlanes::NONE, 0.0);
 }
 
 #[test]

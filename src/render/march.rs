@@ -75,6 +75,65 @@ pub fn exit_face_except(
     d: DVec3,
     entry: usize,
 ) -> Option<(usize, f64)> {
+    let (t_ref, planes) = face_planes(corners, o, d)?;
+    // The smallest num/den over faces with den > 0, compared without dividing.
+    let mut best: Option<(usize, f32, f32)> = None;
+    for (f, &(num, den)) in planes.iter().enumerate() {
+        if f == entry || !(den > 0.0 && den.is_finite()) || !num.is_finite() {
+            continue;
+        }
+        if best.map_or(true, |(_, bn, bd)| num * bd < bn * den) {
+            best = Some((f, num, den));
+        }
+    }
+    best.map(|(f, num, den)| (f, t_ref + f64::from(num / den)))
+}
+
+/// Where the ray `o + t d` enters and leaves a cell by its face planes: the entry `t` (the
+/// largest crossing of a plane it heads into the cell by; `-inf` where there is none) with
+/// [`exit_face`]'s answer, from one evaluation of the planes. `None` where `exit_face` gives
+/// none.
+///
+/// ```
+/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
+/// use cylvol::render::march::entry_and_exit;
+/// use glam::DVec3;
+/// let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+/// let (entry, (face, exit)) = entry_and_exit(&cube, DVec3::new(-1.0, 0.5, 0.5), DVec3::X).unwrap();
+/// assert!((entry - 1.0).abs() < 1e-6 && (exit - 2.0).abs() < 1e-6);
+/// assert_eq!(face, 1);
+/// ```
+#[inline]
+pub fn entry_and_exit(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(f64, (usize, f64))> {
+    let (t_ref, planes) = face_planes(corners, o, d)?;
+    let mut exit: Option<(usize, f32, f32)> = None;
+    let mut entry: Option<(f32, f32)> = None;
+    for (f, &(num, den)) in planes.iter().enumerate() {
+        if !(den.is_finite() && num.is_finite()) {
+            continue;
+        }
+        if den > 0.0 {
+            if exit.map_or(true, |(_, bn, bd)| num * bd < bn * den) {
+                exit = Some((f, num, den));
+            }
+        } else if den < 0.0 {
+            // The largest num/den over den < 0: with both denominators negative the
+            // comparison of cross products flips once for each, so it keeps its sense.
+            if entry.map_or(true, |(bn, bd)| num * bd > bn * den) {
+                entry = Some((num, den));
+            }
+        }
+    }
+    let (f, num, den) = exit?;
+    let entry = entry.map_or(f64::NEG_INFINITY, |(n, d)| t_ref + f64::from(n / d));
+    Some((entry, (f, t_ref + f64::from(num / den))))
+}
+
+/// The six face planes of a cell for the ray `o + t d`, as [`face_plane`] gives them, with
+/// the ray parameter `t_ref` their crossings are measured from (`t = t_ref + num / den`);
+/// `None` for a zero or non-finite direction.
+#[inline(always)]
+fn face_planes(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(f64, [(f32, f32); 6])> {
     let x0 = corners[0];
     let dd = d.length_squared();
     if !(dd > 0.0 && dd.is_finite()) {
@@ -99,18 +158,10 @@ pub fn exit_face_except(
     // The six planes written out (a loop over the faces is not unrolled, and indexes the
     // corners through the face table at run time: about 12 % slower).
     let plane = |f: usize| face_plane(&rel, FACES[f], centre, r, dir);
-    let planes = [plane(0), plane(1), plane(2), plane(3), plane(4), plane(5)];
-    // The smallest num/den over faces with den > 0, compared without dividing.
-    let mut best: Option<(usize, f32, f32)> = None;
-    for (f, &(num, den)) in planes.iter().enumerate() {
-        if f == entry || !(den > 0.0 && den.is_finite()) || !num.is_finite() {
-            continue;
-        }
-        if best.map_or(true, |(_, bn, bd)| num * bd < bn * den) {
-            best = Some((f, num, den));
-        }
-    }
-    best.map(|(f, num, den)| (f, t_ref + f64::from(num / den)))
+    Some((
+        t_ref,
+        [plane(0), plane(1), plane(2), plane(3), plane(4), plane(5)],
+    ))
 }
 
 /// The plane of a face (its corners' slots in `rel`, the corners relative to corner 0) for
@@ -147,6 +198,9 @@ pub struct March {
     corners: [DVec3; 8],
     /// The exit face and its `t`; `None` when the cell has no exit by its planes.
     exit: Option<(usize, f64)>,
+    /// The ray's typical chord in the cells it met so far (their lengths along it by their
+    /// planes, each new cell's taking half the weight); NaN before any.
+    chord: f64,
     solver: Solver,
 }
 
@@ -188,6 +242,7 @@ impl March {
             cell: u32::MAX,
             corners: [DVec3::ZERO; 8],
             exit: None,
+            chord: f64::NAN,
             solver: Solver {
                 id: u32::MAX,
                 ..Solver::default()
@@ -198,11 +253,32 @@ impl March {
     /// Moves the march to `cell` (in place: the prepared cell, if any, stays until a sample
     /// is tested in another cell).
     pub fn move_to(&mut self, mesh: &Mesh, cell: u32, o: DVec3, d: DVec3) {
-        self.enter(mesh, cell, usize::MAX, o, d);
+        self.cell = cell;
+        self.exit = None;
+        if (cell as usize) < mesh.cell_count() {
+            mesh.cell_corners_into(cell as usize, &mut self.corners);
+            if let Some((entry, exit)) = entry_and_exit(&self.corners, o, d) {
+                self.exit = Some(exit);
+                self.observe_chord(exit.1 - entry);
+            }
+        }
+    }
+
+    /// Takes a cell's chord into the ray's typical one (non-positive or non-finite chords,
+    /// of degenerate cells, are left out).
+    fn observe_chord(&mut self, chord: f64) {
+        if chord > 0.0 && chord.is_finite() {
+            self.chord = if self.chord.is_nan() {
+                chord
+            } else {
+                0.5 * (self.chord + chord)
+            };
+        }
     }
 
     /// Moves the march to `cell`, entered through its face `entry` (none if not 0–5).
     fn enter(&mut self, mesh: &Mesh, cell: u32, entry: usize, o: DVec3, d: DVec3) {
+        let entered_at = self.exit.map_or(f64::NAN, |(_, t)| t);
         self.cell = cell;
         self.exit = if (cell as usize) < mesh.cell_count() {
             mesh.cell_corners_into(cell as usize, &mut self.corners);
@@ -210,6 +286,9 @@ impl March {
         } else {
             None
         };
+        if let Some((_, t_exit)) = self.exit {
+            self.observe_chord(t_exit - entered_at);
+        }
     }
 
     /// The current cell.
@@ -220,6 +299,42 @@ impl March {
     /// The face (0–5) by whose plane the ray leaves the current cell, if any.
     pub fn exit_face(&self) -> Option<usize> {
         self.exit.map(|(f, _)| f)
+    }
+
+    /// About how many cells the march would cross to reach the sample at `t` on the ray it
+    /// is marching along: none while `t` is in the current cell by its planes, else the
+    /// distance past the current cell's exit measured in the ray's typical chord, plus one for
+    /// the cell the exit leads into. The typical chord follows the cells met so far (each
+    /// cell's length along the ray by its planes, from where the march crossed into it or,
+    /// for a cell it was moved to, from the planes' entry; each new cell's taking half the
+    /// weight), so that one cell grazed at a corner does not stand for the cells ahead. An
+    /// estimate for choosing between marching and a structure look-up; zero before any cell
+    /// with a positive chord, or in a cell with no exit, so that those keep marching.
+    ///
+    /// ```
+    /// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
+    /// use cylvol::render::march::March;
+    /// use cylvol::{CellKind, Mesh, MeshParts};
+    /// use glam::DVec3;
+    /// let mesh = Mesh::from_parts(MeshParts {
+    ///     points: CORNER_PARAMETERS.map(DVec3::from_array).to_vec(),
+    ///     cells: vec![[0, 1, 2, 3, 4, 5, 6, 7]],
+    ///     kinds: vec![CellKind::Hexahedron],
+    ///     ..Default::default()
+    /// })
+    /// .unwrap();
+    /// // Along x through the unit cube: in it from t = 1 to 2 (chord 1).
+    /// let (o, d) = (DVec3::new(-1.0, 0.5, 0.5), DVec3::X);
+    /// let mut march = March::new();
+    /// march.move_to(&mesh, 0, o, d);
+    /// assert_eq!(march.cells_ahead(1.5), 0.0);
+    /// assert!((march.cells_ahead(6.0) - 5.0).abs() < 1e-6);
+    /// ```
+    pub fn cells_ahead(&self, t: f64) -> f64 {
+        match self.exit {
+            Some((_, t_exit)) if t > t_exit && self.chord > 0.0 => 1.0 + (t - t_exit) / self.chord,
+            _ => 0.0,
+        }
     }
 
     /// Locates the sample `p = o + t d` (`t` not before the march's previous sample): marches

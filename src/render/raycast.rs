@@ -401,6 +401,12 @@ pub struct RenderStats {
     pub space_skips: u64,
     /// Samples the fast path located through the structure from scratch.
     pub structure_locates: u64,
+    /// Samples the fast path located through the structure rather than by marching to them:
+    /// more than [`RenderOptions::march_reach`] cells ahead, with the boundary surface
+    /// proving the ray stays in the mesh up to them. Not counted in `structure_locates`; the
+    /// structure's work is in `hex_tests`, `internal_visits` and `leaf_visits`, the surface's
+    /// in `surface_visits`.
+    pub far_locates: u64,
     /// Samples with no previous cell that the fast path found by a walk from the previous
     /// ray's first cell.
     pub entry_walk_hits: u64,
@@ -452,6 +458,7 @@ impl AddAssign for RenderStats {
         self.walk_steps += o.walk_steps;
         self.space_skips += o.space_skips;
         self.structure_locates += o.structure_locates;
+        self.far_locates += o.far_locates;
         self.entry_walk_hits += o.entry_walk_hits;
         self.boundary_refinements += o.boundary_refinements;
         self.surface_visits += o.surface_visits;
@@ -507,7 +514,21 @@ pub struct RenderOptions {
     /// (see [`super::clip`]); where a plane cuts the mesh the volume ends there, as at its
     /// boundary.
     pub clip_planes: ClipPlanes,
+    /// The fast path's reach by marching (default [`DEFAULT_MARCH_REACH`]): a sample about
+    /// more than this many cells ahead of the previous one ([`super::march::March::cells_ahead`])
+    /// is located through the structure instead of by crossing every cell on the way, where
+    /// the boundary surface proves the ray stays in the mesh up to it (so no exit and
+    /// re-entry between the two is passed over; counted in [`RenderStats::far_locates`]).
+    /// The image is the same either way: both find the cell holding the sample.
+    /// `f64::INFINITY` always marches.
+    pub march_reach: f64,
 }
+
+/// The default [`RenderOptions::march_reach`]: a look-up through a structure costs about
+/// as much as crossing this many cells by their planes (measured on the refined mixer,
+/// `cargo bench --bench render -- MESH 512 3 cart-grid fast --vtk-scene --step-factor=F
+/// --march-reach=R`).
+pub const DEFAULT_MARCH_REACH: f64 = 6.0;
 
 impl RenderOptions {
     /// Defaults for a `width × height` image with the given step: fast path, no shading,
@@ -529,6 +550,7 @@ impl RenderOptions {
             gradient_opacity: None,
             blend: Blend::Composite,
             clip_planes: ClipPlanes::NONE,
+            march_reach: DEFAULT_MARCH_REACH,
         }
     }
 }
@@ -1601,6 +1623,36 @@ impl<'a> Renderer<'a> {
 
     /// [`Renderer::cast`] with the first cell of the previous ray as a starting point
     /// (updated to this ray's first cell).
+    /// Whether the ray `origin + t dir`, in the mesh at `t_from` (a located sample), stays
+    /// in it up to `t`: where no boundary face's bound lies on the way
+    /// ([`BoundarySurface::next_crossing`]; conservative, so `true` is proved). `span` keeps
+    /// the last answer's stretch `[from, until)` of the ray, found from a sample in the mesh,
+    /// for the samples after it (a query only once `t` is past it). `false` without the
+    /// boundary surface.
+    #[allow(clippy::too_many_arguments)]
+    fn in_mesh_until(
+        &self,
+        span: &mut (f64, f64),
+        faces: Option<RayFaces<'_>>,
+        origin: DVec3,
+        dir: DVec3,
+        t_from: f64,
+        t: f64,
+        t_end: f64,
+        counters: &mut Counters,
+    ) -> bool {
+        let Some(surface) = self.neighbours.surface() else {
+            return false;
+        };
+        if !(span.0 <= t_from && t < span.1) {
+            let until = surface
+                .next_crossing(faces, origin, dir, t_from, t_end, counters)
+                .map_or(f64::INFINITY, |(c, _)| c);
+            *span = (t_from, until);
+        }
+        t < span.1
+    }
+
     fn cast_with_hint(
         &self,
         origin: DVec3,
@@ -1721,6 +1773,10 @@ impl<'a> Renderer<'a> {
             None
         };
         let mut surface_counters = Counters::default();
+        // The ray is in the mesh on `in_mesh` (from a located sample to the next possible
+        // boundary crossing), for locating far samples through the structure.
+        let mut in_mesh = (f64::NAN, f64::NAN);
+        let mut inside_counters = Counters::default();
         let mut next_surface_crossing = |t_outside: f64| -> (f64, Option<u32>) {
             match surface {
                 Some(s) => {
@@ -1768,7 +1824,28 @@ impl<'a> Renderer<'a> {
             } else {
                 // With a previous cell, walk from it; a walk that leaves the mesh drops it.
                 let mut walked = None;
-                if let Some((c, q)) = prev {
+                if let Some((c, _)) = prev {
+                    // Far ahead, in the mesh all the way: locate through the structure.
+                    if march.cell() == c
+                        && march.cells_ahead(t) > opts.march_reach
+                        && self.in_mesh_until(
+                            &mut in_mesh,
+                            faces,
+                            origin,
+                            dir,
+                            prev_t,
+                            t,
+                            t_out,
+                            &mut inside_counters,
+                        )
+                    {
+                        if let Some(f) = vol.accel.locate(mesh, p, &mut counters) {
+                            stats.far_locates += 1;
+                            walked = Some(Some(f));
+                        }
+                    }
+                }
+                if let (None, Some((c, q))) = (walked, prev) {
                     let mut work = WalkWork::default();
                     let end = march.locate(
                         mesh,
@@ -2172,7 +2249,10 @@ impl<'a> Renderer<'a> {
             *hint = first_cell;
         }
         stats.add_counters(&counters);
-        stats.surface_visits += surface_counters.internal_visits + surface_counters.leaf_visits;
+        stats.surface_visits += surface_counters.internal_visits
+            + surface_counters.leaf_visits
+            + inside_counters.internal_visits
+            + inside_counters.leaf_visits;
         if let Some((s, t)) = extreme.get() {
             let [r, g, b, _] = self.table.lookup(s);
             let a = self.table.unit_opacity(s).clamp(0.0, 1.0);
