@@ -551,6 +551,11 @@ typedef struct CylvolRenderStats {
    * `space_skips`).
    */
   uint64_t extreme_jumps;
+  /**
+   * Samples located through the structure rather than by marching to them: more than the
+   * march's reach ahead, the ray proved in the mesh up to them (fast path).
+   */
+  uint64_t far_locates;
 } CylvolRenderStats;
 
 #ifdef __cplusplus

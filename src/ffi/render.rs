@@ -173,6 +173,9 @@ pub struct CylvolRenderStats {
     /// next cell that may (fast path, BVH structures; the samples passed over are counted in
     /// `space_skips`).
     pub extreme_jumps: u64,
+    /// Samples located through the structure rather than by marching to them: more than the
+    /// march's reach ahead, the ray proved in the mesh up to them (fast path).
+    pub far_locates: u64,
 }
 
 impl From<(f64, RenderStats)> for CylvolRenderStats {
@@ -200,6 +203,7 @@ impl From<(f64, RenderStats)> for CylvolRenderStats {
             transparent_jumps: s.transparent_jumps,
             extreme_skips: s.extreme_skips,
             extreme_jumps: s.extreme_jumps,
+            far_locates: s.far_locates,
         }
     }
 }
