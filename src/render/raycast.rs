@@ -59,7 +59,12 @@
 //!   warm-started in the previous sample's cell, the cell's inverse-map set-up reused), with a
 //!   walk over face neighbours ([`super::walk`]; from a [`Neighbours`] source, [`NoNeighbours`]
 //!   without one) where that test fails, and the structure only where both give up or the ray
-//!   has just entered the mesh. Space outside the mesh is skipped: with a boundary surface
+//!   has just entered the mesh. A sample more than [`RenderOptions::march_reach`] cells ahead
+//!   (about: the distance past the current cell's exit in the ray's typical chord,
+//!   [`super::march::March::cells_ahead`]) is located through the structure instead of by
+//!   crossing every cell on the way, where the boundary surface proves the ray stays in the
+//!   mesh from the previous sample up to it ([`RenderStats::far_locates`]); at large steps
+//!   the crossings, not the samples, are most of a frame's work. Space outside the mesh is skipped: with a boundary surface
 //!   ([`Neighbours::surface`], see [`super::surface`]), from every point known to be outside
 //!   up to where the ray may first cross a boundary face; without one, by the structure's
 //!   bounds ([`super::skip`]). Where the march leaves the mesh by the plane of a face

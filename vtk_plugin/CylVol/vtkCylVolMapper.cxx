@@ -230,6 +230,7 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->LastTransparentJumps = 0;
   this->LastExtremeSkips = 0;
   this->LastExtremeJumps = 0;
+  this->LastFarLocates = 0;
   this->LastImageSize[0] = this->LastImageSize[1] = 0;
   this->BuildCount = 0;
   this->ScalarUpdateCount = 0;
@@ -366,6 +367,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastTransparentJumps = 0;
   this->LastExtremeSkips = 0;
   this->LastExtremeJumps = 0;
+  this->LastFarLocates = 0;
   this->LastRaySeconds = 0.0;
 
   // ---- settings that draw nothing: refused before any build ------------------------------
@@ -854,6 +856,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       this->LastTransparentJumps += rs.transparent_jumps;
       this->LastExtremeSkips += rs.extreme_skips;
       this->LastExtremeJumps += rs.extreme_jumps;
+      this->LastFarLocates += rs.far_locates;
     }
     this->UpdateProgress(static_cast<double>(b + 1) / bands);
   }
@@ -938,4 +941,5 @@ void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastTransparentJumps: " << this->LastTransparentJumps << "\n";
   os << indent << "LastExtremeSkips: " << this->LastExtremeSkips << "\n";
   os << indent << "LastExtremeJumps: " << this->LastExtremeJumps << "\n";
+  os << indent << "LastFarLocates: " << this->LastFarLocates << "\n";
 }

@@ -229,6 +229,7 @@ public:
   vtkGetMacro(LastTransparentJumps, vtkTypeUInt64);
   vtkGetMacro(LastExtremeSkips, vtkTypeUInt64);
   vtkGetMacro(LastExtremeJumps, vtkTypeUInt64);
+  vtkGetMacro(LastFarLocates, vtkTypeUInt64);
   ///@}
 
   ///@{
@@ -305,6 +306,7 @@ protected:
   vtkTypeUInt64 LastTransparentJumps;
   vtkTypeUInt64 LastExtremeSkips;
   vtkTypeUInt64 LastExtremeJumps;
+  vtkTypeUInt64 LastFarLocates;
   int LastImageSize[2];
   int BuildCount;
   int ScalarUpdateCount;

@@ -112,6 +112,18 @@ int TestCylVolState(int, char*[])
     kept->UnRegister(nullptr);
   }
 
+  // A sample distance of many cells: samples far ahead are located through the structure
+  // rather than by crossing every cell on the way.
+  {
+    mapper->SetRelativeSampleDistance(16.0);
+    win->Render();
+    Expect(mapper->GetLastFarLocates() > 0 &&
+        mapper->GetLastFarLocates() <= mapper->GetLastSamplesLocated(),
+      "samples many cells apart are located through the structure");
+    Expect(Lit(cylvoltest::Grab(win)) > 1000, "and still show the volume");
+    mapper->SetRelativeSampleDistance(1.0);
+  }
+
   // Gradient opacity: only when enabled and not the default constant 1.
   vtkVolumeProperty* property = volume->GetProperty();
   vtkNew<vtkPiecewiseFunction> one;
