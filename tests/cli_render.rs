@@ -630,3 +630,62 @@ fn render_takes_clipping_planes() {
     );
     assert!(!Path::new(&out).exists(), "nothing written");
 }
+
+/// `--march-reach CELLS`: how far ahead the fast path still marches to a sample. At three
+/// times the default step on the rotor, the default reach locates some samples through the
+/// structure, 0 more, `inf` none — with the same PNG bytes and the same samples located; bad
+/// values fail before anything is written.
+#[test]
+fn render_takes_a_march_reach_with_the_same_image() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let png = |name: &str| dir.path().join(name).to_str().expect("utf-8").to_string();
+    let step = {
+        let j = json_of(&render_args(
+            "pump-rotor:3000",
+            &png("probe.png"),
+            "8x8",
+            &[&["--json"]],
+        ));
+        3.0 * j["step"].as_f64().expect("a step")
+    }
+    .to_string();
+    let run = |out: &str, reach: &[&str]| {
+        json_of(&render_args(
+            "pump-rotor:3000",
+            out,
+            "48x48",
+            &[&["--view", "30,30,1", "--step", &step, "--json"], reach],
+        ))
+    };
+    let default = run(&png("default.png"), &[]);
+    let zero = run(&png("zero.png"), &["--march-reach", "0"]);
+    let never = run(&png("never.png"), &["--march-reach", "inf"]);
+    let bytes = |name: &str| std::fs::read(dir.path().join(name)).expect("png written");
+    assert_eq!(bytes("default.png"), bytes("never.png"));
+    assert_eq!(bytes("zero.png"), bytes("never.png"));
+    let count = |j: &Value, key: &str| j["stats"][key].as_u64().expect("a count");
+    for j in [&default, &zero] {
+        assert_eq!(
+            count(j, "samples_located"),
+            count(&never, "samples_located")
+        );
+    }
+    assert_eq!(count(&never, "far_locates"), 0);
+    assert!(count(&default, "far_locates") > 0, "{default}");
+    assert!(count(&zero, "far_locates") > count(&default, "far_locates"));
+    assert!(count(&zero, "walk_steps") < count(&never, "walk_steps"));
+
+    let out = png("bad.png");
+    for value in ["-1", "nan", "many"] {
+        fails_with(
+            &render_args(
+                "pump-rotor:3000",
+                &out,
+                "8x8",
+                &[&[&format!("--march-reach={value}")]],
+            ),
+            "is not a number of cells",
+        );
+    }
+    assert!(!Path::new(&out).exists(), "nothing written");
+}

@@ -329,4 +329,21 @@ fn far_samples_are_located_through_the_structure_with_the_same_image() {
             }
         }
     }
+    // A reach that is no number of cells is refused.
+    let accel = Accel::build(
+        &mesh,
+        StructureKind::CartGrid,
+        &Axis::Z,
+        &AccelParams::default(),
+    )
+    .expect("build");
+    let volume = Volume::new(&mesh, &accel).expect("volume");
+    for bad in [-1.0, f64::NAN, f64::NEG_INFINITY] {
+        let mut options = RenderOptions::new(8, 8, step);
+        options.march_reach = bad;
+        let err = Renderer::new(&volume, &tf, &options)
+            .err()
+            .expect("refused");
+        assert!(err.to_string().contains("march reach"), "{err}");
+    }
 }

@@ -89,9 +89,24 @@ pub struct RenderArgs {
     /// Up to 6 (repeat the option).
     #[arg(long = "clip-plane", value_name = "X,Y,Z:NX,NY,NZ", value_parser = parse_clip_plane, allow_hyphen_values = true)]
     clip_planes: Vec<[f64; 4]>,
+    /// The fast path marches from cell to cell up to about this many cells ahead; a sample
+    /// further ahead, where the ray provably stays in the mesh, is located through the
+    /// structure (`stats.far_locates`); `inf` always marches. The image is the same either way.
+    #[arg(long, value_name = "CELLS", default_value_t = cylvol::render::DEFAULT_MARCH_REACH, value_parser = parse_march_reach)]
+    march_reach: f64,
     /// Print the figures as JSON on standard output.
     #[arg(long)]
     json: bool,
+}
+
+/// Parses `--march-reach CELLS`: a number of cells, 0 or more, or `inf`.
+fn parse_march_reach(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(r) if r >= 0.0 => Ok(r),
+        _ => Err(format!(
+            "march reach '{s}' is not a number of cells, 0 or more (inf to always march)"
+        )),
+    }
 }
 
 /// Parses `--clip-plane X,Y,Z:NX,NY,NZ` into the plane's equation (see [`ClipPlanes`]).
@@ -178,6 +193,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     options.gradient_opacity = args.gradient_opacity.as_deref().copied();
     options.blend = blend;
     options.clip_planes = clip_planes;
+    options.march_reach = args.march_reach;
     if let Some(a) = args.depth_opacity {
         options.depth_opacity = a;
     }

@@ -936,6 +936,12 @@ impl<'a> Renderer<'a> {
         transfer: &TransferFunction,
         options: &RenderOptions,
     ) -> Result<Renderer<'a>, Error> {
+        if options.march_reach.is_nan() || options.march_reach < 0.0 {
+            return Err(Error::Invalid(format!(
+                "march reach {} must be a number of cells, 0 or more (inf to always march)",
+                options.march_reach
+            )));
+        }
         let [lo, hi] = volume.field.range;
         let table = transfer.table(lo, hi, options.step, options.table_size)?;
         let diag = volume.field.bounds.diagonal();
