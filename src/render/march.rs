@@ -21,6 +21,7 @@ use glam::{DVec3, Vec3A};
 
 use super::raycast::Neighbours;
 use super::walk::{test_cell, walk, WalkEnd, WalkWork};
+use crate::accel::prefetch;
 use crate::geometry::bounds::Aabb;
 use crate::geometry::containment::{certainly_inside, param_inside, reject_box};
 use crate::geometry::inverse::PreparedCell;
@@ -541,21 +542,6 @@ pub fn boundary_face_crossing(
         s_from = s;
     }
     None
-}
-
-/// Asks the processor to start loading the cache line of `x` (nothing elsewhere).
-#[inline(always)]
-pub(crate) fn prefetch<T>(x: &T) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch is a hint; it reads nothing and faults on no address.
-    unsafe {
-        core::arch::x86_64::_mm_prefetch(
-            x as *const T as *const i8,
-            core::arch::x86_64::_MM_HINT_T0,
-        );
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = x;
 }
 
 #[cfg(test)]

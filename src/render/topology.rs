@@ -73,7 +73,7 @@ impl Neighbours for Topology {
     #[inline]
     fn prefetch(&self, cell: u32) {
         if let Some(row) = self.faces.raw().get(cell as usize * 6) {
-            super::march::prefetch(row);
+            crate::accel::prefetch(row);
         }
     }
 }

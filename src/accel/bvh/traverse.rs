@@ -93,7 +93,11 @@ impl<B: BvhBounds> Bvh<B> {
             if node.count == 0 {
                 counters.internal_visits += 1;
                 if inside && top + 2 <= MAX_DEPTH {
-                    // Right child below, left child (the next node) on top.
+                    // Right child below, left child (the next node) on top; the right child,
+                    // far in memory, starts loading while the left one's subtree is searched.
+                    if let Some(right) = self.nodes.get(node.index as usize) {
+                        crate::accel::prefetch(right);
+                    }
                     stack[top] = node.index;
                     stack[top + 1] = at + 1;
                     top += 2;
