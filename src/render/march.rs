@@ -199,6 +199,9 @@ pub struct March {
     corners: [DVec3; 8],
     /// The exit face and its `t`; `None` when the cell has no exit by its planes.
     exit: Option<(usize, f64)>,
+    /// The `t` of the sample by which the march was [`March::place`]d in `cell` without
+    /// gathering it (the corners and exit still the previous cell's); NaN once gathered.
+    placed_at: f64,
     /// The ray's typical chord in the cells it met so far (their lengths along it by their
     /// planes, each new cell's taking half the weight); NaN before any.
     chord: f64,
@@ -244,6 +247,7 @@ impl March {
             corners: [DVec3::ZERO; 8],
             exit: None,
             chord: f64::NAN,
+            placed_at: f64::NAN,
             solver: Solver {
                 id: u32::MAX,
                 ..Solver::default()
@@ -256,6 +260,7 @@ impl March {
     pub fn move_to(&mut self, mesh: &Mesh, cell: u32, o: DVec3, d: DVec3) {
         self.cell = cell;
         self.exit = None;
+        self.placed_at = f64::NAN;
         if (cell as usize) < mesh.cell_count() {
             mesh.cell_corners_into(cell as usize, &mut self.corners);
             if let Some((entry, exit)) = entry_and_exit(&self.corners, o, d) {
@@ -263,6 +268,16 @@ impl March {
                 self.observe_chord(exit.1 - entry);
             }
         }
+    }
+
+    /// Puts the march in `cell`, where the sample at `t` was found by other means (a
+    /// structure look-up), without gathering the cell: until the next [`March::locate`]
+    /// gathers it, [`March::cells_ahead`] estimates from `t` and the ray's typical chord, so a
+    /// run of samples located far ahead gathers no cell for the march.
+    pub fn place(&mut self, cell: u32, t: f64) {
+        self.cell = cell;
+        self.exit = None;
+        self.placed_at = t;
     }
 
     /// Takes a cell's chord into the ray's typical one (non-positive or non-finite chords,
@@ -310,7 +325,9 @@ impl March {
     /// for a cell it was moved to, from the planes' entry; each new cell's taking half the
     /// weight), so that one cell grazed at a corner does not stand for the cells ahead. An
     /// estimate for choosing between marching and a structure look-up; zero before any cell
-    /// with a positive chord, or in a cell with no exit, so that those keep marching.
+    /// with a positive chord, or in a cell with no exit, so that those keep marching. Where
+    /// the march was [`March::place`]d by a sample, its distance from that sample in typical
+    /// chords, plus a half.
     ///
     /// ```
     /// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
@@ -332,6 +349,14 @@ impl March {
     /// assert!((march.cells_ahead(6.0) - 5.0).abs() < 1e-6);
     /// ```
     pub fn cells_ahead(&self, t: f64) -> f64 {
+        if !self.placed_at.is_nan() {
+            // Placed by a sample, half a chord from the exit on average.
+            return if t > self.placed_at && self.chord > 0.0 {
+                0.5 + (t - self.placed_at) / self.chord
+            } else {
+                0.0
+            };
+        }
         match self.exit {
             Some((_, t_exit)) if t > t_exit && self.chord > 0.0 => 1.0 + (t - t_exit) / self.chord,
             _ => 0.0,
@@ -358,6 +383,9 @@ impl March {
         no_parameters: &dyn Fn(u32) -> bool,
         work: &mut WalkWork,
     ) -> WalkEnd {
+        if !self.placed_at.is_nan() {
+            self.move_to(mesh, self.cell, o, d);
+        }
         let n_cells = mesh.cell_count();
         let p = o + d * t;
         let mut steps = 0u32;

@@ -1852,6 +1852,7 @@ impl<'a> Renderer<'a> {
                     {
                         if let Some(f) = vol.accel.locate(mesh, p, &mut counters) {
                             stats.far_locates += 1;
+                            march.place(f.0, t);
                             walked = Some(Some(f));
                         }
                     }
