@@ -736,4 +736,70 @@ mod tests {
         assert_eq!(f, 1);
         assert!((t - (5e2 + 1e-3)).abs() < 1e-9, "{t}");
     }
+
+    proptest::proptest! {
+        /// One evaluation of the planes gives both ends: the exit is [`exit_face`]'s and the
+        /// entry is the exit backwards along the ray, for sheared and stretched cells and any
+        /// ray through them.
+        #[test]
+        fn entry_and_exit_are_the_exits_both_ways(
+            shear in proptest::array::uniform3(-0.4f64..0.4),
+            scale in proptest::array::uniform3(0.05f64..20.0),
+            inside in proptest::array::uniform3(0.1f64..0.9),
+            dir in proptest::array::uniform3(-1.0f64..1.0),
+        ) {
+            let cell = CORNER_PARAMETERS.map(|c| {
+                let p = DVec3::from_array(c);
+                DVec3::new(p.x + shear[0] * p.y, p.y + shear[1] * p.z, p.z + shear[2] * p.x)
+                    * DVec3::from_array(scale)
+            });
+            let p = DVec3::from_array(inside);
+            let o = DVec3::new(p.x + shear[0] * p.y, p.y + shear[1] * p.z, p.z + shear[2] * p.x)
+                * DVec3::from_array(scale);
+            let d = DVec3::from_array(dir);
+            proptest::prop_assume!(d.length() > 0.1);
+            let (entry, exit) = entry_and_exit(&cell, o, d).expect("a ray from inside leaves");
+            proptest::prop_assert_eq!(Some(exit), exit_face(&cell, o, d));
+            let (_, back) = exit_face(&cell, o, -d).expect("and leaves backwards");
+            let size = DVec3::from_array(scale).max_element() / d.length();
+            proptest::prop_assert!((entry + back).abs() <= 1e-6 * size, "{entry} vs {back}");
+            proptest::prop_assert!(entry < 0.0 && exit.1 > 0.0);
+        }
+    }
+
+    #[test]
+    fn cells_ahead_follows_the_ray_s_typical_chord() {
+        // A row of unit cubes along x, crossed along x from x = -1: chords of 1.
+        let (o, d) = (DVec3::new(-1.0, 0.5, 0.5), DVec3::X);
+        let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+        let row: Vec<[DVec3; 8]> = (0..4)
+            .map(|i| cube.map(|c| c + DVec3::X * i as f64))
+            .collect();
+        let mut points = Vec::new();
+        let mut cells = Vec::new();
+        for c in &row {
+            let base = points.len() as u32;
+            points.extend_from_slice(c);
+            cells.push(std::array::from_fn(|k| base + k as u32));
+        }
+        let mesh = Mesh::from_parts(crate::MeshParts {
+            kinds: vec![crate::CellKind::Hexahedron; cells.len()],
+            cells,
+            points,
+            ..Default::default()
+        })
+        .unwrap();
+        let mut march = March::new();
+        assert_eq!(march.cells_ahead(10.0), 0.0, "no chord before any cell");
+        march.move_to(&mesh, 0, o, d);
+        // In the cell (exit at t = 2): none ahead; 3.5 is in the second cell past the exit.
+        assert_eq!(march.cells_ahead(1.5), 0.0);
+        assert!((march.cells_ahead(3.5) - 2.5).abs() < 1e-6);
+        // Placed by a sample at t = 2.5 (in cell 1), without gathering it: half a chord plus
+        // the distance in chords.
+        march.place(1, 2.5);
+        assert_eq!(march.cell(), 1);
+        assert!((march.cells_ahead(4.5) - 2.5).abs() < 1e-6);
+        assert_eq!(march.cells_ahead(2.0), 0.0);
+    }
 }
