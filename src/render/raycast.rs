@@ -64,10 +64,10 @@
 //!   [`super::march::March::cells_ahead`]) is located through the structure instead of by
 //!   crossing every cell on the way, where the boundary surface proves the ray stays in the
 //!   mesh from the previous sample up to it ([`RenderStats::far_locates`]); at large steps
-//!   the crossings, not the samples, are most of a frame's work. Space outside the mesh is skipped: with a boundary surface
-//!   ([`Neighbours::surface`], see [`super::surface`]), from every point known to be outside
-//!   up to where the ray may first cross a boundary face; without one, by the structure's
-//!   bounds ([`super::skip`]). Where the march leaves the mesh by the plane of a face
+//!   the crossings, not the samples, are most of a frame's work. Space outside the mesh is
+//!   skipped: with a boundary surface ([`Neighbours::surface`], see [`super::surface`]),
+//!   from every point known to be outside up to where the ray may first cross a boundary
+//!   face; without one, by the structure's bounds ([`super::skip`]). Where the march leaves the mesh by the plane of a face
 //!   without a neighbour, the next sample is proved outside by parity where it can be: the
 //!   segment from the last sample inside crosses that face exactly once (a robust count of a
 //!   line's crossings of a bilinear patch, [`crate::geometry::patch`]) and no other boundary
@@ -1632,8 +1632,6 @@ impl<'a> Renderer<'a> {
         0.5 * (b.t_outside + b.t_inside)
     }
 
-    /// [`Renderer::cast`] with the first cell of the previous ray as a starting point
-    /// (updated to this ray's first cell).
     /// Whether the ray `origin + t dir`, in the mesh at `t_from` (a located sample), stays
     /// in it up to `t`: where no boundary face's bound lies on the way
     /// ([`BoundarySurface::next_crossing`]; conservative, so `true` is proved). `span` keeps
@@ -1664,6 +1662,8 @@ impl<'a> Renderer<'a> {
         t < span.1
     }
 
+    /// [`Renderer::cast`] with the first cell of the previous ray as a starting point
+    /// (updated to this ray's first cell).
     fn cast_with_hint(
         &self,
         origin: DVec3,
