@@ -900,6 +900,20 @@ fn render_reports_every_bad_input() {
         ),
         (
             CylvolRenderParams {
+                march_reach: f64::NAN,
+                ..p
+            },
+            "params->march_reach = NaN",
+        ),
+        (
+            CylvolRenderParams {
+                march_reach: -1.0,
+                ..p
+            },
+            "params->march_reach = -1",
+        ),
+        (
+            CylvolRenderParams {
                 shading: 1,
                 specular_power: f64::INFINITY,
                 ..p
@@ -1720,6 +1734,48 @@ fn clipping_planes_match_the_rust_api() {
     });
     assert_eq!(out.f32, reference);
     assert_eq!(stats.samples_located, rust.samples_located);
+    unsafe { cylvol_volume_free(v) };
+}
+
+/// The march reach through the C ABI: 6 cells by default; at 0 every sample past its
+/// predecessor's cell is located through the structure (counted in `far_locates`), at
+/// `INFINITY` none is — with the same image, equal to the Rust API's with that reach.
+#[test]
+fn march_reach_changes_the_work_not_the_image() {
+    let (a, v, tables, c, camera) = sector_scene();
+    let (w, h) = (20, 14);
+    assert_eq!(
+        params(w, h).march_reach,
+        cylvol::render::DEFAULT_MARCH_REACH
+    );
+    let mut images = Vec::new();
+    let mut far = Vec::new();
+    for reach in [f64::INFINITY, 0.0] {
+        let p = CylvolRenderParams {
+            march_reach: reach,
+            ..params(w, h)
+        };
+        let out = render_f32(v, &c, &tables.c(), &p, None);
+        assert_eq!(out.status, S::Ok, "{}", last_error());
+        let mut stats = CylvolRenderStats::default();
+        unsafe { cylvol_volume_render_stats(v, &mut stats) };
+        let (reference, rust) = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
+            o.march_reach = reach
+        });
+        assert_eq!(out.f32, reference, "reach {reach}");
+        assert_eq!(stats.far_locates, rust.far_locates, "reach {reach}");
+        assert!(out.f32.iter().any(|&x| x > 0.0));
+        far.push(stats.far_locates);
+        images.push(out.f32);
+    }
+    assert_eq!(far[0], 0);
+    assert!(far[1] > 0, "{far:?}");
+    let diff = images[0]
+        .iter()
+        .zip(&images[1])
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0f32, f32::max);
+    assert!(diff <= 1e-6, "the reach changed the image by {diff}");
     unsafe { cylvol_volume_free(v) };
 }
 

@@ -374,6 +374,14 @@ fn render(u: &mut Unstructured, v: *mut CylvolVolume) -> Result<()> {
             *v = float(u, -2.0, 2.0)?;
         }
     }
+    // The march reach: refused values (NaN, negative), 0, a few cells, never.
+    params.march_reach = match u.int_in_range(0u8..=4)? {
+        0 => f64::NAN,
+        1 => -1.0,
+        2 => 0.0,
+        3 => f64::INFINITY,
+        _ => float(u, 0.0, 12.0)?,
+    };
     params.shading = u.int_in_range(0..=1)?;
     params.specular_power = float(u, 0.0, 50.0)?;
     params.early_termination = float(u, 0.1, 1.5)?;

@@ -85,6 +85,11 @@ pub struct CylvolRenderParams {
     /// `vtkAbstractMapper3D::GetClippingPlaneInDataCoords` gives them); each finite, with
     /// `(a, b, c)` not zero.
     pub clip_planes: [[f64; 4]; CYLVOL_MAX_CLIP_PLANES],
+    /// The fast path's reach by marching, in cells (default 6, `INFINITY` always marches):
+    /// a sample about more than this many cells ahead, where the ray provably stays in the
+    /// mesh, is located through the structure instead (`CylvolRenderStats::far_locates`);
+    /// the image is the same either way. ≥ 0, not NaN. Added after the fields above.
+    pub march_reach: f64,
 }
 
 /// The most clipping planes a render takes (`CylvolRenderParams::clip_planes`).
@@ -93,7 +98,8 @@ const _: () = assert!(CYLVOL_MAX_CLIP_PLANES == crate::render::MAX_CLIP_PLANES);
 
 impl Default for CylvolRenderParams {
     /// 512 × 512, the default step, FAST, LINEAR, no shading (coefficients 0.1, 0.7, 0.2, 10),
-    /// early termination at 0.99, rows top-down, compositing, no clipping plane.
+    /// early termination at 0.99, rows top-down, compositing, no clipping plane, a march
+    /// reach of 6 cells.
     fn default() -> Self {
         let s = Shading::default();
         CylvolRenderParams {
@@ -112,6 +118,7 @@ impl Default for CylvolRenderParams {
             blend: CylvolBlend::Composite.into(),
             clip_plane_count: 0,
             clip_planes: [[0.0; 4]; CYLVOL_MAX_CLIP_PLANES],
+            march_reach: crate::render::DEFAULT_MARCH_REACH,
         }
     }
 }
@@ -376,6 +383,12 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
     }
     let clip_planes = ClipPlanes::new(&p.clip_planes[..count])
         .map_err(|e| Failure::invalid(format!("params->clip_planes: {e}")))?;
+    if p.march_reach.is_nan() || p.march_reach < 0.0 {
+        return Err(Failure::invalid(format!(
+            "params->march_reach = {} (a number of cells, ≥ 0; INFINITY always marches)",
+            p.march_reach
+        )));
+    }
     let mut o = RenderOptions::new(p.width, p.height, step);
     o.clip_planes = clip_planes;
     o.path = path;
@@ -383,6 +396,7 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
     o.early_termination = p.early_termination;
     o.interpolation = interpolation;
     o.blend = blend;
+    o.march_reach = p.march_reach;
     Ok(o)
 }
 

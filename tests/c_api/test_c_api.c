@@ -360,6 +360,13 @@ static void test_mixed_cells(void) {
   CHECK(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, f, W * H * 4) ==
             CYLVOL_STATUS_INVALID_ARGUMENT,
         "7 clipping planes");
+  /* The march reach: 6 cells by default, a negative one refused. */
+  p.clip_plane_count = 0;
+  CHECK(p.march_reach == 6.0, "default march reach %g", p.march_reach);
+  p.march_reach = -1.0;
+  CHECK(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, f, W * H * 4) ==
+            CYLVOL_STATUS_INVALID_ARGUMENT,
+        "a negative march reach");
   cylvol_volume_free(v);
   cylvol_mesh_free(mesh);
   arrays_free(&a);
