@@ -213,6 +213,7 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->EarlyTermination = 0.99;
   this->SampleDistance = 0.0;
   this->RelativeSampleDistance = 1.0;
+  this->MarchReach = 6.0;
   this->ImageSampleDistance = 1.0f;
   this->MinimumImageSampleDistance = 1.0f;
   this->MaximumImageSampleDistance = 10.0f;
@@ -770,6 +771,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.early_termination = this->EarlyTermination;
   params.rows_bottom_up = 1;
   params.blend = blend;
+  params.march_reach = this->MarchReach;
   // Clipping planes (vtkAbstractMapper::AddClippingPlane) in the data's coordinates, where the
   // rays are cast: the side each plane's normal points into is kept. More than cylvol takes
   // are passed on as a count, which cylvol_render refuses with a message (nothing drawn).
@@ -923,6 +925,7 @@ void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EarlyTermination: " << this->EarlyTermination << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "RelativeSampleDistance: " << this->RelativeSampleDistance << "\n";
+  os << indent << "MarchReach: " << this->MarchReach << "\n";
   os << indent << "ImageSampleDistance: " << this->ImageSampleDistance << "\n";
   os << indent << "MinimumImageSampleDistance: " << this->MinimumImageSampleDistance << "\n";
   os << indent << "MaximumImageSampleDistance: " << this->MaximumImageSampleDistance << "\n";

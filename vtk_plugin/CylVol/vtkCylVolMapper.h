@@ -151,6 +151,17 @@ public:
 
   ///@{
   /**
+   * How many cells ahead, about, a ray still marches from cell to cell to its next sample
+   * (default 6): a sample further ahead, where the ray provably stays in the mesh, is located
+   * through the structure instead (GetLastFarLocates), which pays at sample distances of many
+   * cells. The image is the same either way; VTK_DOUBLE_MAX always marches.
+   */
+  vtkSetClampMacro(MarchReach, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MarchReach, double);
+  ///@}
+
+  ///@{
+  /**
    * Sample distance in screen pixels: the image is rendered this many times smaller than
    * the viewport in each direction and stretched over it (default 1).
    */
@@ -282,6 +293,7 @@ protected:
   double EarlyTermination;
   double SampleDistance;
   double RelativeSampleDistance;
+  double MarchReach;
   float ImageSampleDistance;
   float MinimumImageSampleDistance;
   float MaximumImageSampleDistance;

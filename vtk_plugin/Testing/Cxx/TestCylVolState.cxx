@@ -120,7 +120,14 @@ int TestCylVolState(int, char*[])
     Expect(mapper->GetLastFarLocates() > 0 &&
         mapper->GetLastFarLocates() <= mapper->GetLastSamplesLocated(),
       "samples many cells apart are located through the structure");
-    Expect(Lit(cylvoltest::Grab(win)) > 1000, "and still show the volume");
+    auto far = cylvoltest::Grab(win);
+    Expect(Lit(far) > 1000, "and still show the volume");
+    mapper->SetMarchReach(VTK_DOUBLE_MAX);
+    win->Render();
+    Expect(mapper->GetLastFarLocates() == 0, "a march reach without end always marches");
+    Expect(cylvoltest::Compare(far, cylvoltest::Grab(win), 1).Within > 0.999,
+      "to the same picture");
+    mapper->SetMarchReach(6.0);
     mapper->SetRelativeSampleDistance(1.0);
   }
 
