@@ -213,7 +213,12 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->EarlyTermination = 0.99;
   this->SampleDistance = 0.0;
   this->RelativeSampleDistance = 1.0;
-  this->MarchReach = 6.0;
+  {
+    // cylvol's own default (6 cells), so that the two never drift apart.
+    CylvolRenderParams defaults;
+    cylvol_render_params_default(&defaults);
+    this->MarchReach = defaults.march_reach;
+  }
   this->ImageSampleDistance = 1.0f;
   this->MinimumImageSampleDistance = 1.0f;
   this->MaximumImageSampleDistance = 10.0f;

@@ -122,12 +122,14 @@ int TestCylVolState(int, char*[])
       "samples many cells apart are located through the structure");
     auto far = cylvoltest::Grab(win);
     Expect(Lit(far) > 1000, "and still show the volume");
+    const double reach = mapper->GetMarchReach();
+    Expect(reach == 6.0, "the march reach is cylvol's default");
     mapper->SetMarchReach(VTK_DOUBLE_MAX);
     win->Render();
     Expect(mapper->GetLastFarLocates() == 0, "a march reach without end always marches");
     Expect(cylvoltest::Compare(far, cylvoltest::Grab(win), 1).Within > 0.999,
       "to the same picture");
-    mapper->SetMarchReach(6.0);
+    mapper->SetMarchReach(reach);
     mapper->SetRelativeSampleDistance(1.0);
   }
 
