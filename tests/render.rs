@@ -354,12 +354,7 @@ fn check_beer_lambert(case: &Case, step: f64) {
 /// the planes keep, so the transmittance checks that the volume ends exactly on a plane that
 /// cuts the mesh (the ray starting or ending in it) and nowhere else.
 fn check_beer_lambert_clipped(case: &Case, step: f64, planes: ClipPlanes) {
-    check_beer_lambert_with(
-        case,
-        step,
-        planes,
-        RenderOptions::new(1, 1, step).march_reach,
-    );
+    check_beer_lambert_with(case, step, planes, cylvol::render::DEFAULT_MARCH_REACH);
 }
 
 /// [`check_beer_lambert_clipped`] with the fast path's [`RenderOptions::march_reach`] set;

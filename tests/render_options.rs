@@ -304,7 +304,7 @@ fn far_samples_are_located_through_the_structure_with_the_same_image() {
             );
             assert_eq!(sm.far_locates, 0, "{kind} {blend:?}");
             let (mut walked, mut far) = (sm.walk_steps, 0);
-            for reach in [RenderOptions::new(1, 1, step).march_reach, 0.0] {
+            for reach in [cylvol::render::DEFAULT_MARCH_REACH, 0.0] {
                 let (image, s) = run(reach);
                 let what = format!("{kind} {blend:?} reach {reach}");
                 let diff = image.max_abs_difference(&marched);

@@ -1634,14 +1634,14 @@ impl<'a> Renderer<'a> {
 
     /// Whether the ray `origin + t dir`, in the mesh at `t_from` (a located sample), stays
     /// in it up to `t`: where no boundary face's bound lies on the way
-    /// ([`BoundarySurface::next_crossing`]; conservative, so `true` is proved). `span` keeps
-    /// the last answer's stretch `[from, until)` of the ray, found from a sample in the mesh,
-    /// for the samples after it (a query only once `t` is past it). `false` without the
-    /// boundary surface.
+    /// ([`BoundarySurface::next_crossing`]; conservative, so `true` is proved). `until` keeps
+    /// the last answer: the ray is in the mesh from the sample it was found from up to there,
+    /// so later samples before it need no query (the samples' `t` only grow). `false` without
+    /// the boundary surface.
     #[allow(clippy::too_many_arguments)]
     fn in_mesh_until(
         &self,
-        span: &mut (f64, f64),
+        until: &mut f64,
         faces: Option<RayFaces<'_>>,
         origin: DVec3,
         dir: DVec3,
@@ -1653,13 +1653,12 @@ impl<'a> Renderer<'a> {
         let Some(surface) = self.neighbours.surface() else {
             return false;
         };
-        if !(span.0 <= t_from && t < span.1) {
-            let until = surface
+        if t >= *until {
+            *until = surface
                 .next_crossing(faces, origin, dir, t_from, t_end, counters)
                 .map_or(f64::INFINITY, |(c, _)| c);
-            *span = (t_from, until);
         }
-        t < span.1
+        t < *until
     }
 
     /// [`Renderer::cast`] with the first cell of the previous ray as a starting point
@@ -1784,9 +1783,9 @@ impl<'a> Renderer<'a> {
             None
         };
         let mut surface_counters = Counters::default();
-        // The ray is in the mesh on `in_mesh` (from a located sample to the next possible
-        // boundary crossing), for locating far samples through the structure.
-        let mut in_mesh = (f64::NAN, f64::NAN);
+        // The ray is in the mesh from a located sample up to `in_mesh_until` (the next
+        // possible boundary crossing), for locating far samples through the structure.
+        let mut in_mesh_until = f64::NEG_INFINITY;
         let mut inside_counters = Counters::default();
         let mut next_surface_crossing = |t_outside: f64| -> (f64, Option<u32>) {
             match surface {
@@ -1836,11 +1835,12 @@ impl<'a> Renderer<'a> {
                 // With a previous cell, walk from it; a walk that leaves the mesh drops it.
                 let mut walked = None;
                 if let Some((c, _)) = prev {
+                    // The march follows `prev` (set below after every located sample).
+                    debug_assert_eq!(march.cell(), c);
                     // Far ahead, in the mesh all the way: locate through the structure.
-                    if march.cell() == c
-                        && march.cells_ahead(t) > opts.march_reach
+                    if march.cells_ahead(t) > opts.march_reach
                         && self.in_mesh_until(
-                            &mut in_mesh,
+                            &mut in_mesh_until,
                             faces,
                             origin,
                             dir,
