@@ -543,7 +543,7 @@ typedef struct CylvolRenderStats {
    */
   uint64_t surface_visits;
   /**
-   * Jumps over transparent space to the next cell that is not (fast path, BVH structures;
+   * Jumps over transparent space to the next cell that is not (fast path, every structure;
    * the samples passed over are counted in `space_skips`).
    */
   uint64_t transparent_jumps;

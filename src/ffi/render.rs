@@ -170,7 +170,7 @@ pub struct CylvolRenderStats {
     /// Nodes of the boundary surface's BVH visited to skip the space outside the mesh (fast
     /// path).
     pub surface_visits: u64,
-    /// Jumps over transparent space to the next cell that is not (fast path, BVH structures;
+    /// Jumps over transparent space to the next cell that is not (fast path, every structure;
     /// the samples passed over are counted in `space_skips`).
     pub transparent_jumps: u64,
     /// Samples of an intensity projection passed over without interpolation, in cells whose

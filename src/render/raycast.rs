@@ -81,7 +81,11 @@
 //!   would add nothing); with a BVH, the ray then jumps to the next bound of a piece of a cell
 //!   that is not so ([`super::skip::Skipper::next_visible`] over the nodes that hold one,
 //!   [`Renderer::visible_nodes`]), passing over the samples before it, which lie in such
-//!   cells or outside the mesh, and locates the next sample from that cell. An intensity
+//!   cells or outside the mesh, and locates the next sample from that cell; with a grid, to
+//!   the next grid cell that references such a cell
+//!   ([`super::skip::Skipper::next_kept_in_grid`] over [`Renderer::visible_grid_cells`]),
+//!   where that passes over at least [`GRID_JUMP_LEAST_SAMPLES`] samples (else the march
+//!   goes on to there). An intensity
 //!   projection does the same with the cells whose scalar range cannot beat the ray's
 //!   extreme so far ([`Blend::may_replace_in`]), through each node's scalar range
 //!   ([`Renderer::extreme_nodes`]). Where the table
@@ -123,6 +127,7 @@ use super::walk::{
     farthest_face, violated_face, walk_within, WalkEnd, WalkWork, MAX_ENTRY_PLANE_STEPS,
 };
 use crate::accel::bvh::{NodeMask, NodeRanges};
+use crate::accel::grid::GridMask;
 use crate::accel::{Accel, Counters, Structure};
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
@@ -441,9 +446,9 @@ pub struct RenderStats {
     /// `leaf_visits`).
     pub extreme_jumps: u64,
     /// Jumps of the fast path over transparent space: from a sample in a transparent cell to
-    /// the next bound of a piece of a cell that is not (BVH structures only; the samples
-    /// passed over are counted in `space_skips`, the node visits in `internal_visits` and
-    /// `leaf_visits`).
+    /// the next bound of a piece of a cell that is not (BVHs), or to the next grid cell that
+    /// references such a cell (grids); the samples passed over are counted in `space_skips`,
+    /// the node or grid cell visits in `internal_visits` and `leaf_visits`.
     pub transparent_jumps: u64,
 }
 
@@ -797,6 +802,7 @@ pub struct Derived {
     table: TransferTable,
     transparent: TransparentCells,
     visible: Option<Option<NodeMask>>,
+    visible_grid: Option<Option<GridMask>>,
     extreme_nodes: Option<Option<NodeRanges>>,
 }
 
@@ -814,6 +820,10 @@ pub struct Renderer<'a> {
     /// the fast path's jumps over transparent space (`None` for a grid); made with the
     /// transparent cells.
     visible: std::sync::OnceLock<Option<NodeMask>>,
+    /// The grid cells referencing a cell that is not wholly transparent, for the fast path's
+    /// jumps over transparent space on a grid (`None` for a BVH); made with the transparent
+    /// cells.
+    visible_grid: std::sync::OnceLock<Option<GridMask>>,
     /// The scalar range below each of the structure's nodes, for an intensity projection's
     /// jumps over cells that cannot beat the extreme (`None` for a grid).
     extreme_nodes: std::sync::OnceLock<Option<NodeRanges>>,
@@ -924,6 +934,10 @@ macro_rules! on_bvh {
     };
 }
 
+/// The fewest samples a jump over transparent space on a grid must pass over: a shorter one
+/// marches instead (see [`Skipper::next_kept_in_grid`]).
+pub const GRID_JUMP_LEAST_SAMPLES: f64 = 4.0;
+
 /// Samples per ray beyond which a render is refused (a step far too small for the mesh).
 pub const MAX_SAMPLES_PER_RAY: f64 = 1e7;
 
@@ -970,6 +984,7 @@ impl<'a> Renderer<'a> {
             clip_box,
             transparent: std::sync::OnceLock::new(),
             visible: std::sync::OnceLock::new(),
+            visible_grid: std::sync::OnceLock::new(),
             extreme_nodes: std::sync::OnceLock::new(),
         })
     }
@@ -988,6 +1003,7 @@ impl<'a> Renderer<'a> {
             table: self.table,
             transparent,
             visible: self.visible.into_inner(),
+            visible_grid: self.visible_grid.into_inner(),
             extreme_nodes: self.extreme_nodes.into_inner(),
         })
     }
@@ -1000,6 +1016,9 @@ impl<'a> Renderer<'a> {
             let _ = self.transparent.set(derived.transparent);
             if let Some(visible) = derived.visible {
                 let _ = self.visible.set(visible);
+            }
+            if let Some(visible) = derived.visible_grid {
+                let _ = self.visible_grid.set(visible);
             }
             if let Some(ranges) = derived.extreme_nodes {
                 let _ = self.extreme_nodes.set(ranges);
@@ -1034,12 +1053,35 @@ impl<'a> Renderer<'a> {
     }
 
     /// The nodes of the structure holding a piece of a cell that the table does not make
-    /// wholly transparent (`None` for a grid, which the fast path cannot jump through):
+    /// wholly transparent (`None` for a grid, see [`Renderer::visible_grid_cells`]):
     /// made on first use, on the calling thread, like [`Renderer::transparent_cells`].
     pub fn visible_nodes(&self) -> Option<&NodeMask> {
         self.visible
             .get_or_init(|| self.make_visible_nodes(false))
             .as_ref()
+    }
+
+    /// The grid cells referencing a cell that the table does not make wholly transparent
+    /// (`None` for a BVH): what the fast path's jumps over transparent space walk through on
+    /// a grid ([`Skipper::next_kept_in_grid`]). Made on first use, on the calling thread, like
+    /// [`Renderer::transparent_cells`].
+    pub fn visible_grid_cells(&self) -> Option<&GridMask> {
+        self.visible_grid
+            .get_or_init(|| self.make_visible_grid_cells(false))
+            .as_ref()
+    }
+
+    fn make_visible_grid_cells(&self, parallel: bool) -> Option<GridMask> {
+        let Structure::Grid(g) = self.volume.accel.structure() else {
+            return None;
+        };
+        let transparent = self.transparent_cells();
+        let visible = |c: u32| !transparent.contains(c);
+        Some(if parallel {
+            g.cells_holding(visible)
+        } else {
+            g.cells_holding_sequential(visible)
+        })
     }
 
     /// The scalar range of the cells below each of the structure's nodes (`None` for a
@@ -1704,11 +1746,12 @@ impl<'a> Renderer<'a> {
         // only when compositing (an extreme may lie in a transparent cell).
         let transparent = (fast && compositing).then(|| self.transparent_cells());
         let is_transparent = |cell: u32| transparent.is_some_and(|m| m.contains(cell));
-        // The fast path jumps over transparent space through a BVH's visible nodes.
-        let visible_nodes = if fast && compositing {
-            self.visible_nodes()
+        // The fast path jumps over transparent space through a BVH's visible nodes, or a
+        // grid's visible cells.
+        let (visible_nodes, visible_grid) = if fast && compositing {
+            (self.visible_nodes(), self.visible_grid_cells())
         } else {
-            None
+            (None, None)
         };
         // A projection's fast path jumps over cells that cannot beat the extreme through a
         // BVH's node ranges.
@@ -2046,32 +2089,63 @@ impl<'a> Renderer<'a> {
                 }
                 let t_next = sample_t(k);
                 let best = extreme.get().map(|e| e.0);
-                let next = match (visible_nodes, extreme_nodes) {
+                let next = match (visible_nodes, extreme_nodes, visible_grid) {
                     _ if t_next <= adds_until => None,
-                    (Some(nodes), _) => Some(skipper().next_visible(
-                        origin,
-                        dir,
-                        t_next,
-                        t_out,
-                        nodes,
-                        |c| !is_transparent(c),
-                        &mut counters,
-                    )),
-                    (None, Some(ranges)) => Some(skipper().next_kept(
-                        origin,
-                        dir,
-                        t_next,
-                        t_out,
-                        ranges.len(),
-                        |i| {
-                            ranges
-                                .get(i)
-                                .is_some_and(|r| opts.blend.may_replace_in(r, best))
-                        },
-                        |c| !outranked(c),
-                        &mut counters,
-                    )),
-                    (None, None) => None,
+                    (Some(nodes), _, _) => Some(
+                        skipper()
+                            .next_visible(
+                                origin,
+                                dir,
+                                t_next,
+                                t_out,
+                                nodes,
+                                |c| !is_transparent(c),
+                                &mut counters,
+                            )
+                            .map(|(te, tx, c)| (te, tx, Some(c))),
+                    ),
+                    // A grid's walk lands at the entry of a grid cell, less tight than a
+                    // piece's bound, and its hint may lie cells away: a short jump would cost
+                    // more in locating the sample it lands on than marching to it, so the
+                    // march goes on up to there instead (no sample before it asks again).
+                    (None, None, Some(cells)) => Some(
+                        skipper()
+                            .next_kept_in_grid(
+                                origin,
+                                dir,
+                                t_next,
+                                t_out,
+                                cells,
+                                |c| !is_transparent(c),
+                                &mut counters,
+                            )
+                            .map(|(te, tx, c)| {
+                                if te < t_next + GRID_JUMP_LEAST_SAMPLES * step {
+                                    (t_next, te, None)
+                                } else {
+                                    (te, tx, c)
+                                }
+                            }),
+                    ),
+                    (None, Some(ranges), _) => Some(
+                        skipper()
+                            .next_kept(
+                                origin,
+                                dir,
+                                t_next,
+                                t_out,
+                                ranges.len(),
+                                |i| {
+                                    ranges
+                                        .get(i)
+                                        .is_some_and(|r| opts.blend.may_replace_in(r, best))
+                                },
+                                |c| !outranked(c),
+                                &mut counters,
+                            )
+                            .map(|(te, tx, c)| (te, tx, Some(c))),
+                    ),
+                    (None, None, None) => None,
                 };
                 if let Some(next) = next {
                     let until = match next {
@@ -2080,7 +2154,7 @@ impl<'a> Renderer<'a> {
                             continue;
                         }
                         Some((te, _, c)) => {
-                            jumped_to = Some(c);
+                            jumped_to = c;
                             te
                         }
                         None => t_out,
@@ -2335,6 +2409,9 @@ impl<'a> Renderer<'a> {
             }
             if self.visible.get().is_none() {
                 let _ = self.visible.set(self.make_visible_nodes(true));
+            }
+            if self.visible_grid.get().is_none() {
+                let _ = self.visible_grid.set(self.make_visible_grid_cells(true));
             }
         }
         self.volume.accel.make_node_ray_tests();

@@ -15,7 +15,12 @@
 //!   [`Skipper::next_span`] also gives the exit from the piece's bound entered first, so the
 //!   samples up to it (in that bound) go to point location without asking again.
 //! - **Grids**: a sample is passed over when its second-level cell holds no reference (one
-//!   top-cell and one leaf-cell look-up, no cell tested).
+//!   top-cell and one leaf-cell look-up, no cell tested). Jumps over transparent space
+//!   ([`Skipper::next_kept_in_grid`]) walk from grid cell to grid cell along the ray — a
+//!   whole top cell at a time where it references no kept cell — each step locating the
+//!   point past the last cell's exit as point location would, so the walk's notion of a cell
+//!   is the grid's own; exits are computed never later than the true ones (slabs; for a
+//!   cylindrical grid also the circles `r = r₀, r₁` and the half-planes at the arc's ends).
 //!
 //! Every answer is **conservative**: bounds are padded by `1e-9` of the root's extent before
 //! the ray is intersected with them, so a sample the structure could locate is never skipped,
@@ -28,8 +33,11 @@ use crate::accel::bvh::{
     arc_narrower_than_half_turn, arc_trig, ArcTrig, BoxF32, Bvh, BvhBounds, NodeMask, NodeRayTest,
     SectorF32,
 };
+use crate::accel::grid::{GridMask, MaskedCell};
 use crate::accel::{Accel, Coordinates, Counters, Structure};
+use crate::geometry::bounds::Aabb;
 use crate::geometry::cylindrical::CylFrame;
+use crate::geometry::pseudo_angle::direction_of_pseudo;
 
 /// A ray in the structure's frame, ready for its bounds.
 #[derive(Clone, Copy, Debug)]
@@ -302,6 +310,77 @@ impl<'a> Skipper<'a> {
         }
     }
 
+    /// For a grid: the first `t ∈ [t0, t1]` from which the ray (unit `dir`) may lie in a grid
+    /// cell that references a kept cell (`mask`, from [`crate::accel::grid::TwoLevelGrid::cells_holding`] with
+    /// `keep`), with the ray's exit from that grid cell and a kept cell it references (a
+    /// hint for locating the sample there); `None` if no such grid cell lies on `[t0, t1]`.
+    /// Every point of the ray before the answer lies in grid cells that reference no kept
+    /// cell, so no kept cell holds it: the grids' counterpart of [`Skipper::next_kept`]. The
+    /// walk goes from grid cell to grid cell along the ray, a whole top cell at a time where
+    /// the top cell references no kept cell. Where it cannot go on — the ray leaves the
+    /// grid's domain (the space outside the mesh, which the fast path crosses by the boundary
+    /// surface), a step would not leave its cell, or after [`MAX_GRID_WALK`] cells — it stops
+    /// there, with no hint: the caller then samples from there as it would without jumping.
+    /// `None` for a BVH or a mask made for another grid. Top and leaf cells visited are
+    /// counted in `counters`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn next_kept_in_grid(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        mask: &GridMask,
+        keep: impl Fn(u32) -> bool,
+        counters: &mut Counters,
+    ) -> Option<(f64, f64, Option<u32>)> {
+        let Structure::Grid(grid) = self.accel.structure() else {
+            return None;
+        };
+        let stats = grid.stats();
+        if !mask.fits(stats.top_cells, stats.leaf_cells) {
+            return None;
+        }
+        let coordinates = self.accel.coordinates();
+        let ray = GridRay::new(coordinates, origin, dir);
+        let at = |t: f64, counters: &mut Counters| {
+            grid.masked_cell_at(coordinates.query(origin + dir * t), mask, counters)
+        };
+        let mut t = t0;
+        let mut here = at(t, counters);
+        for _ in 0..MAX_GRID_WALK {
+            let region = match here {
+                MaskedCell::Outside => return Some((t, t, None)),
+                MaskedCell::Kept(leaf, region) => {
+                    let hint = grid.leaf_refs(leaf).iter().copied().find(|&c| keep(c));
+                    return Some((t, ray.exit(&region, t), hint));
+                }
+                MaskedCell::Empty(region) => region,
+            };
+            let exit = ray.exit(&region, t);
+            if exit > t1 {
+                return None;
+            }
+            // The exit's point lies on the region's face up to rounding, so it may be
+            // classified into the region again: step past it by the least amount that leaves
+            // it, far below the pieces' padding, or stop.
+            let limit = GRID_STEP_LIMIT * ray.least_extent(&region);
+            let mut step = f64::EPSILON * exit.abs().max(ray.scale);
+            loop {
+                if step > limit || limit.is_nan() {
+                    return Some((exit, exit, None));
+                }
+                let next = at(exit + step, counters);
+                if next != here {
+                    (t, here) = (exit + step, next);
+                    break;
+                }
+                step *= 2.0;
+            }
+        }
+        Some((t, t, None))
+    }
+
     /// Whether the structure may hold a cell at `p`: for a grid, whether `p`'s second-level
     /// cell holds references (one top and one leaf visit counted); for a BVH, always `true`.
     pub fn may_hold(&self, p: DVec3, counters: &mut Counters) -> bool {
@@ -316,6 +395,124 @@ impl<'a> Skipper<'a> {
                 !g.candidates(q).is_empty()
             }
             _ => true,
+        }
+    }
+}
+
+/// The most grid cells [`Skipper::next_kept_in_grid`] walks through before it stops.
+pub const MAX_GRID_WALK: usize = 1 << 16;
+
+/// The largest step, relative to the grid cell's least extent, that
+/// [`Skipper::next_kept_in_grid`] takes past a grid cell's exit to leave the cell: thousands
+/// of times below the padding of the pieces the grid references (`4e-9` of a mesh cell's
+/// diagonal and more; grid cells are shaped like the pieces they hold), so that no point of a
+/// kept piece in the next grid cell lies within the step.
+const GRID_STEP_LIMIT: f64 = 1e-12;
+
+/// A ray in a grid's coordinates, for the exits from grid cells.
+#[derive(Clone, Copy, Debug)]
+struct GridRay {
+    /// In the cylindrical frame (`(x, y)` across the axis, `h` along it) for a cylindrical
+    /// grid, else as given.
+    o: DVec3,
+    d: DVec3,
+    /// Cylindrical or not.
+    cylindrical: bool,
+    /// The magnitude of the ray's origin (at least 1): what rounding is relative to.
+    scale: f64,
+}
+
+impl GridRay {
+    fn new(coordinates: Coordinates, origin: DVec3, dir: DVec3) -> GridRay {
+        let scale = origin.abs().max_element().max(1.0);
+        match coordinates {
+            Coordinates::Cartesian => GridRay {
+                o: origin,
+                d: dir,
+                cylindrical: false,
+                scale,
+            },
+            Coordinates::Cylindrical(frame) => GridRay {
+                o: frame.to_local(origin),
+                d: DVec3::new(dir.dot(frame.e1), dir.dot(frame.e2), dir.dot(frame.axis)),
+                cylindrical: true,
+                scale,
+            },
+        }
+    }
+
+    /// The least extent of `region`, in world units: its box's shortest side, or for a
+    /// cylindrical region its radial and axial sides (its arc is as long as its angle times
+    /// its radius, which may be anything near the axis).
+    fn least_extent(&self, region: &Aabb) -> f64 {
+        let e = region.max - region.min;
+        if self.cylindrical {
+            e.x.min(e.z)
+        } else {
+            e.min_element()
+        }
+    }
+
+    /// Where the ray leaves `region` (a box in the grid's coordinates holding the point at
+    /// `t`, as the grid classifies it) after `t`: never later than the true exit, and `t`
+    /// itself where the point lies on the face it leaves by, or (by rounding) just beyond it.
+    /// The slabs (every axis of a Cartesian box, `h` of a cylindrical one) are convex, so
+    /// their exit is the nearest face ahead. A cylindrical region is also left through its
+    /// outer circle (the later root of `r² = r₁²`), through its inner circle where the ray
+    /// reaches it (the earlier root of `r² = r₀²`), and through the half-planes at its arc's
+    /// ends; any of those crossings a little behind `t` counts as one at `t` (rounding), and
+    /// any doubtful one counts (an earlier exit only costs a step of the walk).
+    fn exit(&self, region: &Aabb, t: f64) -> f64 {
+        let (o, d) = (self.o, self.d);
+        let (lo, hi) = (region.min, region.max);
+        let mut exit = f64::INFINITY;
+        let slabs = if self.cylindrical { 2..3 } else { 0..3 };
+        for a in slabs {
+            if d[a] != 0.0 {
+                let face = if d[a] > 0.0 { hi[a] } else { lo[a] };
+                exit = exit.min((face - o[a]) / d[a]);
+            }
+        }
+        if self.cylindrical {
+            let behind = t - 1e-9 * (t.abs() + self.scale);
+            // r² along the ray: a t² + 2 b t + c.
+            let a = d.x * d.x + d.y * d.y;
+            let b = o.x * d.x + o.y * d.y;
+            let c = o.x * o.x + o.y * o.y;
+            if a > 0.0 {
+                let outer = b * b - a * (c - hi.x * hi.x);
+                exit = exit.min(if outer >= 0.0 {
+                    (-b + outer.sqrt()) / a
+                } else {
+                    t
+                });
+                let inner = b * b - a * (c - lo.x * lo.x);
+                if lo.x > 0.0 && inner > 0.0 && (-b + inner.sqrt()) / a >= behind {
+                    exit = exit.min((-b - inner.sqrt()) / a);
+                }
+            }
+            // The half-planes through the axis at the arc's ends (none for a whole turn):
+            // where the ray meets the line through the axis along `u`, on `u`'s side.
+            if hi.y - lo.y < 4.0 {
+                let near = -1e-9 * self.scale;
+                for phi in [lo.y, hi.y] {
+                    let (ux, uy) = direction_of_pseudo(phi);
+                    let f1 = ux * d.y - uy * d.x;
+                    if f1 != 0.0 {
+                        let tc = (uy * o.x - ux * o.y) / f1;
+                        let along = ux * (o.x + tc * d.x) + uy * (o.y + tc * d.y);
+                        if tc >= behind && along >= near {
+                            exit = exit.min(tc);
+                        }
+                    }
+                }
+            }
+        }
+        // (NaN, from a degenerate ray, stays at `t`.)
+        if exit > t {
+            exit
+        } else {
+            t
         }
     }
 }
@@ -429,6 +626,41 @@ mod tests {
     use crate::datasets::{generate, Dataset};
     use crate::testing::uniform;
 
+    /// Rays from a sphere around a box, one diagonal from its centre, through random points of
+    /// the box.
+    struct RaysThroughBox {
+        lo: DVec3,
+        hi: DVec3,
+    }
+
+    impl RaysThroughBox {
+        /// Around the mesh's box.
+        fn of(mesh: &crate::Mesh) -> RaysThroughBox {
+            let [x0, x1, y0, y1, z0, z1] = mesh.bounds();
+            RaysThroughBox {
+                lo: DVec3::new(x0, y0, z0),
+                hi: DVec3::new(x1, y1, z1),
+            }
+        }
+
+        fn centre(&self) -> DVec3 {
+            (self.lo + self.hi) * 0.5
+        }
+
+        fn diagonal(&self) -> f64 {
+            (self.hi - self.lo).length()
+        }
+
+        /// A ray's origin and unit direction, from `next`'s uniform numbers.
+        fn next(&self, next: &mut impl FnMut() -> f64) -> (DVec3, DVec3) {
+            let (u, v) = (2.0 * next() - 1.0, std::f64::consts::TAU * next());
+            let w = (1.0 - u * u).sqrt();
+            let origin = self.centre() + DVec3::new(w * v.cos(), w * v.sin(), u) * self.diagonal();
+            let target = self.lo + (self.hi - self.lo) * DVec3::new(next(), next(), next());
+            (origin, (target - origin).normalize())
+        }
+    }
+
     /// Skipping never passes a sample the structure locates: along rays from all round the
     /// mesh, through points of its box, the entry [`Skipper::next_entry`] gives is at or before
     /// the first of 1,000 samples the structure's point location finds in a cell, and `None`
@@ -442,9 +674,8 @@ mod tests {
         for dataset in [Dataset::PumpRotor, Dataset::PumpInlet] {
             let mesh = generate(dataset, 3000).expect("mesh");
             let axis = crate::axis::detect(&mesh);
-            let [x0, x1, y0, y1, z0, z1] = mesh.bounds();
-            let (lo, hi) = (DVec3::new(x0, y0, z0), DVec3::new(x1, y1, z1));
-            let (centre, diagonal) = ((lo + hi) * 0.5, (hi - lo).length());
+            let rays = RaysThroughBox::of(&mesh);
+            let diagonal = rays.diagonal();
             for kind in [StructureKind::CylBvh, StructureKind::CartBvh] {
                 let accel =
                     Accel::build(&mesh, kind, &axis, &AccelParams::default()).expect("structure");
@@ -460,11 +691,7 @@ mod tests {
                 let mut next = uniform(7);
                 let mut gaps = Vec::new();
                 for _ in 0..150 {
-                    let (u, v) = (2.0 * next() - 1.0, std::f64::consts::TAU * next());
-                    let w = (1.0 - u * u).sqrt();
-                    let origin = centre + DVec3::new(w * v.cos(), w * v.sin(), u) * diagonal;
-                    let target = lo + (hi - lo) * DVec3::new(next(), next(), next());
-                    let dir = (target - origin).normalize();
+                    let (origin, dir) = rays.next(&mut next);
                     let t1 = 2.0 * diagonal;
                     let mut counters = Counters::default();
                     let entry = skipper.next_entry(origin, dir, 0.0, t1, &mut counters);
@@ -490,6 +717,104 @@ mod tests {
                 gaps.sort_by(f64::total_cmp);
                 let median = gaps[gaps.len() / 2];
                 assert!(median <= 0.02, "{dataset:?} {kind:?}: median gap {median}");
+            }
+        }
+    }
+
+    /// A grid's walk never passes a point where the grid offers a kept cell: along rays from
+    /// all round the mesh, through points of its box, the answer of
+    /// [`Skipper::next_kept_in_grid`] is at or before the first of 2,000 samples whose grid
+    /// cell references a kept cell (one in 13 cells kept), and `None` only where no sample's
+    /// does. For both grids over a ring (the rotor) and an O-grid with cells on the axis (the
+    /// inlet). The walk is seen to walk: on most rays it reaches a kept grid cell (an answer
+    /// with a hint, a kept cell of that grid cell), within 1 % of the box's diagonal of the
+    /// first such sample at the median; and with nothing kept it answers `None` or stops at
+    /// the grid's edge (no hint).
+    #[test]
+    fn grid_walks_never_pass_a_kept_cell() {
+        for dataset in [Dataset::PumpRotor, Dataset::PumpInlet] {
+            let mesh = generate(dataset, 3000).expect("mesh");
+            let axis = crate::axis::detect(&mesh);
+            let rays = RaysThroughBox::of(&mesh);
+            let (centre, diagonal) = (rays.centre(), rays.diagonal());
+            for kind in [StructureKind::CylGrid, StructureKind::CartGrid] {
+                let accel =
+                    Accel::build(&mesh, kind, &axis, &AccelParams::default()).expect("structure");
+                let Structure::Grid(grid) = accel.structure() else {
+                    panic!("{kind:?} is not a grid");
+                };
+                let keep = |c: u32| c % 13 == 5;
+                let mask = grid.cells_holding(keep);
+                let none = grid.cells_holding(|_| false);
+                let skipper = Skipper::new(&accel);
+                let offered = |p: DVec3| {
+                    let q = accel.coordinates().query(p);
+                    grid.candidates(q).iter().any(|&c| keep(c))
+                };
+                let mut next = uniform(11);
+                let (mut gaps, mut reached) = (Vec::new(), 0);
+                for _ in 0..150 {
+                    let (origin, dir) = rays.next(&mut next);
+                    let t1 = 2.0 * diagonal;
+                    let mut counters = Counters::default();
+                    // From where the ray meets the grid's domain (the walk stops outside it).
+                    let t0 = (0..2000)
+                        .map(|k| t1 * k as f64 / 2000.0)
+                        .find(|&t| {
+                            grid.domain()
+                                .contains(accel.coordinates().query(origin + dir * t))
+                        })
+                        .unwrap_or(t1);
+                    let answer =
+                        skipper.next_kept_in_grid(origin, dir, t0, t1, &mask, keep, &mut counters);
+                    let first = (0..2000)
+                        .map(|k| t0 + (t1 - t0) * k as f64 / 2000.0)
+                        .find(|&t| offered(origin + dir * t));
+                    match (answer, first) {
+                        (Some((e, x, hint)), Some(t)) => {
+                            assert!(e <= t, "{dataset:?} {kind:?}: answer {e} after {t}");
+                            assert!(e <= x, "{dataset:?} {kind:?}: exit {x} before {e}");
+                            if let Some(c) = hint {
+                                assert!(keep(c), "{dataset:?} {kind:?}: hint {c}");
+                                reached += 1;
+                                gaps.push((t - e) / diagonal);
+                            }
+                        }
+                        (None, Some(t)) => {
+                            panic!("{dataset:?} {kind:?}: no answer, kept cell offered at {t}")
+                        }
+                        _ => {}
+                    }
+                    let empty = skipper.next_kept_in_grid(
+                        origin,
+                        dir,
+                        t0,
+                        t1,
+                        &none,
+                        |_| false,
+                        &mut counters,
+                    );
+                    assert!(
+                        matches!(empty, None | Some((_, _, None))),
+                        "{dataset:?} {kind:?}: {empty:?}"
+                    );
+                }
+                assert!(reached >= 50, "{dataset:?} {kind:?}: {reached} reached");
+                gaps.sort_by(f64::total_cmp);
+                let median = gaps[gaps.len() / 2];
+                assert!(median <= 0.01, "{dataset:?} {kind:?}: median gap {median}");
+                // A mask of another grid is refused.
+                let other = GridMask::default();
+                let refused = skipper.next_kept_in_grid(
+                    centre,
+                    DVec3::X,
+                    0.0,
+                    1.0,
+                    &other,
+                    keep,
+                    &mut Counters::default(),
+                );
+                assert_eq!(refused, None);
             }
         }
     }

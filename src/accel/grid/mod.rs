@@ -69,6 +69,7 @@
 //! grows much faster than tests fall; the default sits at the ≤ 64 bytes per cell budget.
 
 mod build;
+mod mask;
 mod resolution;
 mod traverse;
 mod validation;
@@ -81,6 +82,7 @@ use super::space::Coordinates;
 use crate::geometry::bounds::Aabb;
 
 pub use build::build_grid;
+pub use mask::{GridMask, MaskedCell};
 
 /// The order in which a leaf cell offers its candidates (and stores its references).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
