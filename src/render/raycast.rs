@@ -83,9 +83,7 @@
 //!   [`Renderer::visible_nodes`]), passing over the samples before it, which lie in such
 //!   cells or outside the mesh, and locates the next sample from that cell; with a grid, to
 //!   the next grid cell that references such a cell
-//!   ([`super::skip::Skipper::next_kept_in_grid`] over [`Renderer::visible_grid_cells`]),
-//!   where that passes over at least [`GRID_JUMP_LEAST_SAMPLES`] samples (else the march
-//!   goes on to there). An intensity
+//!   ([`super::skip::Skipper::next_kept_in_grid`] over [`Renderer::visible_grid_cells`]). An intensity
 //!   projection does the same with the cells whose scalar range cannot beat the ray's
 //!   extreme so far ([`Blend::may_replace_in`]), through each node's scalar range
 //!   ([`Renderer::extreme_nodes`]). Where the table
@@ -933,10 +931,6 @@ macro_rules! on_bvh {
         }
     };
 }
-
-/// The fewest samples a jump over transparent space on a grid must pass over: a shorter one
-/// marches instead (see [`Skipper::next_kept_in_grid`]).
-pub const GRID_JUMP_LEAST_SAMPLES: f64 = 4.0;
 
 /// Samples per ray beyond which a render is refused (a step far too small for the mesh).
 pub const MAX_SAMPLES_PER_RAY: f64 = 1e7;
@@ -2104,29 +2098,15 @@ impl<'a> Renderer<'a> {
                             )
                             .map(|(te, tx, c)| (te, tx, Some(c))),
                     ),
-                    // A grid's walk lands at the entry of a grid cell, less tight than a
-                    // piece's bound, and its hint may lie cells away: a short jump would cost
-                    // more in locating the sample it lands on than marching to it, so the
-                    // march goes on up to there instead (no sample before it asks again).
-                    (None, None, Some(cells)) => Some(
-                        skipper()
-                            .next_kept_in_grid(
-                                origin,
-                                dir,
-                                t_next,
-                                t_out,
-                                cells,
-                                |c| !is_transparent(c),
-                                &mut counters,
-                            )
-                            .map(|(te, tx, c)| {
-                                if te < t_next + GRID_JUMP_LEAST_SAMPLES * step {
-                                    (t_next, te, None)
-                                } else {
-                                    (te, tx, c)
-                                }
-                            }),
-                    ),
+                    (None, None, Some(cells)) => Some(skipper().next_kept_in_grid(
+                        origin,
+                        dir,
+                        t_next,
+                        t_out,
+                        cells,
+                        |c| !is_transparent(c),
+                        &mut counters,
+                    )),
                     (None, Some(ranges), _) => Some(
                         skipper()
                             .next_kept(
