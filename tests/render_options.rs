@@ -11,7 +11,7 @@ use cylvol::axis::Axis;
 use cylvol::io::structured::hexahedra;
 use cylvol::render::{
     Blend, Camera, ClipPlanes, GradientOpacity, Image, Interpolation, RenderOptions, RenderPath,
-    RenderStats, Renderer, TransferFunction, Volume,
+    RenderStats, Renderer, TransferFunction, Volume, DEFAULT_MARCH_REACH, GRID_REACH_FACTOR,
 };
 use cylvol::{CellKind, DataArray, Mesh, MeshParts};
 use glam::DVec3;
@@ -282,12 +282,14 @@ fn clipping_planes_keep_all_or_nothing_of_the_mesh_as_they_say() {
 /// compositing (with transparent cells passed over) and a maximum-intensity projection.
 /// Counters show which ran: no sample located far ahead when always marching, some with the
 /// default reach, more (a third of those located at least) with reach 0, and fewer cells
-/// crossed by the march the shorter the reach.
+/// crossed by the march the shorter the reach. A grid marches [`GRID_REACH_FACTOR`] times as
+/// far: none at the default reach, and as many as a BVH at the default reach divided by it.
 #[test]
 fn far_samples_are_located_through_the_structure_with_the_same_image() {
     let mesh = smooth(24);
     let tf = TransferFunction::default_for_range(0.0, 2.6, 0.6, 0.2);
     let step = 0.17;
+    let mut at_default = std::collections::HashMap::new();
     for kind in StructureKind::ALL {
         for blend in [Blend::Composite, Blend::Maximum] {
             let run = |reach: f64| {
@@ -304,7 +306,19 @@ fn far_samples_are_located_through_the_structure_with_the_same_image() {
             );
             assert_eq!(sm.far_locates, 0, "{kind} {blend:?}");
             let (mut walked, mut far) = (sm.walk_steps, 0);
-            for reach in [cylvol::render::DEFAULT_MARCH_REACH, 0.0] {
+            // A grid marches `GRID_REACH_FACTOR` times as far: at the default reach it takes
+            // no look-up at this step (about four cells), and at a reach that many times
+            // shorter it takes as many as a BVH at the default reach.
+            let factor = if kind.is_grid() {
+                GRID_REACH_FACTOR
+            } else {
+                1.0
+            };
+            if kind.is_grid() {
+                let (_, s) = run(DEFAULT_MARCH_REACH);
+                assert_eq!(s.far_locates, 0, "{kind} {blend:?}: {s:?}");
+            }
+            for reach in [DEFAULT_MARCH_REACH / factor, 0.0] {
                 let (image, s) = run(reach);
                 let what = format!("{kind} {blend:?} reach {reach}");
                 let diff = image.max_abs_difference(&marched);
@@ -323,11 +337,22 @@ fn far_samples_are_located_through_the_structure_with_the_same_image() {
                     "{what}: {s:?}"
                 );
                 (walked, far) = (s.walk_steps, s.far_locates);
+                if reach > 0.0 {
+                    at_default.insert((kind, blend), s.far_locates);
+                }
                 if reach == 0.0 {
                     assert!(s.far_locates * 3 > s.samples_located, "{what}: {s:?}");
                 }
             }
         }
+    }
+    // The same march makes the same decisions: compositing, a grid at the reach divided by
+    // the factor locates as many samples far ahead as a BVH at the reach. (A projection's
+    // rays jump over cells that cannot beat the extreme on a BVH only, so their marches
+    // differ.)
+    let bvh = at_default[&(StructureKind::CylBvh, Blend::Composite)];
+    for kind in StructureKind::ALL {
+        assert_eq!(at_default[&(kind, Blend::Composite)], bvh, "{kind}");
     }
     // A reach that is no number of cells is refused.
     let accel = Accel::build(

@@ -83,9 +83,10 @@
 //!   [`Renderer::visible_nodes`]), passing over the samples before it, which lie in such
 //!   cells or outside the mesh, and locates the next sample from that cell; with a grid, to
 //!   the next grid cell that references such a cell
-//!   ([`super::skip::Skipper::next_kept_in_grid`] over [`Renderer::visible_grid_cells`]). An intensity
-//!   projection does the same with the cells whose scalar range cannot beat the ray's
-//!   extreme so far ([`Blend::may_replace_in`]), through each node's scalar range
+//!   ([`super::skip::Skipper::next_kept_in_grid`] over [`Renderer::visible_grid_cells`]).
+//!   An intensity projection does the same on a BVH with the cells whose scalar range cannot
+//!   beat the ray's extreme so far ([`Blend::may_replace_in`]), through each node's scalar
+//!   range
 //!   ([`Renderer::extreme_nodes`]). Where the table
 //!   is transparent everywhere ([`TransferTable::transparent_everywhere`]) nothing could be
 //!   seen: no ray takes a sample, and no transparency table is made. With the same
@@ -523,7 +524,8 @@ pub struct RenderOptions {
     /// boundary.
     pub clip_planes: ClipPlanes,
     /// The fast path's reach by marching (default [`DEFAULT_MARCH_REACH`]): a sample about
-    /// more than this many cells ahead of the previous one ([`super::march::March::cells_ahead`])
+    /// more than this many cells ahead of the previous one ([`super::march::March::cells_ahead`];
+    /// [`GRID_REACH_FACTOR`] times as many on a grid, whose look-ups test more cells)
     /// is located through the structure instead of by crossing every cell on the way, where
     /// the boundary surface proves the ray stays in the mesh up to it (so no exit and
     /// re-entry between the two is passed over; counted in [`RenderStats::far_locates`]).
@@ -532,11 +534,18 @@ pub struct RenderOptions {
     pub march_reach: f64,
 }
 
-/// The default [`RenderOptions::march_reach`]: a look-up through a structure costs about
-/// as much as crossing this many cells by their planes (measured on the refined mixer,
-/// `cargo bench --bench render -- MESH 512 3 cart-grid fast --vtk-scene --step-factor=F
-/// --march-reach=R`).
+/// The default [`RenderOptions::march_reach`]: a look-up through a BVH costs about as much
+/// as crossing this many cells by their planes (measured on the refined mixer, `cargo bench
+/// --bench render -- MESH 512 3 cyl-bvh fast --vtk-scene --step-factor=F --march-reach=R`).
 pub const DEFAULT_MARCH_REACH: f64 = 6.0;
+
+/// How many times [`RenderOptions::march_reach`] a grid marches: a grid's look-up offers its
+/// leaf cell's candidates in id order and tests several times the cells a BVH's does (on
+/// the refined mixer at 8× the default step, 7.9 a far look-up against the BVH's 1.02), so at
+/// a BVH's reach its far look-ups would take the fast path over the 1.1 hexahedra
+/// tested a sample (`cargo bench --bench render -- MESH 512 3 cart-grid fast --vtk-scene
+/// --step-factor=8 --march-reach=R`: 7.9 at 6 cells, 1.02 at 24).
+pub const GRID_REACH_FACTOR: f64 = 4.0;
 
 impl RenderOptions {
     /// Defaults for a `width × height` image with the given step: fast path, no shading,
@@ -1742,6 +1751,12 @@ impl<'a> Renderer<'a> {
         let is_transparent = |cell: u32| transparent.is_some_and(|m| m.contains(cell));
         // The fast path jumps over transparent space through a BVH's visible nodes, or a
         // grid's visible cells.
+        // How far the march goes before the structure is asked (see `GRID_REACH_FACTOR`).
+        let march_reach = if vol.accel.kind().is_grid() {
+            opts.march_reach * GRID_REACH_FACTOR
+        } else {
+            opts.march_reach
+        };
         let (visible_nodes, visible_grid) = if fast && compositing {
             (self.visible_nodes(), self.visible_grid_cells())
         } else {
@@ -1875,7 +1890,7 @@ impl<'a> Renderer<'a> {
                     // The march follows `prev` (set below after every located sample).
                     debug_assert_eq!(march.cell(), c);
                     // Far ahead, in the mesh all the way: locate through the structure.
-                    if march.cells_ahead(t) > opts.march_reach
+                    if march.cells_ahead(t) > march_reach
                         && self.in_mesh_until(
                             &mut in_mesh_until,
                             faces,

@@ -311,9 +311,10 @@ impl<'a> Skipper<'a> {
     }
 
     /// For a grid: the first `t ∈ [t0, t1]` from which the ray (unit `dir`) may lie in a grid
-    /// cell that references a kept cell (`mask`, from [`crate::accel::grid::TwoLevelGrid::cells_holding`] with
-    /// `keep`), with the ray's exit from that grid cell and a kept cell it references (a
-    /// hint for locating the sample there); `None` if no such grid cell lies on `[t0, t1]`.
+    /// cell that references a kept cell (`mask`, from
+    /// [`crate::accel::grid::TwoLevelGrid::cells_holding`] with `keep`), with the ray's exit
+    /// from that grid cell and a kept cell it references (a hint for locating the sample
+    /// there); `None` if no such grid cell lies on `[t0, t1]`.
     /// Every point of the ray before the answer lies in grid cells that reference no kept
     /// cell, so no kept cell holds it: the grids' counterpart of [`Skipper::next_kept`]. The
     /// walk goes from grid cell to grid cell along the ray, a whole top cell at a time where
