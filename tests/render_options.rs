@@ -11,7 +11,7 @@ use cylvol::axis::Axis;
 use cylvol::io::structured::hexahedra;
 use cylvol::render::{
     Blend, Camera, ClipPlanes, GradientOpacity, Image, Interpolation, RenderOptions, RenderPath,
-    RenderStats, Renderer, TransferFunction, Volume, DEFAULT_MARCH_REACH, GRID_REACH_FACTOR,
+    RenderStats, Renderer, TransferFunction, Volume, DEFAULT_MARCH_REACH,
 };
 use cylvol::{CellKind, DataArray, Mesh, MeshParts};
 use glam::DVec3;
@@ -282,14 +282,16 @@ fn clipping_planes_keep_all_or_nothing_of_the_mesh_as_they_say() {
 /// compositing (with transparent cells passed over) and a maximum-intensity projection.
 /// Counters show which ran: no sample located far ahead when always marching, some with the
 /// default reach, more (a third of those located at least) with reach 0, and fewer cells
-/// crossed by the march the shorter the reach. A grid marches [`GRID_REACH_FACTOR`] times as
-/// far: none at the default reach, and as many as a BVH at the default reach divided by it.
+/// crossed by the march the shorter the reach. The reach counts cells per cell a look-up
+/// tests ([`Accel::lookup_tests`]): each structure runs at the default reach divided by its
+/// own, where all four locate as many samples far ahead; a grid's is the larger.
 #[test]
 fn far_samples_are_located_through_the_structure_with_the_same_image() {
     let mesh = smooth(24);
     let tf = TransferFunction::default_for_range(0.0, 2.6, 0.6, 0.2);
     let step = 0.17;
     let mut at_default = std::collections::HashMap::new();
+    let mut factors = std::collections::HashMap::new();
     for kind in StructureKind::ALL {
         for blend in [Blend::Composite, Blend::Maximum] {
             let run = |reach: f64| {
@@ -306,18 +308,15 @@ fn far_samples_are_located_through_the_structure_with_the_same_image() {
             );
             assert_eq!(sm.far_locates, 0, "{kind} {blend:?}");
             let (mut walked, mut far) = (sm.walk_steps, 0);
-            // A grid marches `GRID_REACH_FACTOR` times as far: at the default reach it takes
-            // no look-up at this step (about four cells), and at a reach that many times
-            // shorter it takes as many as a BVH at the default reach.
-            let factor = if kind.is_grid() {
-                GRID_REACH_FACTOR
-            } else {
-                1.0
-            };
-            if kind.is_grid() {
-                let (_, s) = run(DEFAULT_MARCH_REACH);
-                assert_eq!(s.far_locates, 0, "{kind} {blend:?}: {s:?}");
-            }
+            // The march goes the reach times the cells a look-up through the structure tests
+            // on average: at the default reach divided by that, every structure marches the
+            // default reach (a grid's factor is the larger: its look-ups test its leaf
+            // cell's candidates).
+            let accel =
+                Accel::build(&mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
+            let factor = accel.lookup_tests(&mesh);
+            assert!(factor >= 1.0, "{kind}: {factor}");
+            factors.insert(kind, factor);
             for reach in [DEFAULT_MARCH_REACH / factor, 0.0] {
                 let (image, s) = run(reach);
                 let what = format!("{kind} {blend:?} reach {reach}");
@@ -346,10 +345,14 @@ fn far_samples_are_located_through_the_structure_with_the_same_image() {
             }
         }
     }
-    // The same march makes the same decisions: compositing, a grid at the reach divided by
-    // the factor locates as many samples far ahead as a BVH at the reach. (A projection's
-    // rays jump over cells that cannot beat the extreme on a BVH only, so their marches
-    // differ.)
+    // The same march makes the same decisions: compositing, every structure at the default
+    // reach divided by its factor locates as many samples far ahead. (A projection's rays
+    // jump over cells that cannot beat the extreme on a BVH only, so their marches differ.)
+    for grid in [StructureKind::CartGrid, StructureKind::CylGrid] {
+        for bvh in [StructureKind::CartBvh, StructureKind::CylBvh] {
+            assert!(factors[&grid] > factors[&bvh], "{factors:?}");
+        }
+    }
     let bvh = at_default[&(StructureKind::CylBvh, Blend::Composite)];
     for kind in StructureKind::ALL {
         assert_eq!(at_default[&(kind, Blend::Composite)], bvh, "{kind}");

@@ -23,7 +23,7 @@ use glam::DVec3;
 use crate::geometry::bounds::Aabb;
 use crate::geometry::cylindrical::CylBounds;
 
-pub use build::{Accel, AccelParams, StructureStats};
+pub use build::{Accel, AccelParams, StructureStats, LOOKUP_PROBES};
 pub use bvh::{Bvh, BvhParams};
 pub use grid::{CandidateOrder, GridParams, TwoLevelGrid};
 pub use space::{Coordinates, Pieces};

@@ -89,9 +89,9 @@ pub struct RenderArgs {
     /// Up to 6 (repeat the option).
     #[arg(long = "clip-plane", value_name = "X,Y,Z:NX,NY,NZ", value_parser = parse_clip_plane, allow_hyphen_values = true)]
     clip_planes: Vec<[f64; 4]>,
-    /// The fast path marches from cell to cell up to about this many cells ahead (four times
-    /// as many on a grid); a sample further ahead, where the ray provably stays in the mesh,
-    /// is located through the
+    /// The fast path marches from cell to cell up to about this many cells ahead, times the
+    /// cells a look-up through the structure tests on average (`cylvol stats`, `hex/lk`); a
+    /// sample further ahead, where the ray provably stays in the mesh, is located through the
     /// structure (`stats.far_locates`); `inf` always marches. The image is the same either way.
     #[arg(long, value_name = "CELLS", default_value_t = cylvol::render::DEFAULT_MARCH_REACH, value_parser = parse_march_reach)]
     march_reach: f64,

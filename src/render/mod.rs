@@ -43,7 +43,7 @@ pub use image::Image;
 pub use raycast::{
     default_step, Blend, Derived, Interpolation, Neighbours, NoNeighbours, RayResult,
     RenderOptions, RenderPath, RenderStats, Renderer, ScalarField, Volume, DEFAULT_MARCH_REACH,
-    GRID_REACH_FACTOR, MAX_SAMPLES_PER_RAY,
+    MAX_SAMPLES_PER_RAY,
 };
 pub use shading::Shading;
 pub use topology::{face_neighbours, unchecked_neighbours, Topology};

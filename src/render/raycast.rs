@@ -524,9 +524,10 @@ pub struct RenderOptions {
     /// boundary.
     pub clip_planes: ClipPlanes,
     /// The fast path's reach by marching (default [`DEFAULT_MARCH_REACH`]): a sample about
-    /// more than this many cells ahead of the previous one ([`super::march::March::cells_ahead`];
-    /// [`GRID_REACH_FACTOR`] times as many on a grid, whose look-ups test more cells)
-    /// is located through the structure instead of by crossing every cell on the way, where
+    /// more than this many cells ahead of the previous one ([`super::march::March::cells_ahead`]),
+    /// times the cells a look-up through the structure tests on average
+    /// ([`Accel::lookup_tests`]: about 1 on a BVH of well-shaped cells, 7–19 on a grid), is
+    /// located through the structure instead of by crossing every cell on the way, where
     /// the boundary surface proves the ray stays in the mesh up to it (so no exit and
     /// re-entry between the two is passed over; counted in [`RenderStats::far_locates`]).
     /// The image is the same either way: both find the cell holding the sample.
@@ -534,18 +535,11 @@ pub struct RenderOptions {
     pub march_reach: f64,
 }
 
-/// The default [`RenderOptions::march_reach`]: a look-up through a BVH costs about as much
-/// as crossing this many cells by their planes (measured on the refined mixer, `cargo bench
-/// --bench render -- MESH 512 3 cyl-bvh fast --vtk-scene --step-factor=F --march-reach=R`).
+/// The default [`RenderOptions::march_reach`]: a look-up that tests one cell costs about as
+/// much as crossing this many cells by their planes (measured on the refined mixer, whose
+/// cylindrical BVH's look-ups test 1.02 cells, `cargo bench --bench render -- MESH 512 3
+/// cyl-bvh fast --vtk-scene --step-factor=F --march-reach=R`).
 pub const DEFAULT_MARCH_REACH: f64 = 6.0;
-
-/// How many times [`RenderOptions::march_reach`] a grid marches: a grid's look-up offers its
-/// leaf cell's candidates in id order and tests several times the cells a BVH's does (on
-/// the refined mixer at 8× the default step, 7.9 a far look-up against the BVH's 1.02), so at
-/// a BVH's reach its far look-ups would take the fast path over the 1.1 hexahedra
-/// tested a sample (`cargo bench --bench render -- MESH 512 3 cart-grid fast --vtk-scene
-/// --step-factor=8 --march-reach=R`: 7.9 at 6 cells, 1.02 at 24).
-pub const GRID_REACH_FACTOR: f64 = 4.0;
 
 impl RenderOptions {
     /// Defaults for a `width × height` image with the given step: fast path, no shading,
@@ -1751,9 +1745,10 @@ impl<'a> Renderer<'a> {
         let is_transparent = |cell: u32| transparent.is_some_and(|m| m.contains(cell));
         // The fast path jumps over transparent space through a BVH's visible nodes, or a
         // grid's visible cells.
-        // How far the march goes before the structure is asked (see `GRID_REACH_FACTOR`).
-        let march_reach = if vol.accel.kind().is_grid() {
-            opts.march_reach * GRID_REACH_FACTOR
+        // How far the march goes before the structure is asked: the reach in cells, times
+        // the cells a look-up through the structure tests.
+        let march_reach = if fast && opts.march_reach.is_finite() {
+            opts.march_reach * vol.accel.lookup_tests(mesh)
         } else {
             opts.march_reach
         };
@@ -2410,6 +2405,10 @@ impl<'a> Renderer<'a> {
             }
         }
         self.volume.accel.make_node_ray_tests();
+        if self.options.path == RenderPath::Fast && self.options.march_reach.is_finite() {
+            // Measured here once per structure, not by the first ray's thread alone.
+            self.volume.accel.lookup_tests(self.volume.mesh);
+        }
         let tile = self.options.tile.max(1);
         let (tx, ty) = (w.div_ceil(tile), h.div_ceil(tile));
         let tiles: Vec<(u32, u32)> = (0..ty).flat_map(|y| (0..tx).map(move |x| (x, y))).collect();

@@ -152,8 +152,9 @@ public:
   ///@{
   /**
    * How many cells ahead, about, a ray still marches from cell to cell to its next sample
-   * (default 6; four times as many on a grid, whose look-ups test more cells): a sample
-   * further ahead, where the ray provably stays in the mesh, is located
+   * (default 6), times the cells a look-up through the structure tests on average (about 1
+   * on a BVH of well-shaped cells, 7-19 on a grid): a sample further ahead, where the ray
+   * provably stays in the mesh, is located
    * through the structure instead (GetLastFarLocates), which pays at sample distances of many
    * cells. The image is the same either way; VTK_DOUBLE_MAX always marches.
    */
