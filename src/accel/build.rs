@@ -170,11 +170,9 @@ impl Accel {
                 return 1.0;
             }
             let points = super::probe::points_in_cells(mesh, LOOKUP_PROBES, 0x5eed);
-            let mut counters = Counters::default();
-            for &p in &points {
-                self.locate(mesh, p, &mut counters);
-            }
-            (counters.hex_tests as f64 / points.len() as f64).max(1.0)
+            super::probe::lookup_cost_sequential(self, mesh, &points)
+                .hex_tests
+                .max(1.0)
         })
     }
 

@@ -93,10 +93,38 @@ pub fn lookup_cost(accel: &Accel, mesh: &Mesh, points: &[DVec3]) -> LookupCost {
                 (a, fa + fb)
             },
         );
+    average(&counters, found, points.len(), started)
+}
+
+/// [`lookup_cost`] on the calling thread only (for a measure made lazily, whose maker must
+/// not wait on work the thread pool might hand back to it).
+///
+/// ```
+/// use cylvol::accel::probe::{lookup_cost, lookup_cost_sequential, points_in_cells};
+/// use cylvol::accel::{Accel, AccelParams, StructureKind};
+/// let mesh = cylvol::datasets::generate(cylvol::datasets::Dataset::PumpRotor, 3_000).unwrap();
+/// let axis = cylvol::axis::detect(&mesh);
+/// let accel = Accel::build(&mesh, StructureKind::CartGrid, &axis, &AccelParams::default()).unwrap();
+/// let points = points_in_cells(&mesh, 500, 3);
+/// let (a, b) = (lookup_cost(&accel, &mesh, &points), lookup_cost_sequential(&accel, &mesh, &points));
+/// assert_eq!((a.found, a.hex_tests, a.leaf_visits), (b.found, b.hex_tests, b.leaf_visits));
+/// ```
+pub fn lookup_cost_sequential(accel: &Accel, mesh: &Mesh, points: &[DVec3]) -> LookupCost {
+    let started = Instant::now();
+    let mut counters = Counters::default();
+    let found = points
+        .iter()
+        .filter(|&&p| accel.locate(mesh, p, &mut counters).is_some())
+        .count();
+    average(&counters, found, points.len(), started)
+}
+
+/// The work of `lookups` look-ups, `found` of which found a cell, per look-up.
+fn average(counters: &Counters, found: usize, lookups: usize, started: Instant) -> LookupCost {
     let elapsed = started.elapsed().as_secs_f64();
-    let n = points.len().max(1) as f64;
+    let n = lookups.max(1) as f64;
     LookupCost {
-        lookups: points.len(),
+        lookups,
         found,
         hex_tests: counters.hex_tests as f64 / n,
         internal_visits: counters.internal_visits as f64 / n,

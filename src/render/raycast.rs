@@ -1743,8 +1743,6 @@ impl<'a> Renderer<'a> {
         // only when compositing (an extreme may lie in a transparent cell).
         let transparent = (fast && compositing).then(|| self.transparent_cells());
         let is_transparent = |cell: u32| transparent.is_some_and(|m| m.contains(cell));
-        // The fast path jumps over transparent space through a BVH's visible nodes, or a
-        // grid's visible cells.
         // How far the march goes before the structure is asked: the reach in cells, times
         // the cells a look-up through the structure tests.
         let march_reach = if fast && opts.march_reach.is_finite() {
@@ -1752,6 +1750,8 @@ impl<'a> Renderer<'a> {
         } else {
             opts.march_reach
         };
+        // The fast path jumps over transparent space through a BVH's visible nodes, or a
+        // grid's visible cells.
         let (visible_nodes, visible_grid) = if fast && compositing {
             (self.visible_nodes(), self.visible_grid_cells())
         } else {
