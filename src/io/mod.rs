@@ -5,7 +5,7 @@
 //! | format | read | write |
 //! |---|---|---|
 //! | legacy VTK (`.vtk`), ASCII and BINARY, `UNSTRUCTURED_GRID` and `STRUCTURED_GRID` | [`legacy::read`] | [`legacy::write`] (BINARY unstructured grid) |
-//! | VTU (`.vtu`), ascii, base64, raw appended, zlib, 32/64-bit headers | [`vtu::read`] | [`vtu::write`] |
+//! | VTU (`.vtu`), ascii, base64, raw appended, zlib, LZ4 or LZMA compression, 32/64-bit headers | [`vtu::read`] | [`vtu::write`] (zlib or none) |
 //! | PLOT3D whole single-grid `*xyz.bin` + `*q.bin` | [`plot3d::read`] | — |
 //! | VTK image data (`.vti`), one `Float32` array over a 2-D image (a render's depth) | — | [`vti::write_point_scalars`] |
 

@@ -1,9 +1,10 @@
-//! Decoding of VTU data arrays: ascii text, base64, raw bytes, zlib-compressed blocks, 32- and
-//! 64-bit size headers, either byte order, and the ten numeric element types.
+//! Decoding of VTU data arrays: ascii text, base64, raw bytes, blocks compressed by any of
+//! VTK's three compressors (zlib, LZ4, LZMA), 32- and 64-bit size headers, either byte order,
+//! and the ten numeric element types.
 //!
 //! Every size a file states is checked against the bytes really present before anything is
-//! allocated from it; zlib blocks are decompressed into buffers of their stated size and must
-//! fill them exactly.
+//! allocated from it; compressed blocks are decompressed into buffers of their stated size and
+//! must fill them exactly.
 
 use std::borrow::Cow;
 
@@ -14,8 +15,51 @@ use crate::error::ReadError;
 
 use super::FORMAT;
 
-/// Most bytes one byte of deflate data can expand to (the format's limit is about 1032).
-const MAX_INFLATE_RATIO: u64 = 1100;
+/// How each block of a binary array is compressed: the `compressor` attribute of the
+/// `VTKFile` element, one of the `vtkDataCompressor`s VTK's XML writers offer (ParaView's
+/// "Compressor Type").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Compressor {
+    /// `vtkZLibDataCompressor`: a zlib stream a block.
+    Zlib,
+    /// `vtkLZ4DataCompressor`: an LZ4 block (the raw block format, no frame) a block.
+    Lz4,
+    /// `vtkLZMADataCompressor`: an `.xz` stream a block.
+    Lzma,
+}
+
+impl Compressor {
+    /// The compressor a `compressor` attribute names (`None` for names VTK does not write).
+    pub fn parse(name: &str) -> Option<Compressor> {
+        Some(match name {
+            "vtkZLibDataCompressor" => Compressor::Zlib,
+            "vtkLZ4DataCompressor" => Compressor::Lz4,
+            "vtkLZMADataCompressor" => Compressor::Lzma,
+            _ => return None,
+        })
+    }
+
+    /// Its name in error messages.
+    fn name(self) -> &'static str {
+        match self {
+            Compressor::Zlib => "zlib",
+            Compressor::Lz4 => "LZ4",
+            Compressor::Lzma => "LZMA",
+        }
+    }
+
+    /// Most bytes one compressed byte can expand to, with some margin: checked against a
+    /// block's stated sizes before its buffer is allocated. Deflate's limit is about 1032;
+    /// an LZ4 match grows by 255 bytes a length byte; `.xz` streams of zeros reach about
+    /// 6,800 (64 MiB from 9.9 kB).
+    fn max_ratio(self) -> u64 {
+        match self {
+            Compressor::Zlib => 1100,
+            Compressor::Lz4 => 260,
+            Compressor::Lzma => 10_000,
+        }
+    }
+}
 
 /// The numeric element types of a VTK XML `DataArray`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,8 +116,8 @@ pub(super) struct Layout {
     pub big_endian: bool,
     /// `header_type="UInt64"`.
     pub header64: bool,
-    /// `compressor="vtkZLibDataCompressor"`.
-    pub zlib: bool,
+    /// The `compressor` attribute (`None` where there is none).
+    pub compressor: Option<Compressor>,
 }
 
 impl Layout {
@@ -331,7 +375,7 @@ pub(super) fn read_binary<'a>(
 ) -> Result<Cow<'a, [u8]>, ReadError> {
     let at = src.offset();
     let first = read_word(src, layout)?;
-    if !layout.zlib {
+    let Some(compressor) = layout.compressor else {
         if first != expected {
             return Err(ReadError::new(
                 FORMAT,
@@ -343,8 +387,8 @@ pub(super) fn read_binary<'a>(
             ReadError::new(FORMAT, at, format!("{what}: {first} bytes is too many"))
         })?;
         return src.take(n);
-    }
-    let blocks = read_block_header(src, layout, first, what, at)?;
+    };
+    let blocks = read_block_header(src, layout, compressor, first, what, at)?;
     if blocks.total != expected {
         return Err(ReadError::new(
             FORMAT,
@@ -357,7 +401,7 @@ pub(super) fn read_binary<'a>(
     }
     let data_at = src.offset();
     let compressed = src.take(blocks.compressed_total)?;
-    inflate_blocks(&compressed, &blocks, data_at, what).map(Cow::Owned)
+    decompress_blocks(compressor, &compressed, &blocks, data_at, what).map(Cow::Owned)
 }
 
 /// Skips one binary array (header included) without decoding it; returns nothing but moves
@@ -369,8 +413,8 @@ pub(super) fn skip_binary<'a>(
 ) -> Result<(), ReadError> {
     let at = src.offset();
     let first = read_word(src, layout)?;
-    let n = if layout.zlib {
-        read_block_header(src, layout, first, what, at)?.compressed_total
+    let n = if let Some(compressor) = layout.compressor {
+        read_block_header(src, layout, compressor, first, what, at)?.compressed_total
     } else {
         usize::try_from(first)
             .map_err(|_| ReadError::new(FORMAT, at, format!("{what}: {first} bytes is too many")))?
@@ -396,6 +440,7 @@ struct Blocks {
 fn read_block_header<'a>(
     src: &mut dyn Source<'a>,
     layout: Layout,
+    compressor: Compressor,
     nblocks: u64,
     what: &str,
     at: u64,
@@ -437,7 +482,11 @@ fn read_block_header<'a>(
     for (i, w) in words.chunks_exact(hs as usize).enumerate() {
         let csize = layout.word(w);
         let usize_ = if i as u64 == nblocks - 1 { last } else { block };
-        if usize_ > csize.saturating_mul(MAX_INFLATE_RATIO).saturating_add(64) {
+        if usize_
+            > csize
+                .saturating_mul(compressor.max_ratio())
+                .saturating_add(64)
+        {
             return Err(bad(format!(
                 "block {i} claims {usize_} bytes from {csize} compressed bytes"
             )));
@@ -462,7 +511,8 @@ fn read_block_header<'a>(
     })
 }
 
-fn inflate_blocks(
+fn decompress_blocks(
+    compressor: Compressor,
     compressed: &[u8],
     blocks: &Blocks,
     data_at: u64,
@@ -482,19 +532,23 @@ fn inflate_blocks(
         jobs.push((i, chunk, input, data_at + cpos as u64));
         cpos += csize;
     }
-    jobs.into_par_iter()
-        .try_for_each(|(i, chunk, input, at)| inflate(input, chunk, i, at, what))?;
+    jobs.into_par_iter().try_for_each(|(i, chunk, input, at)| {
+        let bad = |m: &str| {
+            let name = compressor.name();
+            ReadError::new(FORMAT, at, format!("{what}: {name} block {i}: {m}"))
+        };
+        match compressor {
+            Compressor::Zlib => inflate(input, chunk, bad),
+            Compressor::Lz4 => lz4_block(input, chunk, bad),
+            Compressor::Lzma => xz_stream(input, chunk, bad),
+        }
+    })?;
     Ok(out)
 }
 
-fn inflate(
-    input: &[u8],
-    out: &mut [u8],
-    block: usize,
-    at: u64,
-    what: &str,
-) -> Result<(), ReadError> {
-    let bad = |m: &str| ReadError::new(FORMAT, at, format!("{what}: zlib block {block}: {m}"));
+/// Decompresses one zlib stream into `out`, which it must fill exactly; `bad` makes the
+/// error for a message.
+fn inflate(input: &[u8], out: &mut [u8], bad: impl Fn(&str) -> ReadError) -> Result<(), ReadError> {
     let mut z = Decompress::new(true);
     let mut consumed = 0usize;
     let mut produced = 0usize;
@@ -541,6 +595,76 @@ fn inflate(
             }
             _ => {}
         }
+    }
+}
+
+/// Decompresses one LZ4 block into `out`, which it must fill exactly.
+fn lz4_block(
+    input: &[u8],
+    out: &mut [u8],
+    bad: impl Fn(&str) -> ReadError,
+) -> Result<(), ReadError> {
+    use lz4_flex::block::DecompressError;
+    match lz4_flex::block::decompress_into(input, out) {
+        Ok(n) if n == out.len() => Ok(()),
+        Ok(n) => Err(bad(&format!(
+            "decompresses to {n} bytes, the header says {}",
+            out.len()
+        ))),
+        Err(DecompressError::OutputTooSmall { .. }) => Err(bad(&format!(
+            "decompresses to more than the {} bytes the header says",
+            out.len()
+        ))),
+        Err(e) => Err(bad(&format!("corrupt data ({e})"))),
+    }
+}
+
+/// Decompresses one `.xz` stream into `out`, which it must fill exactly.
+fn xz_stream(
+    input: &[u8],
+    out: &mut [u8],
+    bad: impl Fn(&str) -> ReadError,
+) -> Result<(), ReadError> {
+    /// Writes into a fixed buffer; more than it holds is an error, remembered.
+    struct Fill<'o> {
+        out: &'o mut [u8],
+        len: usize,
+        overflow: bool,
+    }
+    impl std::io::Write for Fill<'_> {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            let room = self.out.len() - self.len;
+            if buf.len() > room {
+                self.overflow = true;
+                return Err(std::io::ErrorKind::WriteZero.into());
+            }
+            self.out[self.len..self.len + buf.len()].copy_from_slice(buf);
+            self.len += buf.len();
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+    let expected = out.len();
+    let mut fill = Fill {
+        out,
+        len: 0,
+        overflow: false,
+    };
+    let result = lzma_rs::xz_decompress(&mut &input[..], &mut fill);
+    if fill.overflow {
+        return Err(bad(&format!(
+            "decompresses to more than the {expected} bytes the header says"
+        )));
+    }
+    match result {
+        Err(e) => Err(bad(&format!("corrupt data ({e})"))),
+        Ok(()) if fill.len != expected => Err(bad(&format!(
+            "decompresses to {} bytes, the header says {expected}",
+            fill.len
+        ))),
+        Ok(()) => Ok(()),
     }
 }
 
@@ -725,58 +849,89 @@ mod tests {
         }
     }
 
-    #[test]
-    fn zlib_blocks_decode_and_lies_are_caught() {
-        use flate2::write::ZlibEncoder;
+    /// One block compressed as `compressor` writes it (the LZMA one as a plain `.xz` stream:
+    /// VTK's are checked against files it wrote, in `tests/vtu.rs`).
+    fn compress(compressor: Compressor, block: &[u8]) -> Vec<u8> {
         use std::io::Write;
-        let data: Vec<u8> = (0..100u8).collect();
-        let mut blocks = Vec::new();
-        for c in data.chunks(64) {
-            let mut e = ZlibEncoder::new(Vec::new(), flate2::Compression::default());
-            e.write_all(c).unwrap();
-            blocks.push(e.finish().unwrap());
+        match compressor {
+            Compressor::Zlib => {
+                let mut e =
+                    flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+                e.write_all(block).unwrap();
+                e.finish().unwrap()
+            }
+            Compressor::Lz4 => lz4_flex::block::compress(block),
+            Compressor::Lzma => {
+                let mut out = Vec::new();
+                lzma_rs::xz_compress(&mut &block[..], &mut out).unwrap();
+                out
+            }
         }
-        let layout = Layout {
-            big_endian: false,
-            header64: false,
-            zlib: true,
-        };
-        let file = |header: [u32; 3]| {
-            let mut f = Vec::new();
-            for w in header {
-                f.extend_from_slice(&w.to_le_bytes());
+    }
+
+    #[test]
+    fn compressed_blocks_decode_and_lies_are_caught() {
+        // Repetitive enough that every compressor shortens it.
+        let data: Vec<u8> = (0..100u8).map(|i| i % 7).collect();
+        for compressor in [Compressor::Zlib, Compressor::Lz4, Compressor::Lzma] {
+            let blocks: Vec<Vec<u8>> = data.chunks(64).map(|c| compress(compressor, c)).collect();
+            let layout = Layout {
+                big_endian: false,
+                header64: false,
+                compressor: Some(compressor),
+            };
+            let file = |header: [u32; 3], blocks: &[Vec<u8>]| {
+                let mut f = Vec::new();
+                for w in header {
+                    f.extend_from_slice(&w.to_le_bytes());
+                }
+                for b in blocks {
+                    f.extend_from_slice(&(b.len() as u32).to_le_bytes());
+                }
+                for b in blocks {
+                    f.extend_from_slice(b);
+                }
+                f
+            };
+            let read = |f: &[u8], expected: u64| {
+                read_binary(&mut RawSource::new(f, 0, 0), layout, expected, "a")
+                    .map(|bytes| bytes.into_owned())
+            };
+            let name = compressor.name();
+            let good = file([2, 64, 36], &blocks);
+            assert_eq!(&*read(&good, 100).unwrap(), &data[..], "{name}");
+            // A stated last-block size that disagrees with the stream.
+            let e = read(&file([2, 64, 30], &blocks), 94).unwrap_err();
+            assert!(e.message.contains("more than"), "{name}: {e}");
+            assert!(e.message.contains(&format!("{name} block 1")), "{e}");
+            let e = read(&file([2, 64, 40], &blocks), 104).unwrap_err();
+            assert!(e.message.contains("decompresses to 36"), "{name}: {e}");
+            // Corrupt compressed bytes: an error or (where the corruption still decodes, as
+            // a raw LZ4 block may) other bytes, never a panic.
+            for (k, flip) in [(0usize, 0x55u8), (3, 0x80), (7, 0xff)] {
+                let mut bad = blocks.clone();
+                let b = &mut bad[0];
+                let at = k.min(b.len() - 1);
+                b[at] ^= flip;
+                let _ = read(&file([2, 64, 36], &bad), 100);
             }
-            for b in &blocks {
-                f.extend_from_slice(&(b.len() as u32).to_le_bytes());
-            }
-            for b in &blocks {
-                f.extend_from_slice(b);
-            }
-            f
-        };
-        let good = file([2, 64, 36]);
-        let mut src = RawSource::new(&good, 0, 0);
-        assert_eq!(
-            &*read_binary(&mut src, layout, 100, "a").unwrap(),
-            &data[..]
-        );
-        // A stated last-block size that disagrees with the stream.
-        let lie = file([2, 64, 30]);
-        let e = read_binary(&mut RawSource::new(&lie, 0, 0), layout, 94, "a").unwrap_err();
-        assert!(e.message.contains("more than"), "{e}");
-        let lie = file([2, 64, 40]);
-        let e = read_binary(&mut RawSource::new(&lie, 0, 0), layout, 104, "a").unwrap_err();
-        assert!(e.message.contains("decompresses to 36"), "{e}");
-        // Corrupt compressed bytes.
-        let mut bad = good.clone();
-        let n = bad.len();
-        bad[n - 20] ^= 0x55;
-        bad[n - 5] ^= 0x55;
-        assert!(read_binary(&mut RawSource::new(&bad, 0, 0), layout, 100, "a").is_err());
-        // Too many blocks claimed.
-        let mut huge = good.clone();
-        huge[..4].copy_from_slice(&u32::MAX.to_le_bytes());
-        assert!(read_binary(&mut RawSource::new(&huge, 0, 0), layout, 100, "a").is_err());
+            // One block's bytes cut short.
+            let mut short = blocks.clone();
+            let half = short[1].len() / 2;
+            short[1].truncate(half);
+            assert!(read(&file([2, 64, 36], &short), 100).is_err(), "{name}");
+            // Too many blocks claimed.
+            let mut huge = good.clone();
+            huge[..4].copy_from_slice(&u32::MAX.to_le_bytes());
+            assert!(read(&huge, 100).is_err(), "{name}");
+            // A block claiming more than its compressor can expand it to.
+            let ratio = compressor.max_ratio() as u32;
+            let e = read(
+                &file([1, 10 * ratio, 10 * ratio], &[vec![0; 9]]),
+                10 * ratio as u64,
+            );
+            assert!(e.unwrap_err().message.contains("claims"), "{name}");
+        }
     }
 
     #[test]

@@ -2,8 +2,9 @@
 //!
 //! The reader takes what VTK's `vtkXMLUnstructuredGridWriter` and other tools write:
 //! - `VTKFile type="UnstructuredGrid"`, `byte_order` `LittleEndian` or `BigEndian`,
-//!   `header_type` `UInt32` (the default) or `UInt64`, no compressor or
-//!   `vtkZLibDataCompressor`;
+//!   `header_type` `UInt32` (the default) or `UInt64`, no compressor or any of the three VTK's
+//!   writers offer (ParaView's "Compressor Type"): `vtkZLibDataCompressor`,
+//!   `vtkLZ4DataCompressor` (raw LZ4 blocks) and `vtkLZMADataCompressor` (`.xz` streams);
 //! - one or several `<Piece>`s (joined; point ids are offset per piece);
 //! - `DataArray`s in `ascii`, `binary` (inline base64) or `appended` format, the appended block
 //!   `raw` or `base64`, of any numeric type (Int8 … UInt64, Float32, Float64);
@@ -11,12 +12,13 @@
 //!   pyramids, tetrahedra), and the numeric arrays of `<PointData>` and `<CellData>` (string
 //!   arrays and `<FieldData>` are skipped). The `Scalars` attribute picks the active scalar.
 //!
-//! Anything else, or any inconsistency — truncation, bad base64, corrupt zlib streams, sizes
+//! Anything else, or any inconsistency — truncation, bad base64, corrupt compressed blocks, sizes
 //! or offsets beyond the data — is a [`crate::ReadError`] with the byte offset; the reader never
 //! panics and allocates nothing from a stated size before checking the bytes are there.
 //!
 //! The writer writes Float64 points and arrays, Int64 connectivity and offsets and UInt8 types
-//! in the encoding [`VtuOptions`] asks for; every mode reads back in VTK 9.1.
+//! in the encoding [`VtuOptions`] asks for (compressed with zlib, if at all); every mode reads
+//! back in VTK 9.1.
 
 mod decode;
 mod read;

@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use super::decode::{
     ascii_f64, ascii_i64, is_integer, read_binary, skip_binary, to_f64, to_i64, Base64Source,
-    Layout, RawSource, ScalarType, Source,
+    Compressor, Layout, RawSource, ScalarType, Source,
 };
 use super::xml::{is_blank, Attr, Event, Scanner};
 use super::FORMAT;
@@ -121,20 +121,22 @@ fn file_header(attrs: &[Attr<'_>], at: usize) -> Result<Layout, ReadError> {
         Some("UInt64") => true,
         Some(h) => return Err(err(at, format!("unknown header_type \"{h}\""))),
     };
-    let zlib = match attr(attrs, "compressor") {
-        None | Some("") => false,
-        Some("vtkZLibDataCompressor") => true,
-        Some(c) => {
-            return Err(err(
+    let compressor = match attr(attrs, "compressor") {
+        None | Some("") => None,
+        Some(c) => Some(Compressor::parse(c).ok_or_else(|| {
+            err(
                 at,
-                format!("compressor \"{c}\" is not supported (only vtkZLibDataCompressor)"),
-            ))
-        }
+                format!(
+                    "compressor \"{c}\" is not supported (vtkZLibDataCompressor, \
+                     vtkLZ4DataCompressor and vtkLZMADataCompressor are)"
+                ),
+            )
+        })?),
     };
     Ok(Layout {
         big_endian,
         header64,
-        zlib,
+        compressor,
     })
 }
 
