@@ -1,4 +1,4 @@
-//! Resolution of a command-line `INPUT`: a mesh file (`.vtk`, `.vtu`, PLOT3D grid) or a
+//! Resolution of a command-line `INPUT`: a mesh file (`.vtk`, `.vtu`, `.pvtu`, PLOT3D grid) or a
 //! synthetic dataset `NAME[:CELLS]` such as `pump-rotor:2100000`.
 
 use std::path::{Path, PathBuf};

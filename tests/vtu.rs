@@ -298,7 +298,22 @@ def summary(path):
             "bounds": [repr(v) for v in g.GetBounds()],
             "point": arrays(g.GetPointData()), "cell": arrays(g.GetCellData())}
 
-if sys.argv[1] == "gen":
+def pgen(out, hexa_path):
+    # The cube in three pieces, each through VTK's piece extractor, with no ghost level and
+    # with one (the ghost cells flagged in vtkGhostType); LZ4-compressed appended data.
+    for ghost in (0, 1):
+        e = vtk.vtkExtractUnstructuredGridPiece()
+        r = vtk.vtkUnstructuredGridReader(); r.SetFileName(hexa_path)
+        e.SetInputConnection(r.GetOutputPort())
+        w = vtk.vtkXMLPUnstructuredGridWriter(); w.SetInputConnection(e.GetOutputPort())
+        w.SetFileName(os.path.join(out, "cube-ghost%d.pvtu" % ghost))
+        w.SetNumberOfPieces(3); w.SetStartPiece(0); w.SetEndPiece(2); w.SetGhostLevel(ghost)
+        w.SetDataModeToAppended(); w.SetCompressorTypeToLZ4()
+        assert w.Write() == 1
+
+if sys.argv[1] == "pgen":
+    pgen(sys.argv[2], sys.argv[3])
+elif sys.argv[1] == "gen":
     out, hexa_path = sys.argv[2], sys.argv[3]
     m, h = mixed_grid(), hexa(hexa_path)
     for mode in MODES:
@@ -477,6 +492,159 @@ fn files_written_by_vtk_read_as_vtk_reads_them() {
         .unwrap_err()
         .to_string();
     assert!(poly.contains("PolyData"), "{poly}");
+}
+
+/// A mesh's cells as sets of corner positions (bit patterns), sorted: equal for two meshes
+/// holding the same cells, whatever their order and point numbering.
+fn cell_set(mesh: &Mesh) -> Vec<[[u64; 3]; 8]> {
+    let mut cells: Vec<[[u64; 3]; 8]> = (0..mesh.cell_count())
+        .map(|c| {
+            let mut corners = mesh.cell_corners(c).map(|p| p.to_array().map(f64::to_bits));
+            corners.sort_unstable();
+            corners
+        })
+        .collect();
+    cells.sort_unstable();
+    cells
+}
+
+/// A small render of the mesh on the fast path (cell to cell through face neighbours), with
+/// its counters.
+fn fast_render(mesh: &Mesh) -> (cylvol::render::Image, cylvol::render::RenderStats) {
+    use cylvol::accel::{Accel, AccelParams, StructureKind};
+    use cylvol::render::{
+        default_step, face_neighbours, Camera, RenderOptions, RenderPath, Renderer,
+        TransferFunction, Volume,
+    };
+    let axis = cylvol::axis::detect(mesh);
+    let accel = Accel::build(mesh, StructureKind::CartBvh, &axis, &AccelParams::default()).unwrap();
+    let neighbours = face_neighbours(mesh, &accel);
+    let volume = Volume::new(mesh, &accel).unwrap();
+    let [lo, hi] = volume.scalar_range();
+    let tf = TransferFunction::default_for_range(lo, hi, 0.3, 0.1);
+    let camera = Camera::view(mesh.bounds(), 64, 64, 30.0, 20.0, 1.0);
+    let mut options = RenderOptions::new(64, 64, default_step(mesh));
+    options.path = RenderPath::Fast;
+    Renderer::new(&volume, &tf, &options)
+        .unwrap()
+        .with_neighbours(&neighbours)
+        .render(&camera, None)
+        .unwrap()
+}
+
+#[test]
+fn parallel_files_written_by_vtk_read_as_the_whole_mesh() {
+    if !vtk_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    python(&["pgen", dir.path().to_str().unwrap(), hexa_vtk()]);
+    let options = cylvol::io::ReadOptions::default();
+    let whole = cylvol::io::read_file(Path::new(hexa_vtk()), &options).unwrap();
+    let (whole_image, whole_stats) = fast_render(&whole);
+    assert!(
+        whole_image.rgba.iter().any(|p| p[3] > 0.05),
+        "something is seen"
+    );
+    for ghost in [0, 1] {
+        let path = dir.path().join(format!("cube-ghost{ghost}.pvtu"));
+        let mesh = cylvol::io::read_file(&path, &options).unwrap();
+        // Each piece repeats the points it shares with another (more with ghost cells).
+        assert!(
+            mesh.point_count() > whole.point_count(),
+            "ghost level {ghost}"
+        );
+        // The same cells, each once: ghost cells dropped.
+        assert_eq!(cell_set(&mesh), cell_set(&whole), "ghost level {ghost}");
+        // The ghost flags are gone; the field is the file's active scalar.
+        let names: Vec<&str> = mesh.point_data().iter().map(|a| a.name.as_str()).collect();
+        assert_eq!(names, ["scalars"], "ghost level {ghost}");
+        assert!(mesh.cell_data().is_empty(), "ghost level {ghost}");
+        assert_eq!(mesh.scalar_range(), whole.scalar_range());
+        // The faces between pieces are welded: rays cross them cell to cell, as in the whole
+        // mesh, and see the same picture.
+        let (image, stats) = fast_render(&mesh);
+        assert_eq!(image.rgba, whole_image.rgba, "ghost level {ghost}");
+        assert_eq!(
+            (stats.samples_located, stats.structure_locates),
+            (whole_stats.samples_located, whole_stats.structure_locates),
+            "ghost level {ghost}"
+        );
+    }
+    // A piece missing: the error names it.
+    std::fs::remove_file(dir.path().join("cube-ghost0_1.vtu")).unwrap();
+    let e = cylvol::io::read_file(&dir.path().join("cube-ghost0.pvtu"), &options)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("cube-ghost0_1.vtu"), "{e}");
+}
+
+/// Pieces written by hand: ghost cells in a plain `.vtu` go, a bad piece is named, and the
+/// index's scalar choice holds.
+#[test]
+fn parallel_index_joins_pieces_and_names_bad_ones() {
+    let mesh = small_mesh();
+    let mut piece = Vec::new();
+    vtu::write(&mesh, &mut piece).unwrap();
+    let index = |scalars: &str, sources: &[&str]| {
+        let pieces: String = sources
+            .iter()
+            .map(|s| format!("<Piece Source=\"{s}\"/>"))
+            .collect();
+        format!(
+            "<VTKFile type=\"PUnstructuredGrid\"><PUnstructuredGrid>\
+             <PCellData Scalars=\"{scalars}\"/>{pieces}</PUnstructuredGrid></VTKFile>"
+        )
+    };
+    let load = |name: &str| -> Result<Vec<u8>, Error> {
+        match name {
+            "good.vtu" => Ok(piece.clone()),
+            "bad.vtu" => Ok(piece[..piece.len() / 2].to_vec()),
+            _ => Err(Error::Invalid(format!("no file {name}"))),
+        }
+    };
+    let cell_array = mesh.cell_data()[0].name.clone();
+    let two = vtu::read_parallel(
+        index(&cell_array, &["good.vtu", "good.vtu"]).as_bytes(),
+        load,
+    )
+    .unwrap();
+    assert_eq!(two.cell_count(), 2 * mesh.cell_count());
+    assert_eq!(two.point_count(), 2 * mesh.point_count());
+    assert_eq!(two.active_array().unwrap().name, cell_array);
+    let e = vtu::read_parallel(index("x", &["good.vtu", "bad.vtu"]).as_bytes(), load)
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("bad.vtu: "), "{e}");
+    let e = vtu::read_parallel(index("x", &["gone.vtu"]).as_bytes(), load)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no file gone.vtu"), "{e}");
+
+    // A ghost flag array: flagged cells (duplicate 1, hidden 32) go; others (exterior 16) stay.
+    let mut parts = mesh.clone().into_parts();
+    let n = parts.cells.len();
+    let flags: Vec<f64> = (0..n).map(|i| [0.0, 1.0, 16.0, 32.0][i % 4]).collect();
+    let kept = flags.iter().filter(|&&f| f == 0.0 || f == 16.0).count();
+    parts
+        .cell_data
+        .push(DataArray::scalar("vtkGhostType", flags));
+    parts.point_data.push(DataArray::scalar(
+        "vtkGhostType",
+        vec![0.0; parts.points.len()],
+    ));
+    let flagged = Mesh::from_parts(parts).unwrap();
+    let mut bytes = Vec::new();
+    vtu::write(&flagged, &mut bytes).unwrap();
+    let back = vtu::read(&bytes).unwrap();
+    assert_eq!(back.cell_count(), kept);
+    assert!(back.point_data().iter().all(|a| a.name != "vtkGhostType"));
+    assert!(back.cell_data().iter().all(|a| a.name != "vtkGhostType"));
+    assert_eq!(back.cell_data().len(), mesh.cell_data().len());
+    assert_eq!(
+        back.cell_data()[0].values.len(),
+        kept * mesh.cell_data()[0].components
+    );
 }
 
 #[test]

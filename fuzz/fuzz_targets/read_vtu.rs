@@ -1,10 +1,12 @@
 //! Fuzz target: the vtu reader must return a mesh or an error for any bytes, never panic; a
 //! mesh it returns must survive a write (in a mode picked from the input) and read back equal.
+//! The bytes are also read as a parallel index (`.pvtu`) whose every piece is those bytes.
 #![no_main]
 
 use cylvol::io::vtu::{self, ByteOrder, Encoding, HeaderType, VtuOptions};
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let _ = vtu::read_parallel(data, |_| Ok(data.to_vec()));
     let Ok(mesh) = cylvol::io::vtu::read(data) else {
         return;
     };

@@ -14,7 +14,7 @@ use cylvol::Error;
 #[derive(clap::Args, Debug)]
 pub struct GenArgs {
     /// Dataset NAME[:CELLS] (pump-inlet, pump-rotor or pump-diffuser) or a mesh file (.vtk,
-    /// .vtu, PLOT3D *xyz.bin).
+    /// .vtu, .pvtu, PLOT3D *xyz.bin).
     spec: String,
     /// Output file: .vtk (legacy binary) or .vtu.
     #[arg(short, long, value_name = "FILE")]

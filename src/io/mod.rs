@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | legacy VTK (`.vtk`), ASCII and BINARY, `UNSTRUCTURED_GRID` and `STRUCTURED_GRID` | [`legacy::read`] | [`legacy::write`] (BINARY unstructured grid) |
 //! | VTU (`.vtu`), ascii, base64, raw appended, zlib, LZ4 or LZMA compression, 32/64-bit headers | [`vtu::read`] | [`vtu::write`] (zlib or none) |
+//! | parallel VTU (`.pvtu`): an index and one `.vtu` a piece | [`vtu::read_parallel`] | — |
 //! | PLOT3D whole single-grid `*xyz.bin` + `*q.bin` | [`plot3d::read`] | — |
 //! | VTK image data (`.vti`), one `Float32` array over a 2-D image (a render's depth) | — | [`vti::write_point_scalars`] |
 
@@ -34,6 +35,8 @@ pub enum Format {
     LegacyVtk,
     /// VTK XML unstructured grid (`.vtu`).
     Vtu,
+    /// VTK XML parallel unstructured grid index (`.pvtu`) and its pieces.
+    Pvtu,
     /// PLOT3D grid (`*.bin`, `*.xyz`, `*.x`, `*.g`).
     Plot3d,
 }
@@ -45,6 +48,7 @@ impl Format {
         match ext.as_str() {
             "vtk" => Some(Format::LegacyVtk),
             "vtu" => Some(Format::Vtu),
+            "pvtu" => Some(Format::Pvtu),
             "bin" | "xyz" | "x" | "g" | "p3d" => Some(Format::Plot3d),
             _ => None,
         }
@@ -78,7 +82,8 @@ fn read_bytes(path: &Path) -> Result<Vec<u8>, Error> {
 pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
     let format = Format::from_path(path).ok_or_else(|| {
         Error::Invalid(format!(
-            "{}: unknown file type (expected .vtk, .vtu, or a PLOT3D *xyz.bin / .xyz / .x grid)",
+            "{}: unknown file type (expected .vtk, .vtu, .pvtu, or a PLOT3D *xyz.bin / .xyz / .x \
+             grid)",
             path.display()
         ))
     })?;
@@ -86,6 +91,12 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
     match format {
         Format::LegacyVtk => legacy::read(&bytes).map_err(|e| e.in_file(path)),
         Format::Vtu => vtu::read(&bytes).map_err(|e| e.in_file(path)),
+        Format::Pvtu => {
+            // Pieces are named relative to the index's folder (or absolutely).
+            let folder = path.parent().unwrap_or(Path::new(""));
+            vtu::read_parallel(&bytes, |source| read_bytes(&folder.join(source)))
+                .map_err(|e| e.in_file(path))
+        }
         Format::Plot3d => {
             let q_path = match &options.q_file {
                 Some(q) => Some(q.clone()),

@@ -5,7 +5,9 @@
 //!   `header_type` `UInt32` (the default) or `UInt64`, no compressor or any of the three VTK's
 //!   writers offer (ParaView's "Compressor Type"): `vtkZLibDataCompressor`,
 //!   `vtkLZ4DataCompressor` (raw LZ4 blocks) and `vtkLZMADataCompressor` (`.xz` streams);
-//! - one or several `<Piece>`s (joined; point ids are offset per piece);
+//! - one or several `<Piece>`s (joined; point ids are offset per piece), and the parallel
+//!   index (`.pvtu`) of several such files, [`read_parallel`];
+//! - ghost cells (`vtkGhostType`'s duplicate and hidden flags) dropped, the ghost arrays too;
 //! - `DataArray`s in `ascii`, `binary` (inline base64) or `appended` format, the appended block
 //!   `raw` or `base64`, of any numeric type (Int8 … UInt64, Float32, Float64);
 //! - `<Points>`, `<Cells>` (`connectivity`, `offsets`, `types`: hexahedra, voxels, wedges,
@@ -21,9 +23,12 @@
 //! back in VTK 9.1.
 
 mod decode;
+mod parallel;
 mod read;
 mod write;
 mod xml;
+
+pub use parallel::read_parallel;
 
 pub use write::{ByteOrder, Encoding, HeaderType, VtuOptions};
 /// XML attribute escaping, shared with the other VTK XML writer ([`super::vti`]).

@@ -10,21 +10,14 @@ use super::decode::{
     ascii_f64, ascii_i64, is_integer, read_binary, skip_binary, to_f64, to_i64, Base64Source,
     Compressor, Layout, RawSource, ScalarType, Source,
 };
-use super::xml::{is_blank, Attr, Event, Scanner};
+use super::xml::{attr, check_file_type, is_blank, Attr, Event, Scanner};
 use super::FORMAT;
 use crate::error::{Error, ReadError};
-use crate::mesh::{cells_from_vtk, CellKind, DataArray, MeshParts, OffsetStyle};
+use crate::mesh::{cells_from_vtk, DataArray, MeshParts, OffsetStyle};
 use crate::Mesh;
 
 fn err(offset: usize, message: impl Into<String>) -> ReadError {
     ReadError::new(FORMAT, offset as u64, message)
-}
-
-fn attr<'x>(attrs: &'x [Attr<'_>], name: &str) -> Option<&'x str> {
-    attrs
-        .iter()
-        .find(|a| a.name == name)
-        .map(|a| a.value.as_ref())
 }
 
 /// Where an array's data is.
@@ -99,18 +92,12 @@ fn parse_usize(attrs: &[Attr<'_>], name: &str, tag: &str, at: usize) -> Result<u
 }
 
 fn file_header(attrs: &[Attr<'_>], at: usize) -> Result<Layout, ReadError> {
-    let ty = attr(attrs, "type").unwrap_or("");
-    if ty != "UnstructuredGrid" {
-        let what = if ty.is_empty() {
-            "no type attribute".to_string()
-        } else {
-            format!("a {ty} dataset")
-        };
-        return Err(err(
+    check_file_type(attrs, "UnstructuredGrid").map_err(|what| {
+        err(
             at,
             format!("the file holds {what}; only UnstructuredGrid (.vtu) is supported"),
-        ));
-    }
+        )
+    })?;
     let big_endian = match attr(attrs, "byte_order") {
         None | Some("LittleEndian") => false,
         Some("BigEndian") => true,
@@ -177,12 +164,7 @@ fn array_desc(attrs: &[Attr<'_>], at: usize) -> Result<ArrayDesc, ReadError> {
 
 /// Walks the XML part of the file.
 fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
-    let bom = if bytes.starts_with(b"\xEF\xBB\xBF") {
-        3
-    } else {
-        0
-    };
-    let mut sc = Scanner::new(bytes, bom);
+    let mut sc = Scanner::document(bytes);
     let mut stack: Vec<&str> = Vec::new();
     let mut layout = None;
     let mut pieces: Vec<PieceDesc> = Vec::new();
@@ -573,15 +555,6 @@ fn check_trailer(bytes: &[u8], from: usize, open: &[String]) -> Result<(), ReadE
     }
 }
 
-/// One piece decoded.
-struct PieceData {
-    points: Vec<DVec3>,
-    cells: Vec<[u32; 8]>,
-    kinds: Vec<CellKind>,
-    point_data: Vec<DataArray>,
-    cell_data: Vec<DataArray>,
-}
-
 fn cell_array<'p>(piece: &'p PieceDesc, name: &str) -> Result<&'p ArrayDesc, ReadError> {
     piece
         .cell_arrays
@@ -612,7 +585,7 @@ fn data_arrays(
     Ok(out)
 }
 
-fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<PieceData, Error> {
+fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error> {
     let coords = piece
         .coords
         .as_ref()
@@ -663,7 +636,7 @@ fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<PieceData, Error
         piece.points,
     )?;
 
-    Ok(PieceData {
+    Ok(MeshParts {
         points,
         cells: converted.cells,
         kinds: converted.kinds,
@@ -695,21 +668,26 @@ fn join_arrays(per_piece: Vec<Vec<DataArray>>) -> Vec<DataArray> {
     joined
 }
 
-/// Joins decoded pieces: points appended, point ids offset, arrays joined by name.
-fn join_pieces(decoded: Vec<PieceData>, pieces: &[&PieceDesc]) -> Result<MeshParts, Error> {
-    let mut parts = MeshParts::default();
-    let mut point_data = Vec::new();
-    let mut cell_data = Vec::new();
-    for (d, piece) in decoded.into_iter().zip(pieces) {
-        let base = parts.points.len();
-        if (base + d.points.len()) as u64 > u32::MAX as u64 + 1 {
-            return Err(err(piece.at, "more than 2³² points in all pieces").into());
-        }
-        let base_u32 = u32::try_from(base).unwrap_or(u32::MAX);
+/// Joins pieces: points appended, point ids offset, arrays joined by name (those in every
+/// piece); `Err` with a message when the points would not fit 32-bit ids.
+pub(super) fn join_pieces(pieces: Vec<MeshParts>) -> Result<MeshParts, String> {
+    let total: u64 = pieces.iter().map(|p| p.points.len() as u64).sum();
+    if total > u32::MAX as u64 + 1 {
+        return Err(format!("{total} points in all pieces, more than 2³²"));
+    }
+    let mut pieces = pieces.into_iter();
+    let Some(mut parts) = pieces.next() else {
+        return Ok(MeshParts::default());
+    };
+    let mut point_data = vec![std::mem::take(&mut parts.point_data)];
+    let mut cell_data = vec![std::mem::take(&mut parts.cell_data)];
+    for d in pieces {
+        // Below 2³² + 1 in all (checked above).
+        let base = parts.points.len() as u32;
         parts.points.extend_from_slice(&d.points);
         parts
             .cells
-            .extend(d.cells.iter().map(|c| c.map(|i| i + base_u32)));
+            .extend(d.cells.iter().map(|c| c.map(|i| i.wrapping_add(base))));
         parts.kinds.extend_from_slice(&d.kinds);
         point_data.push(d.point_data);
         cell_data.push(d.cell_data);
@@ -719,8 +697,64 @@ fn join_pieces(decoded: Vec<PieceData>, pieces: &[&PieceDesc]) -> Result<MeshPar
     Ok(parts)
 }
 
-/// Reads a VTU file's bytes into a validated mesh.
-pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
+/// The cell flags of VTK's `vtkGhostType` array (`vtkDataSetAttributes`) that mark a cell
+/// another piece owns (`DUPLICATECELL`) or one not to be shown (`HIDDENCELL`).
+const GHOST_CELL_FLAGS: u8 = 1 | 32;
+
+/// The name of VTK's ghost arrays.
+const GHOST_ARRAY: &str = "vtkGhostType";
+
+/// Drops the cells VTK's `vtkGhostType` cell array marks as another piece's or hidden (a
+/// parallel writer's ghost layers, blanked cells) and both ghost arrays, which are flags,
+/// not fields; returns how many cells went. Their points stay (unreferenced).
+pub(super) fn drop_ghost_cells(parts: &mut MeshParts) -> usize {
+    parts.point_data.retain(|a| a.name != GHOST_ARRAY);
+    let Some(at) = parts
+        .cell_data
+        .iter()
+        .position(|a| a.name == GHOST_ARRAY && a.components == 1)
+    else {
+        return 0;
+    };
+    let flags = parts.cell_data.remove(at).values;
+    if flags.len() != parts.cells.len() || parts.kinds.len() != parts.cells.len() {
+        // Mismatched lengths are the validation's to report; nothing is dropped.
+        return 0;
+    }
+    let keep: Vec<bool> = flags
+        .iter()
+        .map(|&f| (f as u8) & GHOST_CELL_FLAGS == 0)
+        .collect();
+    let dropped = keep.iter().filter(|&&k| !k).count();
+    if dropped == 0 {
+        return 0;
+    }
+    let kept = |i: &usize| keep[*i];
+    parts.cells = (0..parts.cells.len())
+        .filter(kept)
+        .map(|i| parts.cells[i])
+        .collect();
+    parts.kinds = (0..parts.kinds.len())
+        .filter(kept)
+        .map(|i| parts.kinds[i])
+        .collect();
+    for a in &mut parts.cell_data {
+        if a.components > 0 && a.values.len() == keep.len() * a.components {
+            a.values = a
+                .values
+                .chunks_exact(a.components)
+                .zip(&keep)
+                .filter(|(_, &k)| k)
+                .flat_map(|(v, _)| v.iter().copied())
+                .collect();
+        }
+    }
+    dropped
+}
+
+/// A VTU file's pieces joined, ghost cells dropped, not yet validated, with the scalar the
+/// file names as active (`point:NAME` or `cell:NAME`), if any.
+pub(super) fn read_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Error> {
     let parsed = parse_structure(bytes)?;
     let dec = Decoder {
         bytes,
@@ -750,30 +784,36 @@ pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
     for piece in &pieces {
         decoded.push(decode_piece(&dec, piece)?);
     }
-    let parts = if decoded.len() == 1 {
+    let mut parts = if decoded.len() == 1 {
         // One piece (the usual case): move, do not copy.
-        let d = decoded.pop().map(|d| MeshParts {
-            points: d.points,
-            cells: d.cells,
-            kinds: d.kinds,
-            point_data: d.point_data,
-            cell_data: d.cell_data,
-        });
-        d.unwrap_or_default()
+        decoded.pop().unwrap_or_default()
     } else {
-        join_pieces(decoded, &pieces)?
+        let at = pieces.first().map_or(0, |p| p.at);
+        join_pieces(decoded).map_err(|m| err(at, m))?
     };
-    let mut mesh = Mesh::from_parts(parts)?;
-    // Honour the file's active scalars where the arrays survived.
-    if let Some(first) = pieces.first() {
-        let choice = first
+    drop_ghost_cells(&mut parts);
+    let active = pieces.first().and_then(|first| {
+        first
             .active_point
             .as_ref()
             .map(|n| format!("point:{n}"))
-            .or_else(|| first.active_cell.as_ref().map(|n| format!("cell:{n}")));
-        if let Some(name) = choice {
-            let _ = mesh.set_active_scalar(&name);
-        }
+            .or_else(|| first.active_cell.as_ref().map(|n| format!("cell:{n}")))
+    });
+    Ok((parts, active))
+}
+
+/// A validated mesh from joined parts, with `active` (`point:NAME` or `cell:NAME`) as its
+/// active scalar where that array survived the join.
+pub(super) fn mesh_with_active(parts: MeshParts, active: Option<&str>) -> Result<Mesh, Error> {
+    let mut mesh = Mesh::from_parts(parts)?;
+    if let Some(name) = active {
+        let _ = mesh.set_active_scalar(name);
     }
     Ok(mesh)
+}
+
+/// Reads a VTU file's bytes into a validated mesh.
+pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
+    let (parts, active) = read_parts(bytes)?;
+    mesh_with_active(parts, active.as_deref())
 }

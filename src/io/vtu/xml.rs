@@ -83,10 +83,38 @@ pub(super) fn is_blank(s: &[u8]) -> bool {
     s.iter().all(|&b| is_space(b))
 }
 
+/// The value of the attribute `name`, if the tag has it.
+pub(super) fn attr<'x>(attrs: &'x [Attr<'_>], name: &str) -> Option<&'x str> {
+    attrs
+        .iter()
+        .find(|a| a.name == name)
+        .map(|a| a.value.as_ref())
+}
+
+/// Whether a `VTKFile` tag's `type` is `expected`; if not, what it holds, for an error
+/// message (`a PolyData dataset`, `no type attribute`).
+pub(super) fn check_file_type(attrs: &[Attr<'_>], expected: &str) -> Result<(), String> {
+    match attr(attrs, "type").unwrap_or("") {
+        ty if ty == expected => Ok(()),
+        "" => Err("no type attribute".to_string()),
+        ty => Err(format!("a {ty} dataset")),
+    }
+}
+
 impl<'a> Scanner<'a> {
     /// A scanner starting at byte `pos`.
     pub fn new(bytes: &'a [u8], pos: usize) -> Scanner<'a> {
         Scanner { bytes, pos }
+    }
+
+    /// A scanner over a whole document, past its UTF-8 byte-order mark if it has one.
+    pub fn document(bytes: &'a [u8]) -> Scanner<'a> {
+        let bom = if bytes.starts_with(b"\xEF\xBB\xBF") {
+            3
+        } else {
+            0
+        };
+        Scanner::new(bytes, bom)
     }
 
     /// The current position (the first byte not yet consumed).

@@ -1,0 +1,203 @@
+//! Parallel VTU files (`.pvtu`): the index VTK's `vtkXMLPUnstructuredGridWriter` (ParaView's
+//! "Save Data" from a parallel run, or with several pieces) writes beside one `.vtu` file per
+//! piece. The index names the pieces (`<Piece Source="…"/>`) and the active scalars; the
+//! pieces are read as any VTU file is, joined in index order, and their ghost cells dropped
+//! (a ghost level above 0 repeats each piece's neighbours in it, flagged in `vtkGhostType`).
+//! Points the pieces share are repeated, one copy per piece, as VTK's own reader keeps them;
+//! the face adjacency welds the faces between pieces by position, as it welds a mesh's seams.
+
+use rayon::prelude::*;
+
+use super::read::{join_pieces, mesh_with_active, read_parts};
+use super::xml::{attr, check_file_type, is_blank, Event, Scanner};
+use crate::error::{Error, ReadError};
+use crate::Mesh;
+
+/// The format named in index errors.
+const FORMAT: &str = "parallel VTU";
+
+/// What an index says: its pieces' file names, in order, and the active scalar it names.
+#[derive(Debug, Default, PartialEq)]
+struct Index {
+    sources: Vec<String>,
+    active: Option<String>,
+}
+
+fn err(offset: usize, message: impl Into<String>) -> ReadError {
+    ReadError::new(FORMAT, offset as u64, message)
+}
+
+/// Parses an index: a `VTKFile` of type `PUnstructuredGrid` whose `PUnstructuredGrid`
+/// element holds one `Piece` with a `Source` per piece.
+fn parse_index(bytes: &[u8]) -> Result<Index, ReadError> {
+    let mut sc = Scanner::document(bytes);
+    let mut stack: Vec<&str> = Vec::new();
+    let mut index = Index::default();
+    let (mut active_point, mut active_cell) = (None, None);
+    let mut seen_root = false;
+    loop {
+        match sc.next_event()? {
+            Event::Eof => {
+                if let Some(open) = stack.last() {
+                    return Err(err(bytes.len(), format!("the file ends inside <{open}>")));
+                }
+                break;
+            }
+            Event::Text(range) => {
+                if stack.is_empty() && !is_blank(&bytes[range.clone()]) {
+                    return Err(err(
+                        range.start,
+                        "not a VTK XML file: text outside elements",
+                    ));
+                }
+            }
+            Event::End { name, offset } => match stack.pop() {
+                Some(open) if open == name => {}
+                Some(open) => return Err(err(offset, format!("</{name}> closes <{open}>"))),
+                None => return Err(err(offset, format!("</{name}> without <{name}>"))),
+            },
+            Event::Start {
+                name,
+                attrs,
+                empty,
+                offset,
+                ..
+            } => {
+                match (stack.last().copied(), name) {
+                    (None, "VTKFile") => {
+                        check_file_type(&attrs, "PUnstructuredGrid").map_err(|what| {
+                            err(
+                                offset,
+                                format!(
+                                    "the index holds {what}; a .pvtu file indexes the pieces \
+                                     of a PUnstructuredGrid"
+                                ),
+                            )
+                        })?;
+                        seen_root = true;
+                    }
+                    (None, other) => {
+                        return Err(err(
+                            offset,
+                            format!("not a VTK XML file: the root element is <{other}>"),
+                        ))
+                    }
+                    (Some("PUnstructuredGrid"), "PPointData") => {
+                        active_point = attr(&attrs, "Scalars").map(str::to_string);
+                    }
+                    (Some("PUnstructuredGrid"), "PCellData") => {
+                        active_cell = attr(&attrs, "Scalars").map(str::to_string);
+                    }
+                    (Some("PUnstructuredGrid"), "Piece") => {
+                        let source = attr(&attrs, "Source")
+                            .filter(|s| !s.trim().is_empty())
+                            .ok_or_else(|| err(offset, "<Piece> has no Source file"))?;
+                        index.sources.push(source.trim().to_string());
+                    }
+                    _ => {}
+                }
+                if !empty {
+                    stack.push(name);
+                }
+            }
+        }
+    }
+    if !seen_root {
+        return Err(err(0, "not a VTK XML file: no <VTKFile> element"));
+    }
+    if index.sources.is_empty() {
+        return Err(err(0, "the index names no piece (<Piece Source=\"…\"/>)"));
+    }
+    index.active = active_point
+        .map(|n| format!("point:{n}"))
+        .or_else(|| active_cell.map(|n| format!("cell:{n}")));
+    Ok(index)
+}
+
+/// Reads a parallel VTU index and its pieces into one validated mesh. `load` gives the bytes
+/// of a piece from its `Source` name as the index writes it (relative to the index's folder,
+/// for files; [`crate::io::read_file`] resolves it so). Pieces are read in parallel and
+/// joined in index order; an error in a piece names its source.
+///
+/// ```
+/// use cylvol::datasets::{generate, Dataset};
+/// use cylvol::io::vtu;
+/// let mesh = generate(Dataset::PumpInlet, 1000).unwrap();
+/// let mut piece = Vec::new();
+/// vtu::write(&mesh, &mut piece).unwrap();
+/// let index = br#"<VTKFile type="PUnstructuredGrid"><PUnstructuredGrid>
+///   <Piece Source="a.vtu"/><Piece Source="b.vtu"/></PUnstructuredGrid></VTKFile>"#;
+/// // The same piece twice: twice the cells.
+/// let both = vtu::read_parallel(index, |_| Ok(piece.clone())).unwrap();
+/// assert_eq!(both.cell_count(), 2 * mesh.cell_count());
+/// ```
+pub fn read_parallel(
+    index: &[u8],
+    load: impl Fn(&str) -> Result<Vec<u8>, Error> + Sync,
+) -> Result<Mesh, Error> {
+    let index = parse_index(index)?;
+    let read = |source: &String| -> Result<_, Error> {
+        let bytes = load(source)?;
+        read_parts(&bytes).map_err(|e| e.in_file(source))
+    };
+    let pieces: Vec<_> = index
+        .sources
+        .par_iter()
+        .map(read)
+        .collect::<Result<_, _>>()?;
+    let active = index
+        .active
+        .or_else(|| pieces.iter().find_map(|(_, active)| active.clone()));
+    let parts =
+        join_pieces(pieces.into_iter().map(|(parts, _)| parts).collect()).map_err(|m| err(0, m))?;
+    mesh_with_active(parts, active.as_deref())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_index_gives_sources_and_scalars() {
+        let index = br#"<?xml version="1.0"?>
+<VTKFile type="PUnstructuredGrid" version="0.1">
+  <PUnstructuredGrid GhostLevel="1">
+    <PPointData Scalars="p"><PDataArray type="Float32" Name="p"/></PPointData>
+    <PCellData Scalars="c"/>
+    <PPoints><PDataArray type="Float32" NumberOfComponents="3"/></PPoints>
+    <Piece Source="run_0.vtu"/>
+    <Piece Source=" sub/run_1.vtu "/>
+  </PUnstructuredGrid>
+</VTKFile>"#;
+        let parsed = parse_index(index).unwrap();
+        assert_eq!(parsed.sources, ["run_0.vtu", "sub/run_1.vtu"]);
+        assert_eq!(parsed.active.as_deref(), Some("point:p"));
+    }
+
+    #[test]
+    fn bad_indices_are_named() {
+        for (bytes, needle) in [
+            (
+                &br#"<VTKFile type="UnstructuredGrid"><UnstructuredGrid/></VTKFile>"#[..],
+                "a UnstructuredGrid dataset",
+            ),
+            (
+                br#"<VTKFile type="PUnstructuredGrid"><PUnstructuredGrid/></VTKFile>"#,
+                "names no piece",
+            ),
+            (
+                br#"<VTKFile type="PUnstructuredGrid"><PUnstructuredGrid><Piece/></PUnstructuredGrid></VTKFile>"#,
+                "no Source",
+            ),
+            (
+                br#"<VTKFile type="PUnstructuredGrid"><PUnstructuredGrid>"#,
+                "ends inside",
+            ),
+            (b"<Foo/>", "<Foo>"),
+            (b"", "no <VTKFile>"),
+        ] {
+            let e = parse_index(bytes).unwrap_err();
+            assert!(e.message.contains(needle), "{needle}: {e}");
+        }
+    }
+}
