@@ -9,7 +9,7 @@
 use rayon::prelude::*;
 
 use super::read::{join_pieces, mesh_with_active, read_parts};
-use super::xml::{attr, check_file_type, is_blank, Event, Scanner};
+use super::xml::{attr, check_file_type, Event, OpenElements, Scanner};
 use crate::error::{Error, ReadError};
 use crate::Mesh;
 
@@ -31,31 +31,18 @@ fn err(offset: usize, message: impl Into<String>) -> ReadError {
 /// element holds one `Piece` with a `Source` per piece.
 fn parse_index(bytes: &[u8]) -> Result<Index, ReadError> {
     let mut sc = Scanner::document(bytes);
-    let mut stack: Vec<&str> = Vec::new();
+    let mut open = OpenElements::new(FORMAT);
     let mut index = Index::default();
     let (mut active_point, mut active_cell) = (None, None);
     let mut seen_root = false;
     loop {
         match sc.next_event()? {
             Event::Eof => {
-                if let Some(open) = stack.last() {
-                    return Err(err(bytes.len(), format!("the file ends inside <{open}>")));
-                }
+                open.end(bytes)?;
                 break;
             }
-            Event::Text(range) => {
-                if stack.is_empty() && !is_blank(&bytes[range.clone()]) {
-                    return Err(err(
-                        range.start,
-                        "not a VTK XML file: text outside elements",
-                    ));
-                }
-            }
-            Event::End { name, offset } => match stack.pop() {
-                Some(open) if open == name => {}
-                Some(open) => return Err(err(offset, format!("</{name}> closes <{open}>"))),
-                None => return Err(err(offset, format!("</{name}> without <{name}>"))),
-            },
+            Event::Text(range) => open.text(bytes, &range)?,
+            Event::End { name, offset } => open.close(name, offset)?,
             Event::Start {
                 name,
                 attrs,
@@ -63,7 +50,7 @@ fn parse_index(bytes: &[u8]) -> Result<Index, ReadError> {
                 offset,
                 ..
             } => {
-                match (stack.last().copied(), name) {
+                match (open.innermost(), name) {
                     (None, "VTKFile") => {
                         check_file_type(&attrs, "PUnstructuredGrid").map_err(|what| {
                             err(
@@ -97,7 +84,7 @@ fn parse_index(bytes: &[u8]) -> Result<Index, ReadError> {
                     _ => {}
                 }
                 if !empty {
-                    stack.push(name);
+                    open.open(name);
                 }
             }
         }

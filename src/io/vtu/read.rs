@@ -10,7 +10,7 @@ use super::decode::{
     ascii_f64, ascii_i64, is_integer, read_binary, skip_binary, to_f64, to_i64, Base64Source,
     Compressor, Layout, RawSource, ScalarType, Source,
 };
-use super::xml::{attr, check_file_type, is_blank, Attr, Event, Scanner};
+use super::xml::{attr, check_file_type, is_blank, Attr, Event, OpenElements, Scanner};
 use super::FORMAT;
 use crate::error::{Error, ReadError};
 use crate::mesh::{cells_from_vtk, DataArray, MeshParts, OffsetStyle};
@@ -165,60 +165,47 @@ fn array_desc(attrs: &[Attr<'_>], at: usize) -> Result<ArrayDesc, ReadError> {
 /// Walks the XML part of the file.
 fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
     let mut sc = Scanner::document(bytes);
-    let mut stack: Vec<&str> = Vec::new();
+    let mut open = OpenElements::new(FORMAT);
     let mut layout = None;
     let mut pieces: Vec<PieceDesc> = Vec::new();
     let mut section: Option<Section> = None;
-    // The DataArray being read, and the stack depth it lives at.
+    // The DataArray being read, and the depth of open elements it lives at.
     let mut current: Option<(ArrayDesc, Section, usize)> = None;
     let mut appended_arrays = Vec::new();
     let mut seen_grid = false;
     loop {
         match sc.next_event()? {
             Event::Eof => {
-                if let Some(open) = stack.last() {
-                    return Err(err(bytes.len(), format!("the file ends inside <{open}>")));
-                }
+                open.end(bytes)?;
                 if layout.is_none() {
                     return Err(err(0, "not a VTK XML file: no <VTKFile> element"));
                 }
                 break;
             }
             Event::Text(range) => {
-                if stack.is_empty() && !is_blank(&bytes[range.clone()]) {
-                    return Err(err(
-                        range.start,
-                        "not a VTK XML file: text outside elements",
-                    ));
-                }
+                open.text(bytes, &range)?;
                 if let Some((desc, _, depth)) = current.as_mut() {
-                    if stack.len() == *depth && !is_blank(&bytes[range.clone()]) {
+                    if open.names().len() == *depth && !is_blank(&bytes[range.clone()]) {
                         desc.text.push(range);
                     }
                 }
             }
             Event::End { name, offset } => {
-                match stack.pop() {
-                    Some(open) if open == name => {}
-                    Some(open) => {
-                        return Err(err(offset, format!("</{name}> closes <{open}>")));
-                    }
-                    None => return Err(err(offset, format!("</{name}> without <{name}>"))),
-                }
+                open.close(name, offset)?;
                 if current
                     .as_ref()
-                    .is_some_and(|(_, _, d)| stack.len() + 1 == *d)
+                    .is_some_and(|(_, _, d)| open.names().len() + 1 == *d)
                 {
                     if let Some((desc, sec, _)) = current.take() {
                         store(&mut pieces, sec, desc);
                     }
                 }
                 if matches!(name, "Points" | "Cells" | "PointData" | "CellData")
-                    && stack.last() == Some(&"Piece")
+                    && open.innermost() == Some("Piece")
                 {
                     section = None;
                 }
-                if stack.is_empty() {
+                if open.names().is_empty() {
                     // The root element is closed: nothing after it matters but white space.
                     loop {
                         match sc.next_event()? {
@@ -237,7 +224,7 @@ fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
                 offset,
                 end,
             } => {
-                let parent = stack.last().copied();
+                let parent = open.innermost();
                 match (parent, name) {
                     (None, "VTKFile") => layout = Some(file_header(&attrs, offset)?),
                     (None, other) => {
@@ -281,7 +268,8 @@ fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
                         }
                         let start = pos + 1;
                         let rest = bytes.get(start..).unwrap_or(&[]);
-                        let mut resume: Vec<String> = stack.iter().map(|s| s.to_string()).collect();
+                        let mut resume: Vec<String> =
+                            open.names().iter().map(|s| s.to_string()).collect();
                         resume.push("AppendedData".into());
                         let appended = match encoding {
                             "raw" => Appended::Raw { data: rest, start },
@@ -322,7 +310,7 @@ fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
                             if empty {
                                 store(&mut pieces, sec, desc);
                             } else if current.is_none() {
-                                current = Some((desc, sec, stack.len() + 1));
+                                current = Some((desc, sec, open.names().len() + 1));
                             }
                         }
                     }
@@ -334,7 +322,7 @@ fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
                     _ => {}
                 }
                 if !empty {
-                    stack.push(name);
+                    open.open(name);
                 }
             }
         }

@@ -83,6 +83,73 @@ pub(super) fn is_blank(s: &[u8]) -> bool {
     s.iter().all(|&b| is_space(b))
 }
 
+/// The elements open at a scanner's position, innermost last, checked as they open and close:
+/// tags must nest, the input must not end inside an element, and no text may stand outside
+/// the root. Errors are reported as `format`'s.
+pub(super) struct OpenElements<'a> {
+    names: Vec<&'a str>,
+    format: &'static str,
+}
+
+impl<'a> OpenElements<'a> {
+    /// None open yet.
+    pub fn new(format: &'static str) -> OpenElements<'a> {
+        OpenElements {
+            names: Vec::new(),
+            format,
+        }
+    }
+
+    /// The open elements' names, outermost first.
+    pub fn names(&self) -> &[&'a str] {
+        &self.names
+    }
+
+    /// The innermost open element.
+    pub fn innermost(&self) -> Option<&'a str> {
+        self.names.last().copied()
+    }
+
+    /// A start tag (not an empty-element one) opened `name`.
+    pub fn open(&mut self, name: &'a str) {
+        self.names.push(name);
+    }
+
+    /// An end tag `</name>` at `offset`: it must close the innermost element.
+    pub fn close(&mut self, name: &str, offset: usize) -> Result<(), ReadError> {
+        let message = match self.names.pop() {
+            Some(open) if open == name => return Ok(()),
+            Some(open) => format!("</{name}> closes <{open}>"),
+            None => format!("</{name}> without <{name}>"),
+        };
+        Err(ReadError::new(self.format, offset as u64, message))
+    }
+
+    /// Text at `range` of `bytes`: outside the root it must be white space.
+    pub fn text(&self, bytes: &[u8], range: &Range<usize>) -> Result<(), ReadError> {
+        if self.names.is_empty() && !is_blank(&bytes[range.clone()]) {
+            return Err(ReadError::new(
+                self.format,
+                range.start as u64,
+                "not a VTK XML file: text outside elements",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The end of `bytes`: no element may be open.
+    pub fn end(&self, bytes: &[u8]) -> Result<(), ReadError> {
+        match self.names.last() {
+            Some(open) => Err(ReadError::new(
+                self.format,
+                bytes.len() as u64,
+                format!("the file ends inside <{open}>"),
+            )),
+            None => Ok(()),
+        }
+    }
+}
+
 /// The value of the attribute `name`, if the tag has it.
 pub(super) fn attr<'x>(attrs: &'x [Attr<'_>], name: &str) -> Option<&'x str> {
     attrs
