@@ -17,6 +17,7 @@ pub use cell_kind::{
 };
 pub use data::{ActiveScalar, Association, Component, DataArray};
 pub use refine::{physical_memory, refined_bytes, MAX_REFINEMENT};
+pub(crate) use vtk_cells::cells_from_ids;
 pub use vtk_cells::{cells_from_vtk, ConvertedCells, OffsetStyle};
 
 use glam::DVec3;

@@ -3,6 +3,8 @@
 
 use std::collections::BTreeMap;
 
+use rayon::prelude::*;
+
 use super::cell_kind::{
     vtk_type_name, CellKind, VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_VOXEL, VTK_WEDGE,
 };
@@ -60,55 +62,109 @@ pub fn cells_from_vtk(
     types: &[u8],
     points: usize,
 ) -> Result<ConvertedCells, MeshError> {
-    let n = types.len();
-    let ranges = cell_ranges(connectivity.len(), offsets, style, n)?;
+    cells_from_ids(
+        connectivity.len(),
+        |k| connectivity[k],
+        offsets,
+        style,
+        types,
+        points,
+    )
+}
 
+/// Cells converted (and their kinds written) per parallel task.
+const CELLS_PER_TASK: usize = 1 << 14;
+
+/// [`cells_from_vtk`] over a connectivity array of `len` entries read through `id` (entry `k`
+/// for `k < len`), so readers convert their stored integers without an `i64` copy of the
+/// whole array. Converts in parallel (the cheap checks of types and spans come first, in one
+/// sequential pass each); the error is the one a sequential pass would meet first
+/// (unsupported types, then spans, then vertex counts and ids in cell order).
+pub(crate) fn cells_from_ids(
+    len: usize,
+    id: impl Fn(usize) -> i64 + Sync,
+    offsets: &[i64],
+    style: OffsetStyle,
+    types: &[u8],
+    points: usize,
+) -> Result<ConvertedCells, MeshError> {
+    let n = types.len();
+    check_types(types)?;
+    let bounds = Bounds::new(len, offsets, style, n)?;
+    if let Some(cell) = (0..n).find(|&c| bounds.span(c).is_none()) {
+        let (b, e) = (bounds.at(cell), bounds.at(cell + 1));
+        return Err(MeshError::CellArrays(format!(
+            "cell {cell} spans connectivity [{b}, {e}) of {len} entries"
+        )));
+    }
+
+    let mut out = ConvertedCells {
+        cells: vec![[0; 8]; n],
+        kinds: vec![CellKind::Hexahedron; n],
+    };
+    let convert_task = |task: usize, cells: &mut [[u32; 8]], kinds: &mut [CellKind]| {
+        let mut ids = [0u32; 8];
+        for (j, (cell_out, kind_out)) in cells.iter_mut().zip(kinds).enumerate() {
+            let cell = task * CELLS_PER_TASK + j;
+            let code = types[cell];
+            let kind = kind_of(code).unwrap_or(CellKind::Hexahedron);
+            // Checked above.
+            let (begin, end) = bounds.span(cell).unwrap_or((0, 0));
+            let expected = kind.vertex_count();
+            let got = end - begin;
+            if got != expected {
+                return Err(MeshError::WrongVertexCount {
+                    cell,
+                    kind: vtk_type_name(code),
+                    expected,
+                    got,
+                });
+            }
+            for (slot, k) in ids.iter_mut().zip(begin..end) {
+                let index = id(k);
+                if index < 0 || index as u64 >= points as u64 || index > u32::MAX as i64 {
+                    return Err(MeshError::IndexOutOfRange {
+                        cell,
+                        index,
+                        points,
+                    });
+                }
+                *slot = index as u32;
+            }
+            *cell_out = collapse(code, &ids[..got]);
+            *kind_out = kind;
+        }
+        Ok(())
+    };
+    let first_error = out
+        .cells
+        .par_chunks_mut(CELLS_PER_TASK)
+        .zip(out.kinds.par_chunks_mut(CELLS_PER_TASK))
+        .enumerate()
+        .find_map_first(|(task, (cells, kinds))| convert_task(task, cells, kinds).err());
+    match first_error {
+        Some(e) => Err(e),
+        None => Ok(out),
+    }
+}
+
+/// Reports every unsupported type code with its count.
+fn check_types(types: &[u8]) -> Result<(), MeshError> {
+    if types.iter().all(|&code| kind_of(code).is_some()) {
+        return Ok(());
+    }
     let mut unsupported: BTreeMap<u8, usize> = BTreeMap::new();
     for &code in types {
         if kind_of(code).is_none() {
             *unsupported.entry(code).or_default() += 1;
         }
     }
-    if !unsupported.is_empty() {
-        return Err(MeshError::UnsupportedCellTypes {
-            types: unsupported
-                .into_iter()
-                .map(|(code, count)| (code, vtk_type_name(code), count))
-                .collect(),
-        });
-    }
-
-    let mut out = ConvertedCells {
-        cells: Vec::with_capacity(n),
-        kinds: Vec::with_capacity(n),
-    };
-    let mut ids = [0u32; 8];
-    for (cell, (&code, (begin, end))) in types.iter().zip(ranges).enumerate() {
-        let kind = kind_of(code).unwrap_or(CellKind::Hexahedron);
-        let expected = kind.vertex_count();
-        let got = end - begin;
-        if got != expected {
-            return Err(MeshError::WrongVertexCount {
-                cell,
-                kind: vtk_type_name(code),
-                expected,
-                got,
-            });
-        }
-        for (slot, &id) in ids.iter_mut().zip(&connectivity[begin..end]) {
-            if id < 0 || id as u64 >= points as u64 || id > u32::MAX as i64 {
-                return Err(MeshError::IndexOutOfRange {
-                    cell,
-                    index: id,
-                    points,
-                });
-            }
-            *slot = id as u32;
-        }
-        out.cells.push(collapse(code, &ids[..got]));
-        out.kinds.push(kind);
-    }
-    Ok(out)
+    Err(MeshError::UnsupportedCellTypes {
+        types: unsupported
+            .into_iter()
+            .map(|(code, count)| (code, vtk_type_name(code), count))
+            .collect(),
+    })
 }
 
 /// What the entries of an offsets array mean.
@@ -120,39 +176,50 @@ pub enum OffsetStyle {
     Ends,
 }
 
-fn cell_ranges(
+/// The cells' boundaries in the connectivity array: boundary `i` is where cell `i` starts
+/// and cell `i − 1` ends, for `i` in `0..=n`, whichever [`OffsetStyle`] the offsets have.
+#[derive(Clone, Copy)]
+struct Bounds<'a> {
+    offsets: &'a [i64],
+    /// Boundaries before the first offset (1 for ends, whose boundary 0 is implicit).
+    lead: usize,
     len: usize,
-    offsets: &[i64],
-    style: OffsetStyle,
-    n: usize,
-) -> Result<Vec<(usize, usize)>, MeshError> {
-    let bounds: Vec<i64> = match style {
-        OffsetStyle::Starts if offsets.len() == n + 1 => offsets.to_vec(),
-        OffsetStyle::Starts if offsets.len() == n => {
-            offsets.iter().copied().chain([len as i64]).collect()
-        }
-        OffsetStyle::Ends if offsets.len() == n => {
-            std::iter::once(0).chain(offsets.iter().copied()).collect()
-        }
-        _ => {
-            return Err(MeshError::CellArrays(format!(
-                "{} offsets for {} cell types",
-                offsets.len(),
-                n
-            )))
-        }
-    };
-    let mut ranges = Vec::with_capacity(n);
-    for (cell, w) in bounds.windows(2).enumerate() {
-        let (b, e) = (w[0], w[1]);
-        if b < 0 || e < b || e as u64 > len as u64 {
-            return Err(MeshError::CellArrays(format!(
-                "cell {cell} spans connectivity [{b}, {e}) of {len} entries"
-            )));
-        }
-        ranges.push((b as usize, e as usize));
+}
+
+impl<'a> Bounds<'a> {
+    fn new(
+        len: usize,
+        offsets: &'a [i64],
+        style: OffsetStyle,
+        n: usize,
+    ) -> Result<Self, MeshError> {
+        let lead = match style {
+            OffsetStyle::Starts if offsets.len() == n + 1 || offsets.len() == n => 0,
+            OffsetStyle::Ends if offsets.len() == n => 1,
+            _ => {
+                return Err(MeshError::CellArrays(format!(
+                    "{} offsets for {} cell types",
+                    offsets.len(),
+                    n
+                )))
+            }
+        };
+        Ok(Bounds { offsets, lead, len })
     }
-    Ok(ranges)
+
+    /// Boundary `i` (`0` before the offsets, the connectivity's length after them).
+    fn at(&self, i: usize) -> i64 {
+        match i.checked_sub(self.lead) {
+            None => 0,
+            Some(k) => self.offsets.get(k).copied().unwrap_or(self.len as i64),
+        }
+    }
+
+    /// Cell `cell`'s range in the connectivity, `None` when it is not one.
+    fn span(&self, cell: usize) -> Option<(usize, usize)> {
+        let (b, e) = (self.at(cell), self.at(cell + 1));
+        (b >= 0 && e >= b && e as u64 <= self.len as u64).then_some((b as usize, e as usize))
+    }
 }
 
 #[cfg(test)]
@@ -191,6 +258,144 @@ mod tests {
         match cells_from_vtk(&connectivity, &offsets, OffsetStyle::Ends, &types, points) {
             Err(MeshError::CellArrays(m)) => assert!(m.starts_with("cell 80000 spans"), "{m}"),
             other => panic!("{other:?}"),
+        }
+    }
+
+    /// The conversion as a plain sequential loop over the cells, checking types, then spans,
+    /// then each cell's vertex count and ids: what the parallel one must equal, result and
+    /// first error alike.
+    fn sequential(
+        connectivity: &[i64],
+        offsets: &[i64],
+        style: OffsetStyle,
+        types: &[u8],
+        points: usize,
+    ) -> Result<ConvertedCells, MeshError> {
+        check_types(types)?;
+        let n = types.len();
+        let bounds: Vec<i64> = match (style, offsets.len()) {
+            (OffsetStyle::Starts, l) if l == n + 1 => offsets.to_vec(),
+            (OffsetStyle::Starts, l) if l == n => offsets
+                .iter()
+                .copied()
+                .chain([connectivity.len() as i64])
+                .collect(),
+            (OffsetStyle::Ends, l) if l == n => {
+                std::iter::once(0).chain(offsets.to_vec()).collect()
+            }
+            _ => {
+                return Err(MeshError::CellArrays(format!(
+                    "{} offsets for {n} cell types",
+                    offsets.len()
+                )))
+            }
+        };
+        let len = connectivity.len();
+        for (cell, w) in bounds.windows(2).enumerate() {
+            if w[0] < 0 || w[1] < w[0] || w[1] as u64 > len as u64 {
+                return Err(MeshError::CellArrays(format!(
+                    "cell {cell} spans connectivity [{}, {}) of {len} entries",
+                    w[0], w[1]
+                )));
+            }
+        }
+        let mut out = ConvertedCells::default();
+        for (cell, (&code, w)) in types.iter().zip(bounds.windows(2)).enumerate() {
+            let kind = kind_of(code).unwrap();
+            let ids = &connectivity[w[0] as usize..w[1] as usize];
+            if ids.len() != kind.vertex_count() {
+                return Err(MeshError::WrongVertexCount {
+                    cell,
+                    kind: vtk_type_name(code),
+                    expected: kind.vertex_count(),
+                    got: ids.len(),
+                });
+            }
+            if let Some(&index) = ids
+                .iter()
+                .find(|&&i| i < 0 || i as u64 >= points as u64 || i > u32::MAX as i64)
+            {
+                return Err(MeshError::IndexOutOfRange {
+                    cell,
+                    index,
+                    points,
+                });
+            }
+            let ids: Vec<u32> = ids.iter().map(|&i| i as u32).collect();
+            out.cells.push(collapse(code, &ids));
+            out.kinds.push(kind);
+        }
+        Ok(out)
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// Cells of mixed kinds, many parallel tasks' worth, with up to three faults of any
+        /// kind planted anywhere (an id out of range, a negative id, a wrong type code, an
+        /// offset out of order, a cell one vertex short): the parallel conversion gives what
+        /// the sequential loop gives, cells or first error, in both offset styles.
+        #[test]
+        fn parallel_conversion_equals_the_sequential_loop(
+            codes in proptest::collection::vec(
+                proptest::sample::select(vec![VTK_HEXAHEDRON, VTK_VOXEL, VTK_WEDGE, VTK_PYRAMID, VTK_TETRA]),
+                1..3 * CELLS_PER_TASK,
+            ),
+            seed in 0u64..u64::MAX,
+            faults in proptest::collection::vec((0usize..5, 0.0f64..1.0), 0..4),
+        ) {
+            let n = codes.len();
+            let points = n + 8;
+            let mut rng = seed;
+            let mut next = move || {
+                rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                (rng >> 33) as usize
+            };
+            let mut types = codes;
+            let mut connectivity = Vec::new();
+            let mut ends = Vec::with_capacity(n);
+            for &code in &types {
+                let count = kind_of(code).unwrap().vertex_count();
+                connectivity.extend((0..count).map(|_| (next() % points) as i64));
+                ends.push(connectivity.len() as i64);
+            }
+            for &(fault, at) in &faults {
+                let cell = ((at * n as f64) as usize).min(n - 1);
+                match fault {
+                    0 => {
+                        let k = (at * connectivity.len() as f64) as usize % connectivity.len();
+                        connectivity[k] = points as i64 + (next() % 3) as i64;
+                    }
+                    1 => {
+                        let k = (at * connectivity.len() as f64) as usize % connectivity.len();
+                        connectivity[k] = -1;
+                    }
+                    2 => types[cell] = 5,
+                    3 => ends[cell] = ends[cell] - 1 - (next() % 20) as i64,
+                    _ => {
+                        // Cell `cell` loses its last vertex; every later end moves down one.
+                        let k = ends[cell] as usize - 1;
+                        if ends.iter().all(|&e| e >= 0 && (e as usize) <= connectivity.len()) {
+                            connectivity.remove(k);
+                            for e in &mut ends[cell..] {
+                                *e -= 1;
+                            }
+                        }
+                    }
+                }
+            }
+            let starts: Vec<i64> = std::iter::once(0).chain(ends.iter().copied()).collect();
+            for (offsets, style) in [
+                (&ends[..], OffsetStyle::Ends),
+                (&starts[..], OffsetStyle::Starts),
+                (&starts[..n], OffsetStyle::Starts),
+            ] {
+                let want = sequential(&connectivity, offsets, style, &types, points);
+                let got = cells_from_vtk(&connectivity, offsets, style, &types, points);
+                proptest::prop_assert_eq!(&got, &want, "{:?}", style);
+            }
+            if faults.is_empty() {
+                proptest::prop_assert!(cells_from_vtk(&connectivity, &ends, OffsetStyle::Ends, &types, points).is_ok());
+            }
         }
     }
 
