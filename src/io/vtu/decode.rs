@@ -668,67 +668,120 @@ fn xz_stream(
     }
 }
 
-/// Reads `count` elements of `ty` from decoded bytes as `f64`.
-pub(super) fn to_f64(bytes: &[u8], ty: ScalarType, big_endian: bool) -> Vec<f64> {
+/// Converts decoded bytes holding elements of `ty` into values `N` elements at a time, in
+/// parallel: `make` receives each tuple as `f64`s (a trailing part tuple is dropped).
+pub(super) fn to_tuples<const N: usize, T: Send>(
+    bytes: &[u8],
+    ty: ScalarType,
+    big_endian: bool,
+    make: impl Fn([f64; N]) -> T + Sync,
+) -> Vec<T> {
     macro_rules! conv {
-        ($t:ty, $n:expr) => {
+        ($t:ty) => {{
+            const SIZE: usize = std::mem::size_of::<$t>();
             bytes
-                .chunks_exact($n)
-                .map(|c| {
-                    let a: [u8; $n] = c.try_into().unwrap_or([0; $n]);
-                    (if big_endian {
-                        <$t>::from_be_bytes(a)
-                    } else {
-                        <$t>::from_le_bytes(a)
-                    }) as f64
+                .par_chunks_exact(SIZE * N)
+                .map(|tuple| {
+                    make(std::array::from_fn(|j| {
+                        let mut a = [0; SIZE];
+                        a.copy_from_slice(&tuple[j * SIZE..(j + 1) * SIZE]);
+                        (if big_endian {
+                            <$t>::from_be_bytes(a)
+                        } else {
+                            <$t>::from_le_bytes(a)
+                        }) as f64
+                    }))
                 })
                 .collect()
-        };
+        }};
     }
     match ty {
-        ScalarType::I8 => bytes.iter().map(|&b| b as i8 as f64).collect(),
-        ScalarType::U8 => bytes.iter().map(|&b| b as f64).collect(),
-        ScalarType::I16 => conv!(i16, 2),
-        ScalarType::U16 => conv!(u16, 2),
-        ScalarType::I32 => conv!(i32, 4),
-        ScalarType::U32 => conv!(u32, 4),
-        ScalarType::I64 => conv!(i64, 8),
-        ScalarType::U64 => conv!(u64, 8),
-        ScalarType::F32 => conv!(f32, 4),
-        ScalarType::F64 => conv!(f64, 8),
+        ScalarType::I8 => conv!(i8),
+        ScalarType::U8 => conv!(u8),
+        ScalarType::I16 => conv!(i16),
+        ScalarType::U16 => conv!(u16),
+        ScalarType::I32 => conv!(i32),
+        ScalarType::U32 => conv!(u32),
+        ScalarType::I64 => conv!(i64),
+        ScalarType::U64 => conv!(u64),
+        ScalarType::F32 => conv!(f32),
+        ScalarType::F64 => conv!(f64),
+    }
+}
+
+/// Reads `count` elements of `ty` from decoded bytes as `f64`.
+pub(super) fn to_f64(bytes: &[u8], ty: ScalarType, big_endian: bool) -> Vec<f64> {
+    to_tuples(bytes, ty, big_endian, |[v]: [f64; 1]| v)
+}
+
+/// Decoded bytes of an integer array, read an element at a time as `i64` (unsigned values
+/// beyond `i64::MAX` saturate), so large arrays need no `i64` copy.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Integers<'a> {
+    bytes: &'a [u8],
+    ty: ScalarType,
+    big_endian: bool,
+}
+
+impl<'a> Integers<'a> {
+    /// `None` for a float type.
+    pub(super) fn new(bytes: &'a [u8], ty: ScalarType, big_endian: bool) -> Option<Self> {
+        is_integer(ty).then_some(Integers {
+            bytes,
+            ty,
+            big_endian,
+        })
+    }
+
+    /// How many whole elements the bytes hold.
+    pub(super) fn len(&self) -> usize {
+        self.bytes.len() / self.ty.size()
+    }
+
+    /// Element `k` (`k < len()`; beyond it, 0).
+    #[inline]
+    pub(super) fn get(&self, k: usize) -> i64 {
+        macro_rules! at {
+            ($t:ty) => {{
+                const SIZE: usize = std::mem::size_of::<$t>();
+                let mut a = [0; SIZE];
+                if let Some(b) = self.bytes.get(k * SIZE..(k + 1) * SIZE) {
+                    a.copy_from_slice(b);
+                }
+                let v = if self.big_endian {
+                    <$t>::from_be_bytes(a)
+                } else {
+                    <$t>::from_le_bytes(a)
+                };
+                i64::try_from(v).unwrap_or(i64::MAX)
+            }};
+        }
+        match self.ty {
+            ScalarType::I8 => at!(i8),
+            ScalarType::U8 => at!(u8),
+            ScalarType::I16 => at!(i16),
+            ScalarType::U16 => at!(u16),
+            ScalarType::I32 => at!(i32),
+            ScalarType::U32 => at!(u32),
+            ScalarType::I64 => at!(i64),
+            ScalarType::U64 => at!(u64),
+            ScalarType::F32 | ScalarType::F64 => 0,
+        }
+    }
+
+    /// Every element, converted in parallel.
+    pub(super) fn to_vec(self) -> Vec<i64> {
+        (0..self.len())
+            .into_par_iter()
+            .map(|k| self.get(k))
+            .collect()
     }
 }
 
 /// Reads integer elements of `ty` from decoded bytes as `i64` (unsigned values beyond
-/// `i64::MAX` saturate; float types are an error left to the caller).
+/// `i64::MAX` saturate; float types give nothing, an error left to the caller).
 pub(super) fn to_i64(bytes: &[u8], ty: ScalarType, big_endian: bool) -> Vec<i64> {
-    macro_rules! conv {
-        ($t:ty, $n:expr) => {
-            bytes
-                .chunks_exact($n)
-                .map(|c| {
-                    let a: [u8; $n] = c.try_into().unwrap_or([0; $n]);
-                    let v = if big_endian {
-                        <$t>::from_be_bytes(a)
-                    } else {
-                        <$t>::from_le_bytes(a)
-                    };
-                    i64::try_from(v).unwrap_or(i64::MAX)
-                })
-                .collect()
-        };
-    }
-    match ty {
-        ScalarType::I8 => bytes.iter().map(|&b| b as i8 as i64).collect(),
-        ScalarType::U8 => bytes.iter().map(|&b| b as i64).collect(),
-        ScalarType::I16 => conv!(i16, 2),
-        ScalarType::U16 => conv!(u16, 2),
-        ScalarType::I32 => conv!(i32, 4),
-        ScalarType::U32 => conv!(u32, 4),
-        ScalarType::I64 => conv!(i64, 8),
-        ScalarType::U64 => conv!(u64, 8),
-        ScalarType::F32 | ScalarType::F64 => Vec::new(),
-    }
+    Integers::new(bytes, ty, big_endian).map_or_else(Vec::new, Integers::to_vec)
 }
 
 /// Parses `count` whitespace-separated numbers from ascii text as `f64`.
@@ -950,6 +1003,61 @@ mod tests {
             to_f64(&1.5f32.to_be_bytes(), ScalarType::F32, true),
             vec![1.5]
         );
+    }
+
+    /// Every element type, both byte orders: tuples of three, single values and integers read
+    /// one at a time give the values written (integers beyond `i64` saturating), over more
+    /// elements than one parallel task takes; a trailing part tuple is dropped.
+    #[test]
+    fn every_type_converts_alike_by_value_tuple_and_element() {
+        let values: Vec<i64> = (0..30_003).map(|i| (i % 251) - 100).collect();
+        macro_rules! check {
+            ($t:ty, $ty:expr) => {
+                for big_endian in [false, true] {
+                    let stored: Vec<$t> = values.iter().map(|&v| v as $t).collect();
+                    let bytes: Vec<u8> = stored
+                        .iter()
+                        .flat_map(|v| {
+                            if big_endian {
+                                v.to_be_bytes().to_vec()
+                            } else {
+                                v.to_le_bytes().to_vec()
+                            }
+                        })
+                        .collect();
+                    let want: Vec<f64> = stored.iter().map(|&v| v as f64).collect();
+                    assert_eq!(to_f64(&bytes, $ty, big_endian), want, "{:?}", $ty);
+                    let triples = to_tuples(&bytes, $ty, big_endian, |t: [f64; 3]| t);
+                    assert_eq!(triples.len(), want.len() / 3);
+                    assert!(triples.iter().flatten().eq(&want[..want.len() / 3 * 3]));
+                    let ints = Integers::new(&bytes, $ty, big_endian);
+                    if is_integer($ty) {
+                        let ints = ints.unwrap();
+                        assert_eq!(ints.len(), values.len());
+                        let want: Vec<i64> = want.iter().map(|&v| v as i64).collect();
+                        assert_eq!(to_i64(&bytes, $ty, big_endian), want, "{:?}", $ty);
+                        assert_eq!(ints.get(values.len()), 0, "beyond the end");
+                    } else {
+                        assert!(ints.is_none());
+                        assert!(to_i64(&bytes, $ty, big_endian).is_empty());
+                    }
+                }
+            };
+        }
+        check!(i8, ScalarType::I8);
+        check!(u8, ScalarType::U8);
+        check!(i16, ScalarType::I16);
+        check!(u16, ScalarType::U16);
+        check!(i32, ScalarType::I32);
+        check!(u32, ScalarType::U32);
+        check!(i64, ScalarType::I64);
+        check!(u64, ScalarType::U64);
+        check!(f32, ScalarType::F32);
+        check!(f64, ScalarType::F64);
+        let top = u64::MAX - 5;
+        let bytes = top.to_be_bytes();
+        let ints = Integers::new(&bytes, ScalarType::U64, true).unwrap();
+        assert_eq!(ints.get(0), i64::MAX);
     }
 
     #[test]

@@ -7,13 +7,15 @@ use std::ops::Range;
 use glam::DVec3;
 
 use super::decode::{
-    ascii_f64, ascii_i64, is_integer, read_binary, skip_binary, to_f64, to_i64, Base64Source,
-    Compressor, Layout, RawSource, ScalarType, Source,
+    ascii_f64, ascii_i64, is_integer, read_binary, skip_binary, to_f64, to_i64, to_tuples,
+    Base64Source, Compressor, Integers, Layout, RawSource, ScalarType, Source,
 };
 use super::xml::{attr, check_file_type, is_blank, Attr, Event, OpenElements, Scanner};
 use super::FORMAT;
 use crate::error::{Error, ReadError};
-use crate::mesh::{cells_from_vtk, DataArray, MeshParts, OffsetStyle};
+use crate::mesh::{
+    cells_from_ids, cells_from_vtk, ConvertedCells, DataArray, MeshParts, OffsetStyle,
+};
 use crate::Mesh;
 
 fn err(offset: usize, message: impl Into<String>) -> ReadError {
@@ -450,8 +452,9 @@ impl<'a> Decoder<'a> {
         })
     }
 
-    fn f64s(&self, desc: &ArrayDesc, count: usize) -> Result<Vec<f64>, ReadError> {
-        let ty = desc.ty.ok_or_else(|| {
+    /// The array's element type, which must be a numeric one.
+    fn value_type(&self, desc: &ArrayDesc) -> Result<ScalarType, ReadError> {
+        desc.ty.ok_or_else(|| {
             err(
                 desc.at,
                 format!(
@@ -459,15 +462,20 @@ impl<'a> Decoder<'a> {
                     desc.name, desc.type_name
                 ),
             )
-        })?;
+        })
+    }
+
+    fn f64s(&self, desc: &ArrayDesc, count: usize) -> Result<Vec<f64>, ReadError> {
+        let ty = self.value_type(desc)?;
         match self.data(desc, ty, count)? {
             Data::Bytes(b) => Ok(to_f64(&b, ty, self.layout.big_endian)),
             Data::Text(t, at) => ascii_f64(&t, at, count, &format!("DataArray \"{}\"", desc.name)),
         }
     }
 
-    fn i64s(&self, desc: &ArrayDesc, count: usize) -> Result<Vec<i64>, ReadError> {
-        let ty = desc.ty.filter(|&t| is_integer(t)).ok_or_else(|| {
+    /// The array's element type, which must be an integer one.
+    fn integer_type(desc: &ArrayDesc) -> Result<ScalarType, ReadError> {
+        desc.ty.filter(|&t| is_integer(t)).ok_or_else(|| {
             err(
                 desc.at,
                 format!(
@@ -475,13 +483,64 @@ impl<'a> Decoder<'a> {
                     desc.name, desc.type_name
                 ),
             )
-        })?;
+        })
+    }
+
+    fn i64s(&self, desc: &ArrayDesc, count: usize) -> Result<Vec<i64>, ReadError> {
+        let ty = Self::integer_type(desc)?;
         match self.data(desc, ty, count)? {
             Data::Bytes(b) => Ok(to_i64(&b, ty, self.layout.big_endian)),
             Data::Text(t, at) => {
                 ascii_i64(&t, at, count, ty, &format!("DataArray \"{}\"", desc.name))
             }
         }
+    }
+
+    /// `count` points from a three-component array.
+    fn points(&self, desc: &ArrayDesc, count: usize) -> Result<Vec<DVec3>, ReadError> {
+        let n3 = count
+            .checked_mul(3)
+            .ok_or_else(|| err(desc.at, "too many points"))?;
+        let ty = self.value_type(desc)?;
+        Ok(match self.data(desc, ty, n3)? {
+            Data::Bytes(b) => to_tuples(&b, ty, self.layout.big_endian, DVec3::from_array),
+            Data::Text(t, at) => ascii_f64(&t, at, n3, &format!("DataArray \"{}\"", desc.name))?
+                .chunks_exact(3)
+                .map(|c| DVec3::new(c[0], c[1], c[2]))
+                .collect(),
+        })
+    }
+
+    /// The cells of a piece's `connectivity` array (`len` entries) with its offsets and
+    /// types, converted from the stored integers without an `i64` copy of the array.
+    fn cells(
+        &self,
+        desc: &ArrayDesc,
+        len: usize,
+        offsets: &[i64],
+        types: &[u8],
+        points: usize,
+    ) -> Result<ConvertedCells, Error> {
+        let ty = Self::integer_type(desc)?;
+        Ok(match self.data(desc, ty, len)? {
+            Data::Bytes(b) => {
+                let ids = Integers::new(&b, ty, self.layout.big_endian)
+                    .ok_or_else(|| err(desc.at, "connectivity is not an integer array"))?;
+                cells_from_ids(
+                    ids.len(),
+                    |k| ids.get(k),
+                    offsets,
+                    OffsetStyle::Ends,
+                    types,
+                    points,
+                )?
+            }
+            Data::Text(t, at) => {
+                let what = format!("DataArray \"{}\"", desc.name);
+                let ids = ascii_i64(&t, at, len, ty, &what)?;
+                cells_from_vtk(&ids, offsets, OffsetStyle::Ends, types, points)?
+            }
+        })
     }
 
     /// End (within the appended block) of the appended array at `offset`.
@@ -585,15 +644,7 @@ fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error
         )
         .into());
     }
-    let n3 = piece
-        .points
-        .checked_mul(3)
-        .ok_or_else(|| err(piece.at, "too many points"))?;
-    let xyz = dec.f64s(coords, n3)?;
-    let points: Vec<DVec3> = xyz
-        .chunks_exact(3)
-        .map(|c| DVec3::new(c[0], c[1], c[2]))
-        .collect();
+    let points = dec.points(coords, piece.points)?;
 
     let types_desc = cell_array(piece, "types")?;
     let offsets_desc = cell_array(piece, "offsets")?;
@@ -615,14 +666,7 @@ fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error
     let conn_len = offsets.last().copied().unwrap_or(0);
     let conn_len = usize::try_from(conn_len)
         .map_err(|_| err(offsets_desc.at, format!("the last cell ends at {conn_len}")))?;
-    let connectivity = dec.i64s(conn_desc, conn_len)?;
-    let converted = cells_from_vtk(
-        &connectivity,
-        &offsets,
-        OffsetStyle::Ends,
-        &types,
-        piece.points,
-    )?;
+    let converted = dec.cells(conn_desc, conn_len, &offsets, &types, piece.points)?;
 
     Ok(MeshParts {
         points,
