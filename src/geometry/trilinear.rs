@@ -32,21 +32,35 @@ pub const SINGULAR_QUALITY: f64 = 1e-12;
 /// three edges leaving that corner in the `+u`, `+v`, `+w` sense. Positive for a well-formed
 /// cell in VTK order; zero at the collapsed corners of wedges, pyramids and tetrahedra.
 pub fn corner_jacobian_determinants(x: &[DVec3; 8]) -> [f64; 8] {
-    // For corner (i, j, k) the derivative along u is x(1, j, k) − x(0, j, k), etc.
-    let at = |u: usize, v: usize, w: usize| x[index(u, v, w)];
-    let mut dets = [0.0; 8];
-    for (c, p) in CORNER_PARAMETERS.iter().enumerate() {
-        let (u, v, w) = (p[0] as usize, p[1] as usize, p[2] as usize);
-        let du = at(1, v, w) - at(0, v, w);
-        let dv = at(u, 1, w) - at(u, 0, w);
-        let dw = at(u, v, 1) - at(u, v, 0);
-        dets[c] = DMat3::from_cols(du, dv, dw).determinant();
+    CORNER_EDGES.map(|[du, dv, dw]| {
+        let edge = |[from, to]: [usize; 2]| x[to] - x[from];
+        DMat3::from_cols(edge(du), edge(dv), edge(dw)).determinant()
+    })
+}
+
+/// For each corner `(u, v, w)`, the corners `[from, to]` of its edges along `u`, `v` and `w`:
+/// the derivative along `u` there is `x(1, v, w) − x(0, v, w)`, and so on. A table of
+/// constants, so the determinants need no index arithmetic.
+const CORNER_EDGES: [[[usize; 2]; 3]; 8] = corner_edges();
+
+const fn corner_edges() -> [[[usize; 2]; 3]; 8] {
+    let mut edges = [[[0; 2]; 3]; 8];
+    let mut c = 0;
+    while c < 8 {
+        // Corner c's parameters in VTK order (CORNER_PARAMETERS, as integers).
+        let (u, v, w) = ([0, 1, 1, 0][c % 4], [0, 0, 1, 1][c % 4], c / 4);
+        edges[c] = [
+            [index(0, v, w), index(1, v, w)],
+            [index(u, 0, w), index(u, 1, w)],
+            [index(u, v, 0), index(u, v, 1)],
+        ];
+        c += 1;
     }
-    dets
+    edges
 }
 
 /// VTK hexahedron vertex index of the corner with parametric coordinates `(u, v, w)` ∈ {0, 1}³.
-pub fn index(u: usize, v: usize, w: usize) -> usize {
+pub const fn index(u: usize, v: usize, w: usize) -> usize {
     const LUT: [[usize; 2]; 2] = [[0, 3], [1, 2]];
     LUT[u][v] + 4 * w
 }
