@@ -71,11 +71,46 @@ pub fn plot3d_q_file_for(grid: &Path) -> Option<PathBuf> {
         .find(|p| p.is_file())
 }
 
+/// Bytes a parallel task of [`read_bytes`] reads.
+const READ_CHUNK: usize = 8 << 20;
+
+/// A whole file's bytes. A regular file larger than one chunk is read in chunks in parallel
+/// (positioned reads, on Unix), copying it out of the page cache on every core rather than
+/// one. Anything else, or a file whose size changes while it is read, is read with one
+/// `std::fs::read`.
 fn read_bytes(path: &Path) -> Result<Vec<u8>, Error> {
-    std::fs::read(path).map_err(|source| Error::Io {
+    let io_err = |source| Error::Io {
         path: path.to_path_buf(),
         source,
-    })
+    };
+    #[cfg(unix)]
+    if let Some(bytes) = read_in_parallel(path).map_err(io_err)? {
+        return Ok(bytes);
+    }
+    std::fs::read(path).map_err(io_err)
+}
+
+/// The file's bytes read by chunks in parallel; `None` when it is not a regular file larger
+/// than a chunk, or when it was not read whole (shorter or longer than its size said).
+#[cfg(unix)]
+fn read_in_parallel(path: &Path) -> std::io::Result<Option<Vec<u8>>> {
+    use rayon::prelude::*;
+    use std::os::unix::fs::FileExt;
+
+    let file = std::fs::File::open(path)?;
+    let meta = file.metadata()?;
+    let len = match usize::try_from(meta.len()) {
+        Ok(len) if meta.is_file() && len > READ_CHUNK => len,
+        _ => return Ok(None),
+    };
+    let mut bytes = vec![0u8; len];
+    let whole = bytes
+        .par_chunks_mut(READ_CHUNK)
+        .enumerate()
+        .try_for_each(|(i, chunk)| file.read_exact_at(chunk, (i * READ_CHUNK) as u64))
+        .is_ok();
+    let mut beyond = [0u8; 1];
+    Ok((whole && file.read_at(&mut beyond, len as u64)? == 0).then_some(bytes))
 }
 
 /// Reads a mesh file, choosing the reader from its extension. Errors name the file.
@@ -127,4 +162,42 @@ pub fn write_file(mesh: &Mesh, path: &Path) -> Result<(), Error> {
         }
     }
     std::io::Write::flush(&mut out).map_err(io_err)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Files of one chunk or less, of several chunks and a part one, and empty: read whole,
+    /// byte for byte; a missing file is an I/O error naming it.
+    #[test]
+    fn files_are_read_whole_in_parallel_or_not() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        for len in [0, 1000, READ_CHUNK, 3 * READ_CHUNK + 12_345] {
+            let bytes: Vec<u8> = (0..len)
+                .map(|_| {
+                    x ^= x << 13;
+                    x ^= x >> 7;
+                    x ^= x << 17;
+                    x as u8
+                })
+                .collect();
+            let path = dir.path().join(format!("f{len}"));
+            std::fs::write(&path, &bytes).unwrap();
+            let read = read_bytes(&path).unwrap();
+            assert!(read == bytes, "{len} bytes");
+            #[cfg(unix)]
+            assert_eq!(
+                read_in_parallel(&path).unwrap().is_some(),
+                len > READ_CHUNK,
+                "{len}"
+            );
+        }
+        let missing = dir.path().join("missing.vtu");
+        match read_bytes(&missing) {
+            Err(Error::Io { path, .. }) => assert_eq!(path, missing),
+            other => panic!("{other:?}"),
+        }
+    }
 }
