@@ -433,8 +433,19 @@ fn our_summary(mesh: &Mesh) -> Summary {
     }
 }
 
+/// Reads a file from its bytes and as `vtu::read_file` reads it (raw appended data an array
+/// at a time from the file, for files beyond its head of 64 KiB): both must agree.
 fn read_file(path: &Path) -> Result<Mesh, Error> {
-    vtu::read(&std::fs::read(path).unwrap())
+    let from_bytes = vtu::read(&std::fs::read(path).unwrap());
+    match (&from_bytes, vtu::read_file(path)) {
+        (Ok(a), Ok(b)) => assert_eq!(a, &b, "{}", path.display()),
+        (Err(a), Err(b)) => assert!(b.to_string().ends_with(&a.to_string()), "{a} / {b}"),
+        (a, b) => panic!(
+            "{}: {a:?} from its bytes, {b:?} from the file",
+            path.display()
+        ),
+    }
+    from_bytes
 }
 
 #[test]

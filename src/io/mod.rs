@@ -5,8 +5,8 @@
 //! | format | read | write |
 //! |---|---|---|
 //! | legacy VTK (`.vtk`), ASCII and BINARY, `UNSTRUCTURED_GRID` and `STRUCTURED_GRID` | [`legacy::read`] | [`legacy::write`] (BINARY unstructured grid) |
-//! | VTU (`.vtu`), ascii, base64, raw appended, zlib, LZ4 or LZMA compression, 32/64-bit headers | [`vtu::read`] | [`vtu::write`] (zlib or none) |
-//! | parallel VTU (`.pvtu`): an index and one `.vtu` a piece | [`vtu::read_parallel`] | — |
+//! | VTU (`.vtu`), ascii, base64, raw appended, zlib, LZ4 or LZMA compression, 32/64-bit headers | [`vtu::read`], [`vtu::read_file`] | [`vtu::write`] (zlib or none) |
+//! | parallel VTU (`.pvtu`): an index and one `.vtu` a piece | [`vtu::read_parallel`], [`vtu::read_parallel_file`] | — |
 //! | PLOT3D whole single-grid `*xyz.bin` + `*q.bin` | [`plot3d::read`] | — |
 //! | VTK image data (`.vti`), one `Float32` array over a 2-D image (a render's depth) | — | [`vti::write_point_scalars`] |
 
@@ -78,7 +78,7 @@ const READ_CHUNK: usize = 8 << 20;
 /// (positioned reads, on Unix), copying it out of the page cache on every core rather than
 /// one. Anything else, or a file whose size changes while it is read, is read with one
 /// `std::fs::read`.
-fn read_bytes(path: &Path) -> Result<Vec<u8>, Error> {
+pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>, Error> {
     let io_err = |source| Error::Io {
         path: path.to_path_buf(),
         source,
@@ -94,7 +94,6 @@ fn read_bytes(path: &Path) -> Result<Vec<u8>, Error> {
 /// than a chunk, or when it was not read whole (shorter or longer than its size said).
 #[cfg(unix)]
 fn read_in_parallel(path: &Path) -> std::io::Result<Option<Vec<u8>>> {
-    use rayon::prelude::*;
     use std::os::unix::fs::FileExt;
 
     let file = std::fs::File::open(path)?;
@@ -104,13 +103,25 @@ fn read_in_parallel(path: &Path) -> std::io::Result<Option<Vec<u8>>> {
         _ => return Ok(None),
     };
     let mut bytes = vec![0u8; len];
-    let whole = bytes
-        .par_chunks_mut(READ_CHUNK)
-        .enumerate()
-        .try_for_each(|(i, chunk)| file.read_exact_at(chunk, (i * READ_CHUNK) as u64))
-        .is_ok();
+    let whole = read_exact_at(&file, &mut bytes, 0).is_ok();
     let mut beyond = [0u8; 1];
     Ok((whole && file.read_at(&mut beyond, len as u64)? == 0).then_some(bytes))
+}
+
+/// Fills `buf` with the file's bytes from `offset`, by chunks of [`READ_CHUNK`] in parallel;
+/// an error (`UnexpectedEof` included) if the file does not hold them all.
+#[cfg(unix)]
+pub(crate) fn read_exact_at(
+    file: &std::fs::File,
+    buf: &mut [u8],
+    offset: u64,
+) -> std::io::Result<()> {
+    use rayon::prelude::*;
+    use std::os::unix::fs::FileExt;
+
+    buf.par_chunks_mut(READ_CHUNK)
+        .enumerate()
+        .try_for_each(|(i, chunk)| file.read_exact_at(chunk, offset + (i * READ_CHUNK) as u64))
 }
 
 /// Reads a mesh file, choosing the reader from its extension. Errors name the file.
@@ -122,17 +133,12 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
             path.display()
         ))
     })?;
-    let bytes = read_bytes(path)?;
     match format {
-        Format::LegacyVtk => legacy::read(&bytes).map_err(|e| e.in_file(path)),
-        Format::Vtu => vtu::read(&bytes).map_err(|e| e.in_file(path)),
-        Format::Pvtu => {
-            // Pieces are named relative to the index's folder (or absolutely).
-            let folder = path.parent().unwrap_or(Path::new(""));
-            vtu::read_parallel(&bytes, |source| read_bytes(&folder.join(source)))
-                .map_err(|e| e.in_file(path))
-        }
+        Format::LegacyVtk => legacy::read(&read_bytes(path)?).map_err(|e| e.in_file(path)),
+        Format::Vtu => vtu::read_file(path),
+        Format::Pvtu => vtu::read_parallel_file(path),
         Format::Plot3d => {
+            let bytes = read_bytes(path)?;
             let q_path = match &options.q_file {
                 Some(q) => Some(q.clone()),
                 None => plot3d_q_file_for(path),

@@ -147,6 +147,10 @@ pub(super) trait Source<'a> {
     fn remaining_max(&self) -> usize;
     /// The file offset of the next byte (of its encoding, for base64).
     fn offset(&self) -> u64;
+    /// Moves past the next `n` bytes, or an error if fewer remain.
+    fn skip(&mut self, n: usize) -> Result<(), ReadError> {
+        self.take(n).map(|_| ())
+    }
     /// An error at the current position.
     fn error(&self, message: String) -> ReadError {
         ReadError::new(FORMAT, self.offset(), message)
@@ -169,31 +173,77 @@ impl<'a> RawSource<'a> {
             base: base as u64,
         }
     }
+}
 
-    /// Position within `data` of the next byte.
-    pub fn pos(&self) -> usize {
-        self.pos
-    }
+/// Where `n` bytes from `pos` end in data of `len` bytes, or the error of data ending first.
+fn end_of(source: &dyn Source<'_>, pos: usize, n: usize, len: usize) -> Result<usize, ReadError> {
+    pos.checked_add(n).filter(|&e| e <= len).ok_or_else(|| {
+        source.error(format!(
+            "data ends early: {n} bytes needed, {} remain",
+            len.saturating_sub(pos)
+        ))
+    })
 }
 
 impl<'a> Source<'a> for RawSource<'a> {
     fn take(&mut self, n: usize) -> Result<Cow<'a, [u8]>, ReadError> {
-        let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len());
-        match end {
-            Some(end) => {
-                let s = &self.data[self.pos..end];
-                self.pos = end;
-                Ok(Cow::Borrowed(s))
-            }
-            None => Err(self.error(format!(
-                "data ends early: {n} bytes needed, {} remain",
-                self.data.len().saturating_sub(self.pos)
-            ))),
-        }
+        let end = end_of(self, self.pos, n, self.data.len())?;
+        let s = &self.data[self.pos..end];
+        self.pos = end;
+        Ok(Cow::Borrowed(s))
     }
 
     fn remaining_max(&self) -> usize {
         self.data.len().saturating_sub(self.pos)
+    }
+
+    fn offset(&self) -> u64 {
+        self.base + self.pos as u64
+    }
+}
+
+/// Raw appended data left in its file: each `take` reads its bytes at their position (in
+/// parallel chunks), so a file is never read whole, and `skip` reads nothing.
+#[cfg(unix)]
+pub(super) struct FileSource<'a> {
+    file: &'a std::fs::File,
+    /// Bytes of appended data, from `base` to the end of the file.
+    len: usize,
+    pos: usize,
+    base: u64,
+}
+
+#[cfg(unix)]
+impl<'a> FileSource<'a> {
+    /// A source over the `len` bytes of `file` from offset `base`, reading from `pos`.
+    pub fn new(file: &'a std::fs::File, base: usize, len: usize, pos: usize) -> FileSource<'a> {
+        FileSource {
+            file,
+            len,
+            pos,
+            base: base as u64,
+        }
+    }
+}
+
+#[cfg(unix)]
+impl<'a> Source<'a> for FileSource<'a> {
+    fn take(&mut self, n: usize) -> Result<Cow<'a, [u8]>, ReadError> {
+        let end = end_of(self, self.pos, n, self.len)?;
+        let mut bytes = vec![0; n];
+        crate::io::read_exact_at(self.file, &mut bytes, self.offset())
+            .map_err(|e| self.error(format!("could not read {n} bytes of the file: {e}")))?;
+        self.pos = end;
+        Ok(Cow::Owned(bytes))
+    }
+
+    fn skip(&mut self, n: usize) -> Result<(), ReadError> {
+        self.pos = end_of(self, self.pos, n, self.len)?;
+        Ok(())
+    }
+
+    fn remaining_max(&self) -> usize {
+        self.len.saturating_sub(self.pos)
     }
 
     fn offset(&self) -> u64 {
@@ -425,7 +475,7 @@ pub(super) fn skip_binary<'a>(
             src.remaining_max()
         )));
     }
-    src.take(n).map(|_| ())
+    src.skip(n)
 }
 
 struct Blocks {

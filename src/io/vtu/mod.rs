@@ -34,6 +34,8 @@ pub use write::{ByteOrder, Encoding, HeaderType, VtuOptions};
 /// XML attribute escaping, shared with the other VTK XML writer ([`super::vti`]).
 pub(crate) use xml::escape as xml_escape;
 
+use std::path::Path;
+
 use crate::{Error, Mesh};
 
 /// The format name in read errors.
@@ -61,6 +63,53 @@ const FORMAT: &str = "VTU";
 /// ```
 pub fn read(bytes: &[u8]) -> Result<Mesh, Error> {
     read::read(bytes)
+}
+
+/// Reads a VTU file: the mesh [`read`] gives for its bytes, errors naming the file. Raw
+/// appended data (what VTK's writers write by default) is read an array at a time from
+/// where the file has it, so the file is never held whole in memory (on Unix); any other
+/// file is read whole first.
+///
+/// ```
+/// use cylvol::datasets::{generate, Dataset};
+/// use cylvol::io::vtu;
+/// let mesh = generate(Dataset::PumpInlet, 1000).unwrap();
+/// let dir = tempfile::tempdir().unwrap();
+/// let path = dir.path().join("inlet.vtu");
+/// vtu::write(&mesh, &mut std::fs::File::create(&path).unwrap()).unwrap();
+/// assert_eq!(vtu::read_file(&path).unwrap(), mesh);
+/// ```
+pub fn read_file(path: &Path) -> Result<Mesh, Error> {
+    let (parts, active) = file_parts(path)?;
+    read::mesh_with_active(parts, active.as_deref()).map_err(|e| e.in_file(path))
+}
+
+/// Reads a parallel VTU index file and its pieces (named relative to the index's folder),
+/// each piece as [`read_file`] reads a file: the mesh [`read_parallel`] gives.
+pub fn read_parallel_file(index: &Path) -> Result<Mesh, Error> {
+    let bytes = crate::io::read_bytes(index)?;
+    let folder = index.parent().unwrap_or(Path::new(""));
+    parallel::read_parallel_with(&bytes, |source| file_parts(&folder.join(source)))
+        .map_err(|e| e.in_file(index))
+}
+
+/// A VTU file's joined parts and active scalar: I/O errors are [`Error::Io`] with the path,
+/// the others are wrapped with it.
+fn file_parts(path: &Path) -> Result<(crate::mesh::MeshParts, Option<String>), Error> {
+    #[cfg(unix)]
+    {
+        let file = std::fs::File::open(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        if let Some(parts) =
+            read::read_file_parts(&file, read::HEAD_BYTES).map_err(|e| e.in_file(path))?
+        {
+            return Ok(parts);
+        }
+    }
+    let bytes = crate::io::read_bytes(path)?;
+    read::read_parts(&bytes).map_err(|e| e.in_file(path))
 }
 
 /// Writes a mesh as a VTU file in the default mode ([`VtuOptions::default`]: appended raw

@@ -11,6 +11,7 @@ use rayon::prelude::*;
 use super::read::{join_pieces, mesh_with_active, read_parts};
 use super::xml::{attr, check_file_type, Event, OpenElements, Scanner};
 use crate::error::{Error, ReadError};
+use crate::mesh::MeshParts;
 use crate::Mesh;
 
 /// The format named in index errors.
@@ -122,15 +123,23 @@ pub fn read_parallel(
     index: &[u8],
     load: impl Fn(&str) -> Result<Vec<u8>, Error> + Sync,
 ) -> Result<Mesh, Error> {
-    let index = parse_index(index)?;
-    let read = |source: &String| -> Result<_, Error> {
+    read_parallel_with(index, |source| {
         let bytes = load(source)?;
         read_parts(&bytes).map_err(|e| e.in_file(source))
-    };
+    })
+}
+
+/// [`read_parallel`] with each piece's parts (and the active scalar it names) from
+/// `read_piece`, given the piece's `Source`.
+pub(super) fn read_parallel_with(
+    index: &[u8],
+    read_piece: impl Fn(&str) -> Result<(MeshParts, Option<String>), Error> + Sync,
+) -> Result<Mesh, Error> {
+    let index = parse_index(index)?;
     let pieces: Vec<_> = index
         .sources
         .par_iter()
-        .map(read)
+        .map(|source| read_piece(source))
         .collect::<Result<_, _>>()?;
     let active = index
         .active

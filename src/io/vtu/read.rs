@@ -6,6 +6,8 @@ use std::ops::Range;
 
 use glam::DVec3;
 
+#[cfg(unix)]
+use super::decode::FileSource;
 use super::decode::{
     ascii_f64, ascii_i64, is_integer, read_binary, skip_binary, to_f64, to_i64, to_tuples,
     Base64Source, Compressor, Integers, Layout, RawSource, ScalarType, Source,
@@ -71,9 +73,40 @@ struct PieceDesc {
 #[derive(Clone, Copy, Debug)]
 enum Appended<'a> {
     /// Raw bytes from file offset `start` to the end of the file.
-    Raw { data: &'a [u8], start: usize },
+    Raw { data: RawData<'a>, start: usize },
     /// Base64 text from file offset `start`.
     Base64 { text: &'a [u8], start: usize },
+}
+
+/// Where raw appended bytes are: in memory with the rest of the file, or left in the file
+/// and read an array at a time ([`read_file_parts`]).
+#[derive(Clone, Copy, Debug)]
+enum RawData<'a> {
+    Bytes(&'a [u8]),
+    #[cfg(unix)]
+    File {
+        file: &'a std::fs::File,
+        len: usize,
+    },
+}
+
+impl<'a> RawData<'a> {
+    fn len(&self) -> usize {
+        match self {
+            RawData::Bytes(data) => data.len(),
+            #[cfg(unix)]
+            RawData::File { len, .. } => *len,
+        }
+    }
+
+    /// A source over the data, which starts at file offset `start`, reading from `pos`.
+    fn source(self, start: usize, pos: usize) -> Box<dyn Source<'a> + 'a> {
+        match self {
+            RawData::Bytes(data) => Box::new(RawSource::new(data, start, pos)),
+            #[cfg(unix)]
+            RawData::File { file, len } => Box::new(FileSource::new(file, start, len, pos)),
+        }
+    }
 }
 
 struct Parsed<'a> {
@@ -274,7 +307,10 @@ fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
                             open.names().iter().map(|s| s.to_string()).collect();
                         resume.push("AppendedData".into());
                         let appended = match encoding {
-                            "raw" => Appended::Raw { data: rest, start },
+                            "raw" => Appended::Raw {
+                                data: RawData::Bytes(rest),
+                                start,
+                            },
                             "base64" => {
                                 let len =
                                     rest.iter().position(|&b| b == b'<').unwrap_or(rest.len());
@@ -445,7 +481,7 @@ impl<'a> Decoder<'a> {
                 )
             })?;
         Ok(match app {
-            Appended::Raw { data, start } => (Box::new(RawSource::new(data, start, pos)), start),
+            Appended::Raw { data, start } => (data.source(start, pos), start),
             Appended::Base64 { text, start } => {
                 (Box::new(Base64Source::new(text, start, pos)), start)
             }
@@ -560,9 +596,10 @@ impl<'a> Decoder<'a> {
                     ),
                 )
             })?;
-        let mut src = RawSource::new(data, start, pos);
-        skip_binary(&mut src, self.layout, "appended array")?;
-        Ok(src.pos())
+        let mut src = data.source(start, pos);
+        skip_binary(src.as_mut(), self.layout, "appended array")?;
+        // Within the data's length (checked by the source).
+        Ok((src.offset() - start as u64) as usize)
     }
 }
 
@@ -793,19 +830,96 @@ pub(super) fn read_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Er
         layout: parsed.layout,
         appended: parsed.appended,
     };
-    if let Some(Appended::Raw { start, .. }) = parsed.appended {
-        let mut end = 0;
-        let mut arrays = parsed.appended_arrays.clone();
-        arrays.sort_unstable();
-        arrays.dedup_by_key(|a| a.0);
-        for &(offset, at) in &arrays {
-            end = end.max(dec.appended_end(offset, at)?);
+    match parsed.appended {
+        Some(Appended::Raw { start, .. }) => {
+            let end = appended_end(&dec, &parsed)?;
+            check_trailer(bytes, start + end, &parsed.resume)?;
         }
-        check_trailer(bytes, start + end, &parsed.resume)?;
-    } else if let Some(Appended::Base64 { text, start }) = parsed.appended {
-        check_trailer(bytes, start + text.len(), &parsed.resume)?;
+        Some(Appended::Base64 { text, start }) => {
+            check_trailer(bytes, start + text.len(), &parsed.resume)?
+        }
+        None => {}
     }
+    decode_parts(&dec, &parsed)
+}
 
+/// How much of a file [`read_file_parts`] reads first to find the start of raw appended
+/// data (VTK's writers put a few kilobytes of XML before it).
+#[cfg(unix)]
+pub(super) const HEAD_BYTES: usize = 1 << 16;
+
+/// [`read_parts`] of a file, reading raw appended data an array at a time from where the
+/// file has it instead of the whole file first: the first `head` bytes are parsed, and if
+/// the XML before a raw `<AppendedData>` lies within them, each array's bytes are read at
+/// their offset (arrays no piece uses are not read at all) and the trailer after the data
+/// from the end of the file. `Ok(None)` when the file is not such a file (no raw appended
+/// data, XML longer than `head`, or a file of `head` bytes or fewer) or could not be read:
+/// the caller reads it whole, which gives the same result or error.
+#[cfg(unix)]
+pub(super) fn read_file_parts(
+    file: &std::fs::File,
+    head: usize,
+) -> Result<Option<(MeshParts, Option<String>)>, Error> {
+    let Some(len) = file
+        .metadata()
+        .ok()
+        .filter(|m| m.is_file())
+        .and_then(|m| usize::try_from(m.len()).ok())
+        .filter(|&len| len > head)
+    else {
+        return Ok(None);
+    };
+    let mut bytes = vec![0; head];
+    if crate::io::read_exact_at(file, &mut bytes, 0).is_err() {
+        return Ok(None);
+    }
+    let Ok(mut parsed) = parse_structure(&bytes) else {
+        return Ok(None);
+    };
+    let Some(Appended::Raw { start, .. }) = parsed.appended else {
+        return Ok(None);
+    };
+    parsed.appended = Some(Appended::Raw {
+        data: RawData::File {
+            file,
+            len: len - start,
+        },
+        start,
+    });
+    let dec = Decoder {
+        bytes: &bytes,
+        layout: parsed.layout,
+        appended: parsed.appended,
+    };
+    let trailer_at = start + appended_end(&dec, &parsed)?;
+    let mut trailer = vec![0; len - trailer_at];
+    if crate::io::read_exact_at(file, &mut trailer, trailer_at as u64).is_err() {
+        return Ok(None);
+    }
+    check_trailer(&trailer, 0, &parsed.resume).map_err(|mut e| {
+        e.offset += trailer_at as u64;
+        e
+    })?;
+    decode_parts(&dec, &parsed).map(Some)
+}
+
+/// Where (within the raw appended block) the last of the file's appended arrays ends.
+fn appended_end(dec: &Decoder<'_>, parsed: &Parsed<'_>) -> Result<usize, ReadError> {
+    let mut end = 0;
+    let mut arrays = parsed.appended_arrays.clone();
+    arrays.sort_unstable();
+    arrays.dedup_by_key(|a| a.0);
+    for &(offset, at) in &arrays {
+        end = end.max(dec.appended_end(offset, at)?);
+    }
+    Ok(end)
+}
+
+/// Decodes the non-empty pieces, joins them and drops ghost cells.
+fn decode_parts(
+    dec: &Decoder<'_>,
+    parsed: &Parsed<'_>,
+) -> Result<(MeshParts, Option<String>), Error> {
     // Empty pieces (parallel writers leave them) may lack arrays altogether: skip them.
     let pieces: Vec<&PieceDesc> = parsed
         .pieces
@@ -814,7 +928,7 @@ pub(super) fn read_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Er
         .collect();
     let mut decoded = Vec::with_capacity(pieces.len());
     for piece in &pieces {
-        decoded.push(decode_piece(&dec, piece)?);
+        decoded.push(decode_piece(dec, piece)?);
     }
     let mut parts = if decoded.len() == 1 {
         // One piece (the usual case): move, do not copy.
@@ -848,4 +962,91 @@ pub(super) fn mesh_with_active(parts: MeshParts, active: Option<&str>) -> Result
 pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
     let (parts, active) = read_parts(bytes)?;
     mesh_with_active(parts, active.as_deref())
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+    use crate::datasets::{generate, Dataset};
+    use crate::io::vtu::{write_with, ByteOrder, Encoding, HeaderType, VtuOptions};
+
+    /// What a read gave, comparable: the parts or the error's message.
+    fn outcome(r: Result<(MeshParts, Option<String>), Error>) -> Result<String, String> {
+        r.map(|p| format!("{p:?}")).map_err(|e| e.to_string())
+    }
+
+    /// `read_file_parts` over `bytes` written to a file, with a head of `head` bytes.
+    fn from_file(bytes: &[u8], head: usize) -> Option<Result<String, String>> {
+        let mut file = tempfile::tempfile().unwrap();
+        std::io::Write::write_all(&mut file, bytes).unwrap();
+        read_file_parts(&file, head).transpose().map(outcome)
+    }
+
+    /// Raw appended files (uncompressed and zlib, both header widths, both byte orders) read
+    /// from the file an array at a time give what their bytes give: the same parts, and for
+    /// the file cut short anywhere or with bytes of its sizes and data overwritten, the same
+    /// error. A head that ends before the appended data starts, or holds the whole file,
+    /// leaves the file to be read whole (`None`).
+    #[test]
+    fn reading_arrays_from_the_file_equals_reading_its_bytes() {
+        let mesh = generate(Dataset::PumpInlet, 1000).unwrap();
+        for (zlib, header, byte_order) in [
+            (None, HeaderType::UInt64, ByteOrder::LittleEndian),
+            (None, HeaderType::UInt32, ByteOrder::BigEndian),
+            (Some(6), HeaderType::UInt32, ByteOrder::LittleEndian),
+            (Some(1), HeaderType::UInt64, ByteOrder::BigEndian),
+        ] {
+            let options = VtuOptions {
+                encoding: Encoding::AppendedRaw,
+                zlib,
+                header,
+                byte_order,
+                block_size: 1 << 12,
+            };
+            let mut bytes = Vec::new();
+            write_with(&mesh, &mut bytes, &options).unwrap();
+            let what = format!("{options:?}");
+            let data = bytes
+                .windows(14)
+                .position(|w| w == b"<AppendedData ")
+                .unwrap();
+            let start = data + bytes[data..].iter().position(|&b| b == b'_').unwrap() + 1;
+            let whole = outcome(read_parts(&bytes));
+            assert!(whole.is_ok(), "{what}");
+            for head in [start, start + 1, start + 500, bytes.len() - 1] {
+                assert_eq!(
+                    from_file(&bytes, head),
+                    Some(whole.clone()),
+                    "{what} head {head}"
+                );
+            }
+            for head in [10, start - 1, bytes.len(), bytes.len() + 9] {
+                assert_eq!(from_file(&bytes, head), None, "{what} head {head}");
+            }
+            let mut errors = 0;
+            let trailer = [bytes.len() - 20, bytes.len() - 8, bytes.len() - 2];
+            for cut in (1..40)
+                .map(|k| start + (bytes.len() - start) * k / 40)
+                .chain(trailer)
+            {
+                let short = &bytes[..cut];
+                let want = outcome(read_parts(short));
+                errors += usize::from(want.is_err());
+                assert_eq!(from_file(short, start), Some(want), "{what} cut at {cut}");
+            }
+            assert_eq!(errors, 42, "{what}: every cut is an error");
+            let spread = (0..60).map(|k| start + (bytes.len() - start - 9) * k / 60 + k % 9);
+            let values = [0u8, 0xff, 0x7f, 3, b'x'].into_iter().cycle();
+            for (at, value) in spread.chain(trailer).zip(values) {
+                let mut bad = bytes.clone();
+                bad[at] = value;
+                let want = outcome(read_parts(&bad));
+                assert_eq!(
+                    from_file(&bad, start),
+                    Some(want),
+                    "{what} byte {at} = {value}"
+                );
+            }
+        }
+    }
 }
