@@ -3,9 +3,12 @@
 
 VTK's vtkXMLUnstructuredGridWriter writes the mesh once per compressor ParaView offers (none,
 ZLib, LZ4, LZMA; appended raw data, VTK's default block size), then each file is read by VTK's
-vtkXMLUnstructuredGridReader (in this process, `Update()` timed) and by `cylvol info FILE`
-(its own load time, printed on standard error, validation included), fastest of `--repeats`
-runs each, alternating. Prints the file sizes, both readers' seconds and VTK ÷ cylvol.
+vtkXMLUnstructuredGridReader (in a fresh Python process, `Update()` timed) and by
+`cylvol info FILE` (its own load time, printed on standard error, validation included),
+fastest of `--repeats` runs each, alternating. Prints the file sizes, both readers' seconds,
+VTK ÷ cylvol, and the peak memory of each: for VTK what its process's peak resident set grew
+by during `Update()` (Python and VTK's libraries excluded), for cylvol the whole `cylvol info`
+process's peak (its load and the axis detection `info` runs after it).
 
 Usage (Debian's python3-vtk9; the cylvol command is built first unless --no-build):
     /usr/bin/python3 scripts/bench_read.py FILE.vtu [--repeats 3] [--keep DIR]
@@ -17,7 +20,6 @@ import re
 import subprocess
 import sys
 import tempfile
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
@@ -25,25 +27,67 @@ CYLVOL = os.path.join(REPO, "target", "release", "cylvol")
 COMPRESSORS = ["None", "ZLib", "LZ4", "LZMA"]
 
 
-def vtk_read(path):
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+# Each VTK step runs in its own Python process, so that this one stays small: a child's peak
+# resident set (`ru_maxrss`) starts from its parent's when it is spawned.
+VTK_READ = """
+import sys, time
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
-    r = vtkXMLUnstructuredGridReader()
-    r.SetFileName(path)
-    t = time.perf_counter()
-    r.Update()
-    seconds = time.perf_counter() - t
-    return seconds, r.GetOutput().GetNumberOfCells()
+def high_water_kb():
+    status = open("/proc/self/status").read()
+    return int(status.split("VmHWM:")[1].split()[0])
+
+r = vtkXMLUnstructuredGridReader()
+r.SetFileName(sys.argv[1])
+before = high_water_kb()
+t = time.perf_counter()
+r.Update()
+seconds = time.perf_counter() - t
+print(seconds, r.GetOutput().GetNumberOfCells(), high_water_kb() - before)
+"""
+
+VTK_WRITE = """
+import sys
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader, vtkXMLUnstructuredGridWriter
+r = vtkXMLUnstructuredGridReader()
+r.SetFileName(sys.argv[1])
+r.Update()
+grid = r.GetOutput()
+for compressor, path in zip(sys.argv[2::2], sys.argv[3::2]):
+    w = vtkXMLUnstructuredGridWriter()
+    w.SetInputData(grid)
+    w.SetFileName(path)
+    w.SetDataModeToAppended()
+    w.EncodeAppendedDataOff()
+    getattr(w, "SetCompressorTypeTo" + compressor)()
+    if w.Write() != 1:
+        sys.exit("VTK could not write %s" % path)
+print(grid.GetNumberOfCells(), grid.GetNumberOfPoints())
+"""
+
+
+def vtk_read(path):
+    """VTK's read of `path` in a fresh process: seconds, cells, MB its peak grew by."""
+    p = subprocess.run([sys.executable, "-c", VTK_READ, path], capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit("VTK could not read %s: %s" % (path, p.stderr.strip()))
+    seconds, cells, kb = p.stdout.split()
+    return float(seconds), int(cells), int(kb) / 1024
 
 
 def cylvol_read(path):
-    p = subprocess.run([CYLVOL, "info", path], capture_output=True, text=True)
+    """`cylvol info path`: its load seconds, cells, and the process's peak MB."""
+    p = subprocess.Popen([CYLVOL, "info", path], stdout=subprocess.DEVNULL,
+                         stderr=subprocess.PIPE, text=True)
+    stderr = p.stderr.read()
+    _, status, usage = os.wait4(p.pid, 0)
+    p.returncode = os.waitstatus_to_exitcode(status)
     if p.returncode != 0:
-        sys.exit("cylvol info %s failed: %s" % (path, p.stderr.strip()))
-    m = re.search(r"loaded .*: (\d+) cells, \d+ points in ([0-9.]+) s", p.stderr)
+        sys.exit("cylvol info %s failed: %s" % (path, stderr.strip()))
+    m = re.search(r"loaded .*: (\d+) cells, \d+ points in ([0-9.]+) s", stderr)
     if not m:
-        sys.exit("no load time in cylvol's output: %s" % p.stderr.strip())
-    return float(m.group(2)), int(m.group(1))
+        sys.exit("no load time in cylvol's output: %s" % stderr.strip())
+    return float(m.group(2)), int(m.group(1)), usage.ru_maxrss / 1024
 
 
 def main():
@@ -56,37 +100,30 @@ def main():
     if not args.no_build:
         subprocess.run(["cargo", "build", "--release", "--quiet", "--manifest-path",
                         os.path.join(REPO, "Cargo.toml")], check=True)
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader, vtkXMLUnstructuredGridWriter
-
-    r = vtkXMLUnstructuredGridReader()
-    r.SetFileName(args.file)
-    r.Update()
-    grid = r.GetOutput()
-    print("%s: %d cells, %d points" % (args.file, grid.GetNumberOfCells(), grid.GetNumberOfPoints()))
     tmp = None if args.keep else tempfile.TemporaryDirectory()
     folder = args.keep or tmp.name
     os.makedirs(folder, exist_ok=True)
-    print("%-10s %10s %12s %12s %10s" % ("compressor", "MB", "VTK read s", "cylvol s", "VTK/cylvol"))
-    for name in COMPRESSORS:
-        path = os.path.join(folder, "mesh-%s.vtu" % name.lower())
-        w = vtkXMLUnstructuredGridWriter()
-        w.SetInputData(grid)
-        w.SetFileName(path)
-        w.SetDataModeToAppended()
-        w.EncodeAppendedDataOff()
-        getattr(w, "SetCompressorTypeTo" + name)()
-        if w.Write() != 1:
-            sys.exit("VTK could not write %s" % path)
-        vtk_s, ours_s = [], []
+    paths = [os.path.join(folder, "mesh-%s.vtu" % name.lower()) for name in COMPRESSORS]
+    pairs = [x for name, path in zip(COMPRESSORS, paths) for x in (name, path)]
+    p = subprocess.run([sys.executable, "-c", VTK_WRITE, args.file] + pairs,
+                       capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit("VTK could not read or write: %s" % p.stderr.strip())
+    cells, points = map(int, p.stdout.split())
+    print("%s: %d cells, %d points" % (args.file, cells, points))
+    print("%-10s %8s %11s %9s %10s %11s %10s" % ("compressor", "file MB", "VTK read s", "cylvol s",
+                                                  "VTK/cylvol", "VTK peak MB", "cylvol MB"))
+    for name, path in zip(COMPRESSORS, paths):
+        vtk_runs, our_runs = [], []
         for _ in range(args.repeats):
-            s, n = vtk_read(path)
-            vtk_s.append(s)
-            assert n == grid.GetNumberOfCells(), (path, n)
-            s, n = cylvol_read(path)
-            ours_s.append(s)
-            assert n == grid.GetNumberOfCells(), (path, n)
-        a, b = min(vtk_s), min(ours_s)
-        print("%-10s %10.1f %12.2f %12.2f %9.1fx" % (name, os.path.getsize(path) / 1e6, a, b, a / b))
+            for read, runs in ((vtk_read, vtk_runs), (cylvol_read, our_runs)):
+                seconds, n, mb = read(path)
+                assert n == cells, (path, n)
+                runs.append((seconds, mb))
+        a, b = min(s for s, _ in vtk_runs), min(s for s, _ in our_runs)
+        vtk_mb, our_mb = max(m for _, m in vtk_runs), max(m for _, m in our_runs)
+        print("%-10s %8.1f %11.2f %9.2f %9.1fx %11.0f %10.0f"
+              % (name, os.path.getsize(path) / 1e6, a, b, a / b, vtk_mb, our_mb))
         if tmp:
             os.remove(path)
     if tmp:
