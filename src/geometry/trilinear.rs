@@ -32,15 +32,29 @@ pub const SINGULAR_QUALITY: f64 = 1e-12;
 /// three edges leaving that corner in the `+u`, `+v`, `+w` sense. Positive for a well-formed
 /// cell in VTK order; zero at the collapsed corners of wedges, pyramids and tetrahedra.
 pub fn corner_jacobian_determinants(x: &[DVec3; 8]) -> [f64; 8] {
-    CORNER_EDGES.map(|[du, dv, dw]| {
-        let edge = |[from, to]: [usize; 2]| x[to] - x[from];
-        DMat3::from_cols(edge(du), edge(dv), edge(dw)).determinant()
-    })
+    [
+        corner_determinant::<0>(x),
+        corner_determinant::<1>(x),
+        corner_determinant::<2>(x),
+        corner_determinant::<3>(x),
+        corner_determinant::<4>(x),
+        corner_determinant::<5>(x),
+        corner_determinant::<6>(x),
+        corner_determinant::<7>(x),
+    ]
+}
+
+/// The Jacobian determinant at corner `C`, its edges' corners constants (no index arithmetic
+/// or bounds checks in the validation's and the inverse map's inner loops).
+#[inline(always)]
+fn corner_determinant<const C: usize>(x: &[DVec3; 8]) -> f64 {
+    let edge = |[from, to]: [usize; 2]| x[to] - x[from];
+    let [du, dv, dw] = const { CORNER_EDGES[C] };
+    DMat3::from_cols(edge(du), edge(dv), edge(dw)).determinant()
 }
 
 /// For each corner `(u, v, w)`, the corners `[from, to]` of its edges along `u`, `v` and `w`:
-/// the derivative along `u` there is `x(1, v, w) − x(0, v, w)`, and so on. A table of
-/// constants, so the determinants need no index arithmetic.
+/// the derivative along `u` there is `x(1, v, w) − x(0, v, w)`, and so on.
 const CORNER_EDGES: [[[usize; 2]; 3]; 8] = corner_edges();
 
 const fn corner_edges() -> [[[usize; 2]; 3]; 8] {
