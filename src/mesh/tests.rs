@@ -68,6 +68,25 @@ fn out_of_range_index_is_an_error() {
     ));
 }
 
+/// Among many cells, the first one with an id out of range is named, with its id.
+#[test]
+fn the_first_out_of_range_index_of_many_is_named() {
+    let mesh = crate::datasets::generate(crate::datasets::Dataset::PumpInlet, 2000).unwrap();
+    let n = mesh.point_count();
+    let mut p = mesh.into_parts();
+    p.cells[1500][0] = u32::MAX;
+    p.cells[700][5] = n as u32 + 3;
+    p.cells[701][2] = n as u32;
+    assert_eq!(
+        Mesh::from_parts(p).unwrap_err(),
+        MeshError::IndexOutOfRange {
+            cell: 700,
+            index: n as i64 + 3,
+            points: n
+        }
+    );
+}
+
 #[test]
 fn wrong_array_length_and_non_finite_values_are_errors() {
     let mut p = unit_cube();
