@@ -489,7 +489,7 @@ impl<'a> Decoder<'a> {
     }
 
     /// The array's element type, which must be a numeric one.
-    fn value_type(&self, desc: &ArrayDesc) -> Result<ScalarType, ReadError> {
+    fn value_type(desc: &ArrayDesc) -> Result<ScalarType, ReadError> {
         desc.ty.ok_or_else(|| {
             err(
                 desc.at,
@@ -502,7 +502,7 @@ impl<'a> Decoder<'a> {
     }
 
     fn f64s(&self, desc: &ArrayDesc, count: usize) -> Result<Vec<f64>, ReadError> {
-        let ty = self.value_type(desc)?;
+        let ty = Self::value_type(desc)?;
         match self.data(desc, ty, count)? {
             Data::Bytes(b) => Ok(to_f64(&b, ty, self.layout.big_endian)),
             Data::Text(t, at) => ascii_f64(&t, at, count, &format!("DataArray \"{}\"", desc.name)),
@@ -537,7 +537,7 @@ impl<'a> Decoder<'a> {
         let n3 = count
             .checked_mul(3)
             .ok_or_else(|| err(desc.at, "too many points"))?;
-        let ty = self.value_type(desc)?;
+        let ty = Self::value_type(desc)?;
         Ok(match self.data(desc, ty, n3)? {
             Data::Bytes(b) => to_tuples(&b, ty, self.layout.big_endian, DVec3::from_array),
             Data::Text(t, at) => ascii_f64(&t, at, n3, &format!("DataArray \"{}\"", desc.name))?
