@@ -67,8 +67,9 @@ pub fn read(bytes: &[u8]) -> Result<Mesh, Error> {
 
 /// Reads a VTU file: the mesh [`read`] gives for its bytes, errors naming the file. Raw
 /// appended data (what VTK's writers write by default) is read an array at a time from
-/// where the file has it, so the file is never held whole in memory (on Unix); any other
-/// file is read whole first.
+/// where the file has it, so the file is never held whole in memory (on Unix, when the XML
+/// before the data lies within the first 64 KiB, as VTK's does); any other file is read
+/// whole first.
 ///
 /// ```
 /// use cylvol::datasets::{generate, Dataset};
