@@ -582,18 +582,25 @@ fn decompress_blocks(
         jobs.push((i, chunk, input, data_at + cpos as u64));
         cpos += csize;
     }
-    jobs.into_par_iter().try_for_each(|(i, chunk, input, at)| {
-        let bad = |m: &str| {
-            let name = compressor.name();
-            ReadError::new(FORMAT, at, format!("{what}: {name} block {i}: {m}"))
-        };
-        match compressor {
-            Compressor::Zlib => inflate(input, chunk, bad),
-            Compressor::Lz4 => lz4_block(input, chunk, bad),
-            Compressor::Lzma => xz_stream(input, chunk, bad),
-        }
-    })?;
-    Ok(out)
+    // The first bad block is reported, whichever thread finds a bad block first.
+    let first_error = jobs
+        .into_par_iter()
+        .find_map_first(|(i, chunk, input, at)| {
+            let bad = |m: &str| {
+                let name = compressor.name();
+                ReadError::new(FORMAT, at, format!("{what}: {name} block {i}: {m}"))
+            };
+            match compressor {
+                Compressor::Zlib => inflate(input, chunk, bad),
+                Compressor::Lz4 => lz4_block(input, chunk, bad),
+                Compressor::Lzma => xz_stream(input, chunk, bad),
+            }
+            .err()
+        });
+    match first_error {
+        Some(e) => Err(e),
+        None => Ok(out),
+    }
 }
 
 /// Decompresses one zlib stream into `out`, which it must fill exactly; `bad` makes the
