@@ -725,6 +725,98 @@ fn xz_stream(
     }
 }
 
+/// A stored element type, read from its bytes in either byte order.
+trait Element: Sized {
+    const SIZE: usize;
+    /// The element at the start of `bytes` (which holds at least `SIZE` bytes).
+    fn read(bytes: &[u8], big_endian: bool) -> Self;
+    fn to_f64(self) -> f64;
+    /// As `i64`, unsigned values beyond `i64::MAX` saturating (floats: 0, never asked).
+    fn to_i64(self) -> i64;
+}
+
+macro_rules! element {
+    ($($t:ty => $to_i64:expr),* $(,)?) => {$(
+        impl Element for $t {
+            const SIZE: usize = std::mem::size_of::<$t>();
+            #[inline]
+            fn read(bytes: &[u8], big_endian: bool) -> Self {
+                let mut a = [0; std::mem::size_of::<$t>()];
+                a.copy_from_slice(&bytes[..Self::SIZE]);
+                if big_endian {
+                    <$t>::from_be_bytes(a)
+                } else {
+                    <$t>::from_le_bytes(a)
+                }
+            }
+            #[inline]
+            fn to_f64(self) -> f64 {
+                self as f64
+            }
+            #[inline]
+            fn to_i64(self) -> i64 {
+                let convert: fn($t) -> i64 = $to_i64;
+                convert(self)
+            }
+        }
+    )*};
+}
+
+element!(
+    i8 => i64::from, u8 => i64::from, i16 => i64::from, u16 => i64::from,
+    i32 => i64::from, u32 => i64::from, i64 => |v| v,
+    u64 => |v| i64::try_from(v).unwrap_or(i64::MAX),
+    f32 => |_| 0, f64 => |_| 0,
+);
+
+/// Evaluates `$body` with `$T` the Rust type of `$ty`'s elements.
+macro_rules! with_element_type {
+    ($ty:expr, $T:ident => $body:expr) => {
+        match $ty {
+            ScalarType::I8 => {
+                type $T = i8;
+                $body
+            }
+            ScalarType::U8 => {
+                type $T = u8;
+                $body
+            }
+            ScalarType::I16 => {
+                type $T = i16;
+                $body
+            }
+            ScalarType::U16 => {
+                type $T = u16;
+                $body
+            }
+            ScalarType::I32 => {
+                type $T = i32;
+                $body
+            }
+            ScalarType::U32 => {
+                type $T = u32;
+                $body
+            }
+            ScalarType::I64 => {
+                type $T = i64;
+                $body
+            }
+            ScalarType::U64 => {
+                type $T = u64;
+                $body
+            }
+            ScalarType::F32 => {
+                type $T = f32;
+                $body
+            }
+            ScalarType::F64 => {
+                type $T = f64;
+                $body
+            }
+        }
+    };
+}
+
 /// Converts decoded bytes holding elements of `ty` into values `N` elements at a time, in
 /// parallel: `make` receives each tuple as `f64`s (a trailing part tuple is dropped).
 pub(super) fn to_tuples<const N: usize, T: Send>(
@@ -733,37 +825,16 @@ pub(super) fn to_tuples<const N: usize, T: Send>(
     big_endian: bool,
     make: impl Fn([f64; N]) -> T + Sync,
 ) -> Vec<T> {
-    macro_rules! conv {
-        ($t:ty) => {{
-            const SIZE: usize = std::mem::size_of::<$t>();
-            bytes
-                .par_chunks_exact(SIZE * N)
-                .map(|tuple| {
-                    make(std::array::from_fn(|j| {
-                        let mut a = [0; SIZE];
-                        a.copy_from_slice(&tuple[j * SIZE..(j + 1) * SIZE]);
-                        (if big_endian {
-                            <$t>::from_be_bytes(a)
-                        } else {
-                            <$t>::from_le_bytes(a)
-                        }) as f64
-                    }))
-                })
-                .collect()
-        }};
-    }
-    match ty {
-        ScalarType::I8 => conv!(i8),
-        ScalarType::U8 => conv!(u8),
-        ScalarType::I16 => conv!(i16),
-        ScalarType::U16 => conv!(u16),
-        ScalarType::I32 => conv!(i32),
-        ScalarType::U32 => conv!(u32),
-        ScalarType::I64 => conv!(i64),
-        ScalarType::U64 => conv!(u64),
-        ScalarType::F32 => conv!(f32),
-        ScalarType::F64 => conv!(f64),
-    }
+    with_element_type!(ty, E => {
+        bytes
+            .par_chunks_exact(E::SIZE * N)
+            .map(|tuple| {
+                make(std::array::from_fn(|j| {
+                    E::read(&tuple[j * E::SIZE..], big_endian).to_f64()
+                }))
+            })
+            .collect()
+    })
 }
 
 /// Reads `count` elements of `ty` from decoded bytes as `f64`.
@@ -798,32 +869,12 @@ impl<'a> Integers<'a> {
     /// Element `k` (`k < len()`; beyond it, 0).
     #[inline]
     pub(super) fn get(&self, k: usize) -> i64 {
-        macro_rules! at {
-            ($t:ty) => {{
-                const SIZE: usize = std::mem::size_of::<$t>();
-                let mut a = [0; SIZE];
-                if let Some(b) = self.bytes.get(k * SIZE..(k + 1) * SIZE) {
-                    a.copy_from_slice(b);
-                }
-                let v = if self.big_endian {
-                    <$t>::from_be_bytes(a)
-                } else {
-                    <$t>::from_le_bytes(a)
-                };
-                i64::try_from(v).unwrap_or(i64::MAX)
-            }};
-        }
-        match self.ty {
-            ScalarType::I8 => at!(i8),
-            ScalarType::U8 => at!(u8),
-            ScalarType::I16 => at!(i16),
-            ScalarType::U16 => at!(u16),
-            ScalarType::I32 => at!(i32),
-            ScalarType::U32 => at!(u32),
-            ScalarType::I64 => at!(i64),
-            ScalarType::U64 => at!(u64),
-            ScalarType::F32 | ScalarType::F64 => 0,
-        }
+        with_element_type!(self.ty, E => {
+            match self.bytes.get(k * E::SIZE..(k + 1) * E::SIZE) {
+                Some(b) => E::read(b, self.big_endian).to_i64(),
+                None => 0,
+            }
+        })
     }
 
     /// Every element, converted in parallel.
