@@ -318,6 +318,72 @@ print(vtk.vtkUnstructuredGridWriter().GetFileVersion())
     }
 }
 
+/// VTK writes the mixer with ghost flags (as a parallel writer's ghost layer and blanking
+/// leave them): the cells flagged as another piece's or hidden go, those with other flags
+/// stay, and neither ghost array is kept, in both encodings and both cell layouts.
+#[test]
+fn ghost_cells_vtk_writes_are_dropped() {
+    if !have_vtk() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = r#"
+import sys, vtk
+src, out = sys.argv[1], sys.argv[2]
+r = vtk.vtkUnstructuredGridReader(); r.SetFileName(src); r.Update()
+g = r.GetOutput()
+cells = g.AllocateCellGhostArray()
+for c in range(g.GetNumberOfCells()):
+    # DUPLICATECELL (1) every 7th, HIDDENCELL (32) every 11th, REFINEDCELL (4) every 5th.
+    cells.SetValue(c, (1 if c % 7 == 0 else 0) | (32 if c % 11 == 0 else 0) | (4 if c % 5 == 0 else 0))
+points = g.AllocatePointGhostArray()
+for p in range(0, g.GetNumberOfPoints(), 3):
+    points.SetValue(p, 1)
+for name, binary, version in [('v51_binary', True, None), ('v42_ascii', False, 42)]:
+    w = vtk.vtkUnstructuredGridWriter(); w.SetInputData(g)
+    w.SetFileName(out + '/' + name + '.vtk')
+    if binary: w.SetFileTypeToBinary()
+    else: w.SetFileTypeToASCII()
+    if version: w.SetFileVersion(version)
+    w.Write()
+"#;
+    python(script, &[MIXER, dir.path().to_str().unwrap()]);
+    let reference = mixer();
+    let kept: Vec<usize> = (0..reference.cell_count())
+        .filter(|c| c % 7 != 0 && c % 11 != 0)
+        .collect();
+    for name in ["v51_binary", "v42_ascii"] {
+        let bytes = std::fs::read(dir.path().join(format!("{name}.vtk"))).unwrap();
+        assert!(
+            bytes.windows(12).any(|w| w == b"vtkGhostType"),
+            "{name}: VTK wrote no ghost array"
+        );
+        let m = legacy::read(&bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(m.cell_count(), kept.len(), "{name}");
+        let cells: Vec<[u32; 8]> = kept.iter().map(|&c| reference.cells()[c]).collect();
+        assert!(m.cells() == &cells[..], "{name}: other cells");
+        assert_eq!(m.points().len(), reference.points().len(), "{name}");
+        assert_eq!(
+            names(m.point_data()),
+            names(reference.point_data()),
+            "{name}"
+        );
+        assert_eq!(names(m.cell_data()), names(reference.cell_data()), "{name}");
+        for a in reference.cell_data() {
+            let k = a.components;
+            let expected: Vec<f64> = kept
+                .iter()
+                .flat_map(|&c| a.values[c * k..(c + 1) * k].iter().copied())
+                .collect();
+            let ours = &array(m.cell_data(), &a.name).values;
+            assert_eq!(ours.len(), expected.len(), "{name}: {}", a.name);
+            if name.ends_with("binary") {
+                assert_eq!(ours, &expected, "{name}: {}", a.name);
+            }
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Writing
 

@@ -10,6 +10,7 @@
 //! | PLOT3D whole single-grid `*xyz.bin` + `*q.bin` | [`plot3d::read`] | — |
 //! | VTK image data (`.vti`), one `Float32` array over a 2-D image (a render's depth) | — | [`vti::write_point_scalars`] |
 
+mod ghost;
 pub mod legacy;
 pub mod plot3d;
 pub mod structured;

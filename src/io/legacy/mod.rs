@@ -17,6 +17,8 @@
 //!   `GLOBAL_IDS`, `PEDIGREE_IDS`, `EDGE_FLAGS` and `LOOKUP_TABLE` definitions are read and
 //!   dropped; dataset-level `FIELD` data (such as a `TimeValue`) is read and dropped; VTK 9's
 //!   `METADATA` / `INFORMATION` blocks are skipped up to their blank line;
+//! - ghost cells (VTK's `vtkGhostType` flags, a `FIELD` array as VTK writes it) dropped, the
+//!   ghost arrays too, as the VTU reader does;
 //! - the numeric data types `char`, `signed_char`, `unsigned_char`, `short`, `unsigned_short`,
 //!   `int`, `unsigned_int`, `long`, `unsigned_long` (8 bytes), `vtktypeint64`, `vtktypeuint64`,
 //!   `vtkIdType` (4 bytes, as VTK writes it), `float`, `double`. `bit` and string arrays are

@@ -6,6 +6,7 @@ use glam::DVec3;
 use super::cursor::{show, Cursor, Token};
 use super::values::{decode_f64, decode_i64, parse_f64, parse_i64, ValueType};
 use crate::error::{Error, ReadError};
+use crate::io::ghost::drop_ghost_cells;
 use crate::io::structured::hexahedra;
 use crate::mesh::{cells_from_vtk, Association, CellKind, DataArray, Mesh, MeshParts, OffsetStyle};
 
@@ -755,13 +756,15 @@ impl<'a> Parser<'a> {
                 }
             }
         }
-        let mesh = Mesh::from_parts(MeshParts {
+        let mut parts = MeshParts {
             points: points.value,
             cells,
             kinds,
             point_data: p.point_data,
             cell_data: p.cell_data,
-        })?;
+        };
+        drop_ghost_cells(&mut parts);
+        let mesh = Mesh::from_parts(parts)?;
         Ok(mesh)
     }
 }

@@ -15,6 +15,7 @@ use super::decode::{
 use super::xml::{attr, check_file_type, is_blank, Attr, Event, OpenElements, Scanner};
 use super::FORMAT;
 use crate::error::{Error, ReadError};
+use crate::io::ghost::drop_ghost_cells;
 use crate::mesh::{
     cells_from_ids, cells_from_vtk, ConvertedCells, DataArray, MeshParts, OffsetStyle,
 };
@@ -764,61 +765,6 @@ pub(super) fn join_pieces(pieces: Vec<MeshParts>) -> Result<MeshParts, String> {
     parts.point_data = join_arrays(point_data);
     parts.cell_data = join_arrays(cell_data);
     Ok(parts)
-}
-
-/// The cell flags of VTK's `vtkGhostType` array (`vtkDataSetAttributes`) that mark a cell
-/// another piece owns (`DUPLICATECELL`) or one not to be shown (`HIDDENCELL`).
-const GHOST_CELL_FLAGS: u8 = 1 | 32;
-
-/// The name of VTK's ghost arrays.
-const GHOST_ARRAY: &str = "vtkGhostType";
-
-/// Drops the cells VTK's `vtkGhostType` cell array marks as another piece's or hidden (a
-/// parallel writer's ghost layers, blanked cells) and both ghost arrays, which are flags,
-/// not fields; returns how many cells went. Their points stay (unreferenced).
-pub(super) fn drop_ghost_cells(parts: &mut MeshParts) -> usize {
-    parts.point_data.retain(|a| a.name != GHOST_ARRAY);
-    let Some(at) = parts
-        .cell_data
-        .iter()
-        .position(|a| a.name == GHOST_ARRAY && a.components == 1)
-    else {
-        return 0;
-    };
-    let flags = parts.cell_data.remove(at).values;
-    if flags.len() != parts.cells.len() || parts.kinds.len() != parts.cells.len() {
-        // Mismatched lengths are the validation's to report; nothing is dropped.
-        return 0;
-    }
-    let keep: Vec<bool> = flags
-        .iter()
-        .map(|&f| (f as u8) & GHOST_CELL_FLAGS == 0)
-        .collect();
-    let dropped = keep.iter().filter(|&&k| !k).count();
-    if dropped == 0 {
-        return 0;
-    }
-    let kept = |i: &usize| keep[*i];
-    parts.cells = (0..parts.cells.len())
-        .filter(kept)
-        .map(|i| parts.cells[i])
-        .collect();
-    parts.kinds = (0..parts.kinds.len())
-        .filter(kept)
-        .map(|i| parts.kinds[i])
-        .collect();
-    for a in &mut parts.cell_data {
-        if a.components > 0 && a.values.len() == keep.len() * a.components {
-            a.values = a
-                .values
-                .chunks_exact(a.components)
-                .zip(&keep)
-                .filter(|(_, &k)| k)
-                .flat_map(|(v, _)| v.iter().copied())
-                .collect();
-        }
-    }
-    dropped
 }
 
 /// A VTU file's pieces joined, ghost cells dropped, not yet validated, with the scalar the

@@ -1,0 +1,140 @@
+//! VTK's ghost convention, which every VTK reader honours: a `vtkGhostType` cell array of
+//! flags marks the cells a parallel writer copied from a neighbouring piece (its ghost layers)
+//! and cells hidden by blanking; a `vtkGhostType` point array marks points likewise. Both
+//! readers that can meet them (VTU and legacy VTK) drop those cells and both arrays, so a mesh
+//! holds each cell once and its arrays are fields, never flags.
+
+use crate::mesh::MeshParts;
+
+/// The cell flags of VTK's `vtkGhostType` array (`vtkDataSetAttributes`) that mark a cell
+/// another piece owns (`DUPLICATECELL`) or one not to be shown (`HIDDENCELL`).
+const GHOST_CELL_FLAGS: u8 = 1 | 32;
+
+/// The name of VTK's ghost arrays.
+const GHOST_ARRAY: &str = "vtkGhostType";
+
+/// Drops the cells VTK's `vtkGhostType` cell array marks as another piece's or hidden (a
+/// parallel writer's ghost layers, blanked cells) and both ghost arrays, which are flags,
+/// not fields; returns how many cells went. Their points stay (unreferenced).
+pub(crate) fn drop_ghost_cells(parts: &mut MeshParts) -> usize {
+    parts.point_data.retain(|a| a.name != GHOST_ARRAY);
+    let Some(at) = parts
+        .cell_data
+        .iter()
+        .position(|a| a.name == GHOST_ARRAY && a.components == 1)
+    else {
+        return 0;
+    };
+    let flags = parts.cell_data.remove(at).values;
+    if flags.len() != parts.cells.len() || parts.kinds.len() != parts.cells.len() {
+        // Mismatched lengths are the validation's to report; nothing is dropped.
+        return 0;
+    }
+    let keep: Vec<bool> = flags
+        .iter()
+        .map(|&f| (f as u8) & GHOST_CELL_FLAGS == 0)
+        .collect();
+    let dropped = keep.iter().filter(|&&k| !k).count();
+    if dropped == 0 {
+        return 0;
+    }
+    let kept = |i: &usize| keep[*i];
+    parts.cells = (0..parts.cells.len())
+        .filter(kept)
+        .map(|i| parts.cells[i])
+        .collect();
+    parts.kinds = (0..parts.kinds.len())
+        .filter(kept)
+        .map(|i| parts.kinds[i])
+        .collect();
+    for a in &mut parts.cell_data {
+        if a.components > 0 && a.values.len() == keep.len() * a.components {
+            a.values = a
+                .values
+                .chunks_exact(a.components)
+                .zip(&keep)
+                .filter(|(_, &k)| k)
+                .flat_map(|(v, _)| v.iter().copied())
+                .collect();
+        }
+    }
+    dropped
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::mesh::{CellKind, DataArray};
+
+    /// Five cells over distinct ids (cell `i` uses ids `8i..8i + 8`), flagged as `flags` says.
+    fn parts(flags: &[f64]) -> MeshParts {
+        let n = flags.len();
+        MeshParts {
+            points: vec![DVec3::ZERO; 8 * n],
+            cells: (0..n as u32)
+                .map(|i| std::array::from_fn(|k| 8 * i + k as u32))
+                .collect(),
+            kinds: (0..n)
+                .map(|i| {
+                    if i % 2 == 0 {
+                        CellKind::Hexahedron
+                    } else {
+                        CellKind::Wedge
+                    }
+                })
+                .collect(),
+            point_data: vec![
+                DataArray::scalar(GHOST_ARRAY, vec![0.0; 8 * n]),
+                DataArray::scalar("p", vec![1.0; 8 * n]),
+            ],
+            cell_data: vec![
+                DataArray::scalar("id", (0..n).map(|i| i as f64).collect()),
+                DataArray::scalar(GHOST_ARRAY, flags.to_vec()),
+                DataArray {
+                    name: "U".into(),
+                    components: 3,
+                    values: (0..3 * n).map(|v| v as f64).collect(),
+                },
+            ],
+        }
+    }
+
+    #[test]
+    fn duplicate_and_hidden_cells_go_with_their_tuples_and_both_flag_arrays() {
+        // DUPLICATECELL (1), none, HIDDENCELL (32), REFINEDCELL (4, kept), both (33).
+        let mut p = parts(&[1.0, 0.0, 32.0, 4.0, 33.0]);
+        let before = p.clone();
+        assert_eq!(drop_ghost_cells(&mut p), 3);
+        assert_eq!(p.cells, [before.cells[1], before.cells[3]]);
+        assert_eq!(p.kinds, [CellKind::Wedge, CellKind::Wedge]);
+        let names: Vec<&str> = p.cell_data.iter().map(|a| a.name.as_str()).collect();
+        assert_eq!(names, ["id", "U"]);
+        assert_eq!(p.cell_data[0].values, [1.0, 3.0]);
+        assert_eq!(p.cell_data[1].values, [3.0, 4.0, 5.0, 9.0, 10.0, 11.0]);
+        // Points stay, unreferenced; the point flags go, the fields stay.
+        assert_eq!(p.points.len(), before.points.len());
+        let names: Vec<&str> = p.point_data.iter().map(|a| a.name.as_str()).collect();
+        assert_eq!(names, ["p"]);
+    }
+
+    #[test]
+    fn unflagged_cells_stay_but_the_flag_arrays_still_go() {
+        let mut p = parts(&[0.0, 4.0, 8.0]);
+        let before = p.clone();
+        assert_eq!(drop_ghost_cells(&mut p), 0);
+        assert_eq!((&p.cells, &p.kinds), (&before.cells, &before.kinds));
+        assert!(p.cell_data.iter().all(|a| a.name != GHOST_ARRAY));
+        assert!(p.point_data.iter().all(|a| a.name != GHOST_ARRAY));
+    }
+
+    #[test]
+    fn a_flag_array_of_the_wrong_length_drops_nothing() {
+        let mut p = parts(&[1.0, 1.0, 1.0]);
+        p.cell_data[1].values.pop();
+        let cells = p.cells.clone();
+        assert_eq!(drop_ghost_cells(&mut p), 0);
+        assert_eq!(p.cells, cells);
+    }
+}
