@@ -2,8 +2,8 @@
 //! POSITION:FOCAL_POINT:VIEW_UP` gives the image of the `--view` preset it spells out,
 //! `--view-angle` and `--parallel-scale` are the preset's zoom, `--parallel` projects in
 //! parallel, `--depth` writes VTK image data (rows bottom to top, NaN where no depth) that
-//! VTK's own reader reads, `--depth-opacity` moves the depth sample, and bad values fail with
-//! a message and write nothing.
+//! VTK's own reader reads, `--depth-opacity` moves the depth sample, `--depth-in` stops rays
+//! at a depth image's distances, and bad values fail with a message and write nothing.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -348,4 +348,123 @@ fn bad_camera_and_depth_options_fail_with_a_message() {
     fails_with(&["--depth", "d.vti", "--depth-opacity", "0"], "(0, 1]");
     fails_with(&["--depth", "d.vti", "--depth-opacity", "1.5"], "(0, 1]");
     fails_with(&["--depth", "/no/such/folder/d.vti"], "No such file");
+    fails_with(&["--depth-in", "/no/such/folder/d.vti"], "No such file");
+    // A depth image of another size, or not an image at all.
+    let dir = tempfile::tempdir().unwrap();
+    let other = dir.path().join("other.vti");
+    write_depth(&other, 8, 7, |_, _| 1.0);
+    fails_with(
+        &["--depth-in", other.to_str().unwrap()],
+        "a 8x7 image, but the render is 8x8 (--size)",
+    );
+    let grid = dir.path().join("grid.vtu");
+    cylvol::io::write_file(
+        &cylvol::input::load(INPUT, &Default::default()).unwrap(),
+        &grid,
+    )
+    .unwrap();
+    fails_with(
+        &["--depth-in", grid.to_str().unwrap()],
+        "only ImageData (.vti)",
+    );
+}
+
+/// Writes a `w × h` depth image as `--depth` does, `depth(i, j)` at pixel column `i` of row
+/// `j` counted from the top.
+fn write_depth(path: &Path, w: u32, h: u32, depth: impl Fn(u32, u32) -> f32) {
+    let bottom_up: Vec<f32> = (0..h)
+        .rev()
+        .flat_map(|j| (0..w).map(move |i| (i, j)))
+        .map(|(i, j)| depth(i, j))
+        .collect();
+    let mut file = std::fs::File::create(path).unwrap();
+    cylvol::io::vti::write_point_scalars(&mut file, w, h, "depth", &bottom_up).unwrap();
+}
+
+/// The PNG's RGB rows, top to bottom.
+fn rgb_rows(png: &[u8]) -> Vec<Vec<[u8; 3]>> {
+    let mut reader = png::Decoder::new(png).read_info().unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    pixels[..info.buffer_size()]
+        .chunks_exact(4 * info.width as usize)
+        .map(|row| row.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect())
+        .collect()
+}
+
+/// `--depth-in`: a ray stops at its pixel's depth (0: at the camera, so nothing shows) and
+/// NaN stops none; rows are read bottom to top, as VTK stores images.
+#[test]
+fn depth_in_stops_each_ray_at_its_pixel_depth() {
+    let dir = tempfile::tempdir().unwrap();
+    let (w, h) = SIZE;
+    let depth = dir.path().join("upper-open.vti");
+    // The upper half open, the lower half stopped at the camera, one upper column stopped too.
+    write_depth(&depth, w, h, |i, j| {
+        if j < h / 2 && i != 3 {
+            f32::NAN
+        } else {
+            0.0
+        }
+    });
+    let plain = rgb_rows(&render(dir.path(), "plain", &[]));
+    let stopped = rgb_rows(&render(
+        dir.path(),
+        "stopped",
+        &["--depth-in", depth.to_str().unwrap()],
+    ));
+    let shown = |rows: &[Vec<[u8; 3]>], range: std::ops::Range<u32>| {
+        range
+            .flat_map(|j| rows[j as usize].iter())
+            .filter(|rgb| **rgb != [0, 0, 0])
+            .count()
+    };
+    assert!(shown(&plain, 0..h / 2) > 20 && shown(&plain, h / 2..h) > 20);
+    for j in 0..h as usize {
+        for i in 0..w as usize {
+            let expected = if j < h as usize / 2 && i != 3 {
+                plain[j][i]
+            } else {
+                [0, 0, 0]
+            };
+            assert_eq!(stopped[j][i], expected, "pixel ({i}, {j})");
+        }
+    }
+}
+
+/// `--depth` then `--depth-in` of the same file: rays stop where they reached half opacity,
+/// so the image's own depth is the same where the stopping sample is kept, and none where
+/// it is cut; pixels without a depth are unchanged, and most others change.
+#[test]
+fn the_depth_written_read_back_stops_rays_at_half_opacity() {
+    let dir = tempfile::tempdir().unwrap();
+    let (rows, depth) = render_shifted(dir.path(), "first", &[]);
+    let (_, values) = read_depth_vti(&depth);
+    let (again, depth_again) = render_shifted(
+        dir.path(),
+        "again",
+        &["--depth-in", depth.to_str().unwrap()],
+    );
+    let (_, values_again) = read_depth_vti(&depth_again);
+    let (w, h) = (SIZE.0 as usize, SIZE.1 as usize);
+    let mut changed = 0;
+    for j in 0..h {
+        for i in 0..w {
+            let k = (h - 1 - j) * w + i;
+            let (d, d_again) = (values[k], values_again[k]);
+            if d.is_nan() {
+                assert_eq!(again[j][i], rows[j][i], "pixel ({i}, {j}) has no depth");
+                assert!(d_again.is_nan(), "pixel ({i}, {j}): depth {d_again}");
+                continue;
+            }
+            assert!(
+                d_again.is_nan() || d_again == d,
+                "pixel ({i}, {j}): depth {d} then {d_again}"
+            );
+            changed += usize::from(again[j][i] != rows[j][i]);
+        }
+    }
+    let finite = values.iter().filter(|d| d.is_finite()).count();
+    assert!(changed * 2 > finite, "{changed} of {finite} pixels changed");
 }

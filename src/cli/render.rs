@@ -3,9 +3,10 @@
 //! [--gradient-opacity M:G,M:G,...] [--opacity S:A,...] [--color S:R:G:B,...]
 //! [--unit-distance D] [--blend composite|max|min] [--camera POSITION:FOCAL:UP]
 //! [--view-angle DEG] [--parallel [--parallel-scale S]] [--clip-plane X,Y,Z:NX,NY,NZ]...
-//! [--depth OUT.vti [--depth-opacity A]]`:
-//! renders one image (and its depth image with `--depth`) and reports the time and the work
-//! counters on standard error (as JSON on standard output with `--json`).
+//! [--depth OUT.vti [--depth-opacity A]] [--depth-in IN.vti]`:
+//! renders one image (and its depth image with `--depth`; rays stopped by opaque geometry's
+//! depth image with `--depth-in`) and reports the time and the work counters on standard error
+//! (as JSON on standard output with `--json`).
 //!
 //! Defaults: `--structure auto` (the cylindrical BVH when the detected axis is clear, else the
 //! Cartesian BVH), `--size 512x512`, `--step` half the mean cell size
@@ -17,7 +18,7 @@
 //! and `--unit-distance` set ([`super::transfer`]); the background is black. The camera
 //! options are [`super::camera`]'s.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use glam::DVec3;
@@ -27,6 +28,7 @@ use super::camera::CameraArgs;
 use super::transfer::TransferArgs;
 use super::{log, scene, InputArgs};
 use cylvol::accel::AccelParams;
+use cylvol::io::vti;
 use cylvol::render::{
     Blend, ClipPlanes, GradientOpacity, Interpolation, RenderOptions, RenderPath, Renderer,
     Shading, Volume,
@@ -84,6 +86,12 @@ pub struct RenderArgs {
     /// The accumulated opacity, in (0, 1], at which a pixel's depth is taken [default: 0.5].
     #[arg(long, value_name = "A", value_parser = parse_depth_opacity, requires = "depth")]
     depth_opacity: Option<f64>,
+    /// Opaque geometry's depth image, where rays stop: VTK image data (`.vti`) of WxH points,
+    /// rows bottom to top, its active (or only) point array per pixel the distance along the
+    /// pixel's ray from the camera (from its plane with `--parallel`), as `--depth` writes
+    /// it; NaN or infinity where nothing stops the ray.
+    #[arg(long, value_name = "IN.vti")]
+    depth_in: Option<PathBuf>,
     /// A clipping plane, as VTK's mappers take one: a point on it and its normal, in world
     /// units; only the side the normal points to is rendered, and the volume ends on the plane.
     /// Up to 6 (repeat the option).
@@ -168,10 +176,31 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
+/// `--depth-in`'s image, rows top to bottom, checked to be `width × height`.
+fn depth_image(path: &Path, width: u32, height: u32) -> Result<Vec<f32>, Error> {
+    let image = vti::read_point_scalars_file(path)
+        .map_err(|e| Error::Invalid(format!("--depth-in: {e}")))?;
+    if (image.width, image.height) != (width, height) {
+        return Err(Error::Invalid(format!(
+            "--depth-in {}: a {}x{} image, but the render is {width}x{height} (--size)",
+            path.display(),
+            image.width,
+            image.height
+        )));
+    }
+    Ok(image.top_down_f32())
+}
+
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     // Checked before any work (clap has checked each plane; this, their number).
     let clip_planes = ClipPlanes::new(&args.clip_planes)
         .map_err(|e| Error::Invalid(format!("--clip-plane: {e}")))?;
+    let (width, height) = args.size;
+    let depth_in = args
+        .depth_in
+        .as_deref()
+        .map(|path| depth_image(path, width, height))
+        .transpose()?;
     let mesh = args.input.load()?;
     let (axis, _) = args.input.axis(&mesh);
     let kind = scene::structure(&args.structure, &mesh, &axis)?;
@@ -185,7 +214,6 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let transfer =
         args.transfer
             .apply(scene::transfer(&mesh, range), range, scene::diagonal(&mesh))?;
-    let (width, height) = args.size;
     let mut options = RenderOptions::new(width, height, step);
     options.path = path;
     options.shading = args.shade.then(Shading::default);
@@ -207,7 +235,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     }
     let camera = args.camera.camera(&mesh, width, height)?;
     let started = Instant::now();
-    let (image, stats) = renderer.render(&camera, None)?;
+    let (image, stats) = renderer.render(&camera, depth_in.as_deref())?;
     let frame_s = started.elapsed().as_secs_f64();
     image.write_png(&args.output, Some([0.0; 3]))?;
     if let Some(depth) = &args.depth {
@@ -233,6 +261,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             "path": path.name(),
             "blend": blend.name(),
             "clip_planes": options.clip_planes.equations(),
+            "depth_in": args.depth_in.as_ref().map(|p| p.display().to_string()),
             "width": width,
             "height": height,
             "step": step,

@@ -8,7 +8,7 @@
 //! | VTU (`.vtu`), ascii, base64, raw appended, zlib, LZ4 or LZMA compression, 32/64-bit headers | [`vtu::read`], [`vtu::read_file`] | [`vtu::write`] (zlib or none) |
 //! | parallel VTU (`.pvtu`): an index and one `.vtu` a piece | [`vtu::read_parallel`], [`vtu::read_parallel_file`] | — |
 //! | PLOT3D whole single-grid `*xyz.bin` + `*q.bin` | [`plot3d::read`] | — |
-//! | VTK image data (`.vti`), one `Float32` array over a 2-D image (a render's depth) | — | [`vti::write_point_scalars`] |
+//! | VTK image data (`.vti`), one array over a 2-D image (a render's depth) | [`vti::read_point_scalars`] | [`vti::write_point_scalars`] (`Float32`) |
 
 mod ghost;
 pub mod legacy;

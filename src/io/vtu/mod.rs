@@ -18,6 +18,9 @@
 //! or offsets beyond the data — is a [`crate::ReadError`] with the byte offset; the reader never
 //! panics and allocates nothing from a stated size before checking the bytes are there.
 //!
+//! The same walker and decoders read the point arrays of VTK image data (`.vti`) for
+//! [`super::vti::read_point_scalars`].
+//!
 //! The writer writes Float64 points and arrays, Int64 connectivity and offsets and UInt8 types
 //! in the encoding [`VtuOptions`] asks for (compressed with zlib, if at all); every mode reads
 //! back in VTK 9.1.
@@ -30,6 +33,8 @@ mod xml;
 
 pub use parallel::read_parallel;
 
+/// The XML walker and decoders also read VTK images' point arrays, for [`super::vti`].
+pub(crate) use read::read_image_points;
 pub use write::{ByteOrder, Encoding, HeaderType, VtuOptions};
 /// XML attribute escaping, shared with the other VTK XML writer ([`super::vti`]).
 pub(crate) use xml::escape as xml_escape;

@@ -61,6 +61,8 @@ enum Section {
 struct PieceDesc {
     points: usize,
     cells: usize,
+    /// An image piece's `Extent` (`None` for an unstructured grid's).
+    extent: Option<[i64; 6]>,
     at: usize,
     coords: Option<ArrayDesc>,
     cell_arrays: Vec<ArrayDesc>,
@@ -110,8 +112,37 @@ impl<'a> RawData<'a> {
     }
 }
 
+/// The dataset types the XML walker reads: unstructured grids for meshes, images (such as a
+/// render's depth image) for their point arrays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum XmlDataset {
+    /// `UnstructuredGrid` (`.vtu`).
+    UnstructuredGrid,
+    /// `ImageData` (`.vti`).
+    ImageData,
+}
+
+impl XmlDataset {
+    /// The `VTKFile` type and the dataset element's name.
+    fn element(self) -> &'static str {
+        match self {
+            XmlDataset::UnstructuredGrid => "UnstructuredGrid",
+            XmlDataset::ImageData => "ImageData",
+        }
+    }
+
+    fn extension(self) -> &'static str {
+        match self {
+            XmlDataset::UnstructuredGrid => ".vtu",
+            XmlDataset::ImageData => ".vti",
+        }
+    }
+}
+
 struct Parsed<'a> {
     layout: Layout,
+    /// An image's `WholeExtent` (`None` for an unstructured grid).
+    whole_extent: Option<[i64; 6]>,
     pieces: Vec<PieceDesc>,
     appended: Option<Appended<'a>>,
     /// `(offset, tag offset)` of every appended array anywhere in the file.
@@ -127,11 +158,48 @@ fn parse_usize(attrs: &[Attr<'_>], name: &str, tag: &str, at: usize) -> Result<u
         .map_err(|_| err(at, format!("<{tag}> {name}=\"{v}\" is not a count")))
 }
 
-fn file_header(attrs: &[Attr<'_>], at: usize) -> Result<Layout, ReadError> {
-    check_file_type(attrs, "UnstructuredGrid").map_err(|what| {
+/// An image extent attribute: six integers, `lo ≤ hi` on each axis.
+fn parse_extent(
+    attrs: &[Attr<'_>],
+    name: &str,
+    tag: &str,
+    at: usize,
+) -> Result<[i64; 6], ReadError> {
+    let v = attr(attrs, name).ok_or_else(|| err(at, format!("<{tag}> has no {name}")))?;
+    let bad = || {
         err(
             at,
-            format!("the file holds {what}; only UnstructuredGrid (.vtu) is supported"),
+            format!("<{tag}> {name}=\"{v}\" is not six integers, low ≤ high"),
+        )
+    };
+    let values: Vec<i64> = v
+        .split_ascii_whitespace()
+        .map(|x| x.parse::<i64>().map_err(|_| bad()))
+        .collect::<Result<_, _>>()?;
+    let extent: [i64; 6] = values.try_into().map_err(|_| bad())?;
+    if extent[0] > extent[1] || extent[2] > extent[3] || extent[4] > extent[5] {
+        return Err(bad());
+    }
+    Ok(extent)
+}
+
+/// The points of an image extent (`None` if they do not fit a `usize`).
+fn extent_points(extent: &[i64; 6]) -> Option<usize> {
+    extent.chunks_exact(2).try_fold(1usize, |n, e| {
+        let span = usize::try_from(e[1].checked_sub(e[0])?.checked_add(1)?).ok()?;
+        n.checked_mul(span)
+    })
+}
+
+fn file_header(attrs: &[Attr<'_>], at: usize, dataset: XmlDataset) -> Result<Layout, ReadError> {
+    check_file_type(attrs, dataset.element()).map_err(|what| {
+        err(
+            at,
+            format!(
+                "the file holds {what}; only {} ({}) is supported",
+                dataset.element(),
+                dataset.extension()
+            ),
         )
     })?;
     let big_endian = match attr(attrs, "byte_order") {
@@ -198,8 +266,10 @@ fn array_desc(attrs: &[Attr<'_>], at: usize) -> Result<ArrayDesc, ReadError> {
     })
 }
 
-/// Walks the XML part of the file.
-fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
+/// Walks the XML part of a file holding `dataset`.
+fn parse_structure(bytes: &[u8], dataset: XmlDataset) -> Result<Parsed<'_>, ReadError> {
+    let grid = dataset.element();
+    let mut whole_extent = None;
     let mut sc = Scanner::document(bytes);
     let mut open = OpenElements::new(FORMAT);
     let mut layout = None;
@@ -262,19 +332,37 @@ fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
             } => {
                 let parent = open.innermost();
                 match (parent, name) {
-                    (None, "VTKFile") => layout = Some(file_header(&attrs, offset)?),
+                    (None, "VTKFile") => layout = Some(file_header(&attrs, offset, dataset)?),
                     (None, other) => {
                         return Err(err(
                             offset,
                             format!("not a VTK XML file: the root element is <{other}>"),
                         ))
                     }
-                    (Some("VTKFile"), "UnstructuredGrid") => seen_grid = true,
-                    (Some("UnstructuredGrid"), "Piece") => pieces.push(PieceDesc {
-                        points: parse_usize(&attrs, "NumberOfPoints", "Piece", offset)?,
-                        cells: parse_usize(&attrs, "NumberOfCells", "Piece", offset)?,
-                        at: offset,
-                        ..PieceDesc::default()
+                    (Some("VTKFile"), name) if name == grid => {
+                        seen_grid = true;
+                        if dataset == XmlDataset::ImageData {
+                            whole_extent = Some(parse_extent(&attrs, "WholeExtent", name, offset)?);
+                        }
+                    }
+                    (Some(parent), "Piece") if parent == grid => pieces.push(match dataset {
+                        XmlDataset::UnstructuredGrid => PieceDesc {
+                            points: parse_usize(&attrs, "NumberOfPoints", "Piece", offset)?,
+                            cells: parse_usize(&attrs, "NumberOfCells", "Piece", offset)?,
+                            at: offset,
+                            ..PieceDesc::default()
+                        },
+                        XmlDataset::ImageData => {
+                            let extent = parse_extent(&attrs, "Extent", "Piece", offset)?;
+                            PieceDesc {
+                                points: extent_points(&extent).ok_or_else(|| {
+                                    err(offset, "<Piece> Extent holds too many points")
+                                })?,
+                                extent: Some(extent),
+                                at: offset,
+                                ..PieceDesc::default()
+                            }
+                        }
                     }),
                     (Some("Piece"), "Points") => section = Some(Section::Points),
                     (Some("Piece"), "Cells") => section = Some(Section::Cells),
@@ -328,10 +416,11 @@ fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
                             }
                         };
                         if !seen_grid {
-                            return Err(err(offset, "no <UnstructuredGrid> element"));
+                            return Err(err(offset, format!("no <{grid}> element")));
                         }
                         return Ok(Parsed {
                             layout,
+                            whole_extent,
                             pieces,
                             appended: Some(appended),
                             appended_arrays,
@@ -370,10 +459,11 @@ fn parse_structure(bytes: &[u8]) -> Result<Parsed<'_>, ReadError> {
         return Err(err(0, "not a VTK XML file: no <VTKFile> element"));
     };
     if !seen_grid {
-        return Err(err(0, "no <UnstructuredGrid> element"));
+        return Err(err(0, format!("no <{grid}> element")));
     }
     Ok(Parsed {
         layout,
+        whole_extent,
         pieces,
         appended: None,
         appended_arrays,
@@ -770,7 +860,14 @@ pub(super) fn join_pieces(pieces: Vec<MeshParts>) -> Result<MeshParts, String> {
 /// A VTU file's pieces joined, ghost cells dropped, not yet validated, with the scalar the
 /// file names as active (`point:NAME` or `cell:NAME`), if any.
 pub(super) fn read_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Error> {
-    let parsed = parse_structure(bytes)?;
+    let parsed = parse_structure(bytes, XmlDataset::UnstructuredGrid)?;
+    let dec = decoder_checked(bytes, &parsed)?;
+    decode_parts(&dec, &parsed)
+}
+
+/// The decoder of a file read whole, once the XML after its appended data (if any) is
+/// checked.
+fn decoder_checked<'a>(bytes: &'a [u8], parsed: &Parsed<'a>) -> Result<Decoder<'a>, ReadError> {
     let dec = Decoder {
         bytes,
         layout: parsed.layout,
@@ -778,7 +875,7 @@ pub(super) fn read_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Er
     };
     match parsed.appended {
         Some(Appended::Raw { start, .. }) => {
-            let end = appended_end(&dec, &parsed)?;
+            let end = appended_end(&dec, parsed)?;
             check_trailer(bytes, start + end, &parsed.resume)?;
         }
         Some(Appended::Base64 { text, start }) => {
@@ -786,7 +883,52 @@ pub(super) fn read_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Er
         }
         None => {}
     }
-    decode_parts(&dec, &parsed)
+    Ok(dec)
+}
+
+/// The point arrays of a VTK image (`.vti`) of one piece (what VTK's image writer writes):
+/// its whole extent, the arrays of the types the reader decodes, and the name of the
+/// piece's active point scalars, if it names them.
+#[derive(Debug)]
+pub(crate) struct ImagePoints {
+    pub extent: [i64; 6],
+    pub arrays: Vec<DataArray>,
+    pub active: Option<String>,
+}
+
+/// Reads a `.vti` file's bytes into [`ImagePoints`]; an image of more than one non-empty
+/// piece, or whose piece does not cover its whole extent, is an error.
+pub(crate) fn read_image_points(bytes: &[u8]) -> Result<ImagePoints, ReadError> {
+    let parsed = parse_structure(bytes, XmlDataset::ImageData)?;
+    let dec = decoder_checked(bytes, &parsed)?;
+    let extent = parsed
+        .whole_extent
+        .ok_or_else(|| err(0, "no <ImageData> element"))?;
+    let pieces: Vec<&PieceDesc> = parsed.pieces.iter().filter(|p| p.points > 0).collect();
+    let piece = match pieces.as_slice() {
+        [one] => *one,
+        [] => return Err(err(0, "the image has no <Piece>")),
+        [_, second, ..] => {
+            return Err(err(
+                second.at,
+                format!(
+                    "the image has {} pieces; only images of one piece are read",
+                    pieces.len()
+                ),
+            ))
+        }
+    };
+    if piece.extent != Some(extent) {
+        return Err(err(
+            piece.at,
+            "the <Piece> Extent is not the <ImageData> WholeExtent",
+        ));
+    }
+    Ok(ImagePoints {
+        extent,
+        arrays: data_arrays(&dec, &piece.point_data, piece.points)?,
+        active: piece.active_point.clone(),
+    })
 }
 
 /// How much of a file [`read_file_parts`] reads first to find the start of raw appended
@@ -819,7 +961,7 @@ pub(super) fn read_file_parts(
     if crate::io::read_exact_at(file, &mut bytes, 0).is_err() {
         return Ok(None);
     }
-    let Ok(mut parsed) = parse_structure(&bytes) else {
+    let Ok(mut parsed) = parse_structure(&bytes, XmlDataset::UnstructuredGrid) else {
         return Ok(None);
     };
     let Some(Appended::Raw { start, .. }) = parsed.appended else {
