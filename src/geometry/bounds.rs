@@ -90,6 +90,7 @@ impl Aabb {
     }
 
     /// `max − min` (zero for an empty box).
+    #[inline]
     pub fn extent(&self) -> DVec3 {
         if self.is_empty() {
             DVec3::ZERO
@@ -110,6 +111,7 @@ impl Aabb {
 
     /// The area of the box's surface, `2 (dx dy + dy dz + dz dx)` (zero when empty), for the
     /// surface-area heuristic.
+    #[inline]
     pub fn surface_area(&self) -> f64 {
         let d = self.extent();
         2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)

@@ -279,10 +279,12 @@ impl BvhBounds for Aabb {
         *lin
     }
 
+    #[inline]
     fn linear_area(lin: &Aabb) -> f64 {
         lin.surface_area()
     }
 
+    #[inline]
     fn corners_area(lo: [f32; 3], hi: [f32; 3]) -> f64 {
         Self::linear_area(&Aabb::new(
             DVec3::from_array(lo.map(f64::from)),
@@ -468,10 +470,12 @@ impl BvhBounds for CylBounds {
         }
     }
 
+    #[inline]
     fn linear_area(lin: &Aabb) -> f64 {
         sector_area(lin)
     }
 
+    #[inline]
     fn corners_area(lo: [f32; 3], hi: [f32; 3]) -> f64 {
         // A whole turn's width is 2π, so that the area leaves out the planar sides.
         let span = arc_width(lo[1] as f64, hi[1] as f64);
