@@ -9,6 +9,7 @@
 #include "vtkColorTransferFunction.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
@@ -21,6 +22,7 @@
 #include "vtkRayCastImageDisplayHelper.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
 #include "vtkTimerLog.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
@@ -140,6 +142,12 @@ class vtkCylVolMapper::vtkInternals
 public:
   CylvolVolume* Volume = nullptr;
 
+  // The input without its ghost cells (VTK's vtkGhostType DUPLICATECELL and HIDDENCELL flags),
+  // made when the input has any, kept while the input is unchanged.
+  vtkSmartPointer<vtkUnstructuredGrid> Visible;
+  vtkUnstructuredGrid* VisibleOf = nullptr; // compared only
+  vtkMTimeType VisibleMTime = 0;
+
   // What the structure was built from.
   vtkUnstructuredGrid* BuiltInput = nullptr; // compared only, never dereferenced
   vtkMTimeType BuiltGeometryMTime = 0;
@@ -190,6 +198,40 @@ public:
       }
     }
     this->Times.push_back({ ren, vol, seconds });
+  }
+
+  // `grid`, or a copy without the cells its ghost array flags as another piece's or hidden
+  // (as VTK's readers and vtkUnstructuredGrid::RemoveGhostCells drop them): the input is
+  // left as it is, and the copy is kept (so the structure is too) until the input changes.
+  vtkUnstructuredGrid* WithoutGhostCells(vtkUnstructuredGrid* grid)
+  {
+    vtkUnsignedCharArray* ghosts = grid->GetCellGhostArray();
+    const unsigned char flags = vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::HIDDENCELL;
+    bool any = false;
+    if (ghosts && ghosts->GetNumberOfTuples() == grid->GetNumberOfCells())
+    {
+      const unsigned char* g = ghosts->GetPointer(0);
+      const vtkIdType n = ghosts->GetNumberOfTuples();
+      for (vtkIdType i = 0; i < n && !any; ++i)
+      {
+        any = (g[i] & flags) != 0;
+      }
+    }
+    if (!any)
+    {
+      this->Visible = nullptr;
+      this->VisibleOf = nullptr;
+      return grid;
+    }
+    if (!this->Visible || this->VisibleOf != grid || this->VisibleMTime != grid->GetMTime())
+    {
+      this->Visible = vtkSmartPointer<vtkUnstructuredGrid>::New();
+      this->Visible->DeepCopy(grid);
+      this->Visible->RemoveGhostCells();
+      this->VisibleOf = grid;
+      this->VisibleMTime = grid->GetMTime();
+    }
+    return this->Visible;
   }
 
   void FreeVolume()
@@ -405,6 +447,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                   << (base ? base->GetClassName() : "null") << "): nothing drawn.");
     return;
   }
+  grid = this->Internals->WithoutGhostCells(grid);
   if (grid->GetNumberOfCells() == 0 || grid->GetNumberOfPoints() == 0 || !grid->GetPoints() ||
     !grid->GetCells() || !grid->GetCellTypesArray())
   {
