@@ -253,6 +253,15 @@ fn real_files_agree_with_vtk() {
     assert_matches_vtk(&read_path(HEXA), &vtk_summary(Path::new(HEXA)));
 }
 
+/// The start of a script that has VTK write `sys.argv[1]`'s grid again into the folder
+/// `sys.argv[2]` (`src`, `out`): VTK reads the file with every array, into `g`.
+const VTK_READS_SRC: &str = r#"
+import sys, vtk
+src, out = sys.argv[1], sys.argv[2]
+r = vtk.vtkUnstructuredGridReader(); r.SetFileName(src)
+r.ReadAllScalarsOn(); r.ReadAllVectorsOn(); r.ReadAllFieldsOn(); r.Update()
+g = r.GetOutput()"#;
+
 /// VTK 9.1 writes the mixer again: its default (VTK 5.1 layout, with METADATA blocks when
 /// arrays carry range information) in binary and ASCII, and the classic layout (version 4.2).
 #[test]
@@ -261,12 +270,8 @@ fn files_vtk_writes_read_the_same_in_both_cell_layouts() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let script = r#"
-import sys, vtk
-src, out = sys.argv[1], sys.argv[2]
-r = vtk.vtkUnstructuredGridReader(); r.SetFileName(src)
-r.ReadAllScalarsOn(); r.ReadAllVectorsOn(); r.ReadAllFieldsOn(); r.Update()
-g = r.GetOutput()
+    let script = VTK_READS_SRC.to_string()
+        + r#"
 g.GetPoints().GetData().GetRange(-1)
 for i in range(g.GetPointData().GetNumberOfArrays()):
     g.GetPointData().GetArray(i).GetRange(-1)
@@ -280,7 +285,7 @@ for name, binary, version in [('v51_binary', True, None), ('v51_ascii', False, N
     w.Write()
 print(vtk.vtkUnstructuredGridWriter().GetFileVersion())
 "#;
-    let default_version = python(script, &[MIXER, dir.path().to_str().unwrap()]);
+    let default_version = python(&script, &[MIXER, dir.path().to_str().unwrap()]);
     assert_eq!(
         default_version.trim(),
         "51",
@@ -327,11 +332,8 @@ fn ghost_cells_vtk_writes_are_dropped() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let script = r#"
-import sys, vtk
-src, out = sys.argv[1], sys.argv[2]
-r = vtk.vtkUnstructuredGridReader(); r.SetFileName(src); r.Update()
-g = r.GetOutput()
+    let script = VTK_READS_SRC.to_string()
+        + r#"
 cells = g.AllocateCellGhostArray()
 for c in range(g.GetNumberOfCells()):
     # DUPLICATECELL (1) every 7th, HIDDENCELL (32) every 11th, REFINEDCELL (4) every 5th.
@@ -347,7 +349,7 @@ for name, binary, version in [('v51_binary', True, None), ('v42_ascii', False, 4
     if version: w.SetFileVersion(version)
     w.Write()
 "#;
-    python(script, &[MIXER, dir.path().to_str().unwrap()]);
+    python(&script, &[MIXER, dir.path().to_str().unwrap()]);
     let reference = mixer();
     let kept: Vec<usize> = (0..reference.cell_count())
         .filter(|c| c % 7 != 0 && c % 11 != 0)

@@ -34,17 +34,22 @@ impl ImageScalars {
     /// The values as `f32`, rows **top to bottom** (the renderer's order, as
     /// [`crate::render::Renderer::render`] takes a depth image).
     pub fn top_down_f32(&self) -> Vec<f32> {
-        let w = self.width as usize;
-        if w == 0 {
-            return Vec::new();
-        }
-        self.values
-            .chunks_exact(w)
-            .rev()
-            .flatten()
-            .map(|&v| v as f32)
-            .collect()
+        rows_flipped(&self.values, self.width as usize, |v| v as f32)
     }
+}
+
+/// `values` in rows of `width`, the last row first, each value mapped by `f`: between VTK's
+/// bottom-to-top image rows and the renderer's top-to-bottom ones (empty for a zero width).
+pub(crate) fn rows_flipped<T: Copy, U>(values: &[T], width: usize, f: impl Fn(T) -> U) -> Vec<U> {
+    if width == 0 {
+        return Vec::new();
+    }
+    values
+        .chunks_exact(width)
+        .rev()
+        .flatten()
+        .map(|&v| f(v))
+        .collect()
 }
 
 /// Reads the one-component point array of a VTK image one slice thick along z (`.vti`):
@@ -69,7 +74,7 @@ impl ImageScalars {
 /// assert_eq!(top[3..], [1.0, 2.0, 3.0]);
 /// ```
 pub fn read_point_scalars(bytes: &[u8]) -> Result<ImageScalars, Error> {
-    let image = read_image_points(bytes).map_err(|mut e| {
+    let mut image = read_image_points(bytes).map_err(|mut e| {
         e.format = FORMAT;
         e
     })?;
@@ -85,12 +90,14 @@ pub fn read_point_scalars(bytes: &[u8]) -> Result<ImageScalars, Error> {
     let (Some(width), Some(height)) = (side(e[0], e[1]), side(e[2], e[3])) else {
         return Err(invalid(format!("the image's extent {e:?} is too large")));
     };
-    let singles: Vec<_> = image.arrays.iter().filter(|a| a.components == 1).collect();
+    let singles: Vec<usize> = (0..image.arrays.len())
+        .filter(|&i| image.arrays[i].components == 1)
+        .collect();
     let chosen = match &image.active {
-        Some(name) => image.arrays.iter().find(|a| &a.name == name),
+        Some(name) => image.arrays.iter().position(|a| &a.name == name),
         None => singles.first().copied().filter(|_| singles.len() == 1),
     };
-    let Some(array) = chosen else {
+    let Some(chosen) = chosen else {
         let names: Vec<String> = image
             .arrays
             .iter()
@@ -114,6 +121,7 @@ pub fn read_point_scalars(bytes: &[u8]) -> Result<ImageScalars, Error> {
             ),
         }));
     };
+    let array = image.arrays.swap_remove(chosen);
     if array.components != 1 {
         return Err(invalid(format!(
             "the active scalars \"{}\" have {} components, not one",
@@ -123,8 +131,8 @@ pub fn read_point_scalars(bytes: &[u8]) -> Result<ImageScalars, Error> {
     Ok(ImageScalars {
         width,
         height,
-        name: array.name.clone(),
-        values: array.values.clone(),
+        name: array.name,
+        values: array.values,
     })
 }
 

@@ -95,16 +95,13 @@ impl Image {
     /// depth sample (`+∞` in [`Image::depth`]), so that VTK's and ParaView's ranges and colour
     /// maps skip it.
     pub fn depth_bottom_up(&self) -> Vec<f32> {
-        let w = self.width as usize;
-        if w == 0 {
-            return Vec::new();
-        }
-        self.depth
-            .chunks_exact(w)
-            .rev()
-            .flatten()
-            .map(|&d| if d.is_infinite() { f32::NAN } else { d })
-            .collect()
+        crate::io::vti::rows_flipped(&self.depth, self.width as usize, |d| {
+            if d.is_infinite() {
+                f32::NAN
+            } else {
+                d
+            }
+        })
     }
 
     /// Writes [`Image::depth_bottom_up`] as VTK image data (`.vti`), one point array `depth`

@@ -143,7 +143,7 @@ public:
   CylvolVolume* Volume = nullptr;
 
   // The input without its ghost cells (VTK's vtkGhostType DUPLICATECELL and HIDDENCELL flags),
-  // made when the input has any, kept while the input is unchanged.
+  // null when it has none; for the input VisibleOf at VisibleMTime.
   vtkSmartPointer<vtkUnstructuredGrid> Visible;
   vtkUnstructuredGrid* VisibleOf = nullptr; // compared only
   vtkMTimeType VisibleMTime = 0;
@@ -202,9 +202,17 @@ public:
 
   // `grid`, or a copy without the cells its ghost array flags as another piece's or hidden
   // (as VTK's readers and vtkUnstructuredGrid::RemoveGhostCells drop them): the input is
-  // left as it is, and the copy is kept (so the structure is too) until the input changes.
+  // left as it is. The answer (the copy, or none needed) is kept until the input changes, so
+  // an unchanged input is neither scanned nor copied again, and its structure is kept.
   vtkUnstructuredGrid* WithoutGhostCells(vtkUnstructuredGrid* grid)
   {
+    if (this->VisibleOf == grid && this->VisibleMTime == grid->GetMTime())
+    {
+      return this->Visible ? this->Visible.Get() : grid;
+    }
+    this->VisibleOf = grid;
+    this->VisibleMTime = grid->GetMTime();
+    this->Visible = nullptr;
     vtkUnsignedCharArray* ghosts = grid->GetCellGhostArray();
     const unsigned char flags = vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::HIDDENCELL;
     bool any = false;
@@ -219,18 +227,13 @@ public:
     }
     if (!any)
     {
-      this->Visible = nullptr;
-      this->VisibleOf = nullptr;
       return grid;
     }
-    if (!this->Visible || this->VisibleOf != grid || this->VisibleMTime != grid->GetMTime())
-    {
-      this->Visible = vtkSmartPointer<vtkUnstructuredGrid>::New();
-      this->Visible->DeepCopy(grid);
-      this->Visible->RemoveGhostCells();
-      this->VisibleOf = grid;
-      this->VisibleMTime = grid->GetMTime();
-    }
+    // The copy shares the points and point data; RemoveGhostCells gives it new cells and
+    // cell data of its own.
+    this->Visible = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    this->Visible->ShallowCopy(grid);
+    this->Visible->RemoveGhostCells();
     return this->Visible;
   }
 
