@@ -10,6 +10,7 @@
 //! | PLOT3D whole single-grid `*xyz.bin` + `*q.bin` | [`plot3d::read`] | — |
 //! | VTK image data (`.vti`), one array over a 2-D image (a render's depth) | [`vti::read_point_scalars`] | [`vti::write_point_scalars`] (`Float32`) |
 
+mod elements;
 mod ghost;
 pub mod legacy;
 pub mod plot3d;

@@ -67,6 +67,7 @@ pub fn cells_from_vtk(
         |k| connectivity[k],
         offsets,
         style,
+        0,
         types,
         points,
     )
@@ -77,20 +78,24 @@ const CELLS_PER_TASK: usize = 1 << 14;
 
 /// [`cells_from_vtk`] over a connectivity array of `len` entries read through `id` (entry `k`
 /// for `k < len`), so readers convert their stored integers without an `i64` copy of the
-/// whole array. Converts in parallel (the cheap checks of types and spans come first, in one
-/// sequential pass each); the error is the one a sequential pass would meet first
-/// (unsupported types, then spans, then vertex counts and ids in cell order).
+/// whole array. Each cell's span of the array begins with `skip` entries that are not ids
+/// (1 for the legacy format's classic cell list, where a vertex count leads each cell's ids
+/// and the offsets are where each count stands; 0 otherwise). Converts in parallel (the cheap
+/// checks of types and spans come first, in one sequential pass each); the error is the one a
+/// sequential pass would meet first (unsupported types, then spans, then vertex counts and
+/// ids in cell order).
 pub(crate) fn cells_from_ids(
     len: usize,
     id: impl Fn(usize) -> i64 + Sync,
     offsets: &[i64],
     style: OffsetStyle,
+    skip: usize,
     types: &[u8],
     points: usize,
 ) -> Result<ConvertedCells, MeshError> {
     let n = types.len();
     check_types(types)?;
-    let bounds = Bounds::new(len, offsets, style, n)?;
+    let bounds = Bounds::new(len, offsets, style, n, skip)?;
     if let Some(cell) = (0..n).find(|&c| bounds.span(c).is_none()) {
         let (b, e) = (bounds.at(cell), bounds.at(cell + 1));
         return Err(MeshError::CellArrays(format!(
@@ -184,6 +189,8 @@ struct Bounds<'a> {
     /// Boundaries before the first offset (1 for ends, whose boundary 0 is implicit).
     lead: usize,
     len: usize,
+    /// Entries at the start of each span that are not ids (see [`cells_from_ids`]).
+    skip: usize,
 }
 
 impl<'a> Bounds<'a> {
@@ -192,6 +199,7 @@ impl<'a> Bounds<'a> {
         offsets: &'a [i64],
         style: OffsetStyle,
         n: usize,
+        skip: usize,
     ) -> Result<Self, MeshError> {
         let lead = match style {
             OffsetStyle::Starts if offsets.len() == n + 1 || offsets.len() == n => 0,
@@ -204,7 +212,12 @@ impl<'a> Bounds<'a> {
                 )))
             }
         };
-        Ok(Bounds { offsets, lead, len })
+        Ok(Bounds {
+            offsets,
+            lead,
+            len,
+            skip,
+        })
     }
 
     /// Boundary `i` (`0` before the offsets, the connectivity's length after them).
@@ -215,10 +228,12 @@ impl<'a> Bounds<'a> {
         }
     }
 
-    /// Cell `cell`'s range in the connectivity, `None` when it is not one.
+    /// The range of cell `cell`'s ids in the connectivity (its span less the `skip` entries
+    /// leading it), `None` when that is not a range within it.
     fn span(&self, cell: usize) -> Option<(usize, usize)> {
-        let (b, e) = (self.at(cell), self.at(cell + 1));
-        (b >= 0 && e >= b && e as u64 <= self.len as u64).then_some((b as usize, e as usize))
+        let (start, e) = (self.at(cell), self.at(cell + 1));
+        let b = start.checked_add(self.skip as i64)?;
+        (start >= 0 && e >= b && e as u64 <= self.len as u64).then_some((b as usize, e as usize))
     }
 }
 
@@ -396,6 +411,23 @@ mod tests {
             if faults.is_empty() {
                 proptest::prop_assert!(cells_from_vtk(&connectivity, &ends, OffsetStyle::Ends, &types, points).is_ok());
             }
+            // The same cells as a classic legacy list (each cell's vertex count, then its
+            // ids) where the spans are well formed, the offsets where each count stands.
+            let spans_ok = starts.windows(2).all(|w| 0 <= w[0] && w[0] <= w[1])
+                && starts[n] as usize <= connectivity.len();
+            if spans_ok {
+                let mut list = Vec::new();
+                let mut records = Vec::with_capacity(n + 1);
+                for w in starts.windows(2) {
+                    records.push(list.len() as i64);
+                    list.push(w[1] - w[0]);
+                    list.extend_from_slice(&connectivity[w[0] as usize..w[1] as usize]);
+                }
+                records.push(list.len() as i64);
+                let want = sequential(&connectivity, &starts, OffsetStyle::Starts, &types, points);
+                let got = cells_from_ids(list.len(), |k| list[k], &records, OffsetStyle::Starts, 1, &types, points);
+                proptest::prop_assert_eq!(&got, &want, "counted");
+            }
         }
     }
 
@@ -432,6 +464,21 @@ mod tests {
         assert!(matches!(e, MeshError::IndexOutOfRange { index: 9, .. }));
         let e = cells_from_vtk(&[0, -1, 2, 3], &[4], OffsetStyle::Ends, &[10], 4).unwrap_err();
         assert!(matches!(e, MeshError::IndexOutOfRange { index: -1, .. }));
+    }
+
+    /// A span's leading entries are skipped only from a start that is in the array: a
+    /// negative start is reported, not moved into it.
+    #[test]
+    fn skipped_entries_lead_spans_within_the_array() {
+        let list = [4i64, 0, 1, 2, 3];
+        let tet = [VTK_TETRA];
+        let ok = cells_from_ids(5, |k| list[k], &[0, 5], OffsetStyle::Starts, 1, &tet, 4);
+        let plain = cells_from_vtk(&[0, 1, 2, 3], &[4], OffsetStyle::Ends, &tet, 4);
+        assert_eq!(ok, plain);
+        let e = cells_from_ids(5, |k| list[k], &[-1, 5], OffsetStyle::Starts, 1, &tet, 4);
+        assert!(matches!(e, Err(MeshError::CellArrays(_))), "{e:?}");
+        let e = cells_from_ids(5, |k| list[k], &[5, 5], OffsetStyle::Starts, 1, &tet, 4);
+        assert!(matches!(e, Err(MeshError::CellArrays(_))), "{e:?}");
     }
 
     #[test]

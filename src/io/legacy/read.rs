@@ -4,11 +4,12 @@
 use glam::DVec3;
 
 use super::cursor::{show, Cursor, Token};
-use super::values::{decode_f64, decode_i64, parse_f64, parse_i64, ValueType};
+use super::values::{parse_f64, parse_i64, ValueType};
 use crate::error::{Error, ReadError};
+use crate::io::elements::{to_f64, to_tuples, Integers};
 use crate::io::ghost::drop_ghost_cells;
 use crate::io::structured::hexahedra;
-use crate::mesh::{cells_from_vtk, Association, CellKind, DataArray, Mesh, MeshParts, OffsetStyle};
+use crate::mesh::{cells_from_ids, Association, CellKind, DataArray, Mesh, MeshParts, OffsetStyle};
 
 /// The dataset types this reader turns into meshes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,13 +37,46 @@ impl<T> At<T> {
     }
 }
 
+/// Integers of a cell array as read: a binary file's block, read a value at a time where the
+/// cells are converted (no copy of the file's largest array), or an ASCII file's values.
+enum Ids<'a> {
+    Block(Integers<'a>),
+    Values(Vec<i64>),
+}
+
+impl Ids<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Ids::Block(b) => b.len(),
+            Ids::Values(v) => v.len(),
+        }
+    }
+
+    /// Value `k` (`k < len()`; beyond it, 0).
+    #[inline]
+    fn get(&self, k: usize) -> i64 {
+        match self {
+            Ids::Block(b) => b.get(k),
+            Ids::Values(v) => v.get(k).copied().unwrap_or(0),
+        }
+    }
+}
+
+/// The `CELLS` section: where each cell's span of `ids` starts (`n + 1` entries, the last
+/// where the list ends) and how many values lead each span before its ids (1 in the classic
+/// layout, where they are each cell's vertex count; 0 in VTK 5.1's `CONNECTIVITY`).
+struct CellList<'a> {
+    starts: Vec<i64>,
+    skip: usize,
+    ids: Ids<'a>,
+}
+
 /// Everything read from the file, before it becomes a mesh.
-struct Parsed {
+struct Parsed<'a> {
     dataset: Dataset,
     points: Option<At<Vec<DVec3>>>,
     dims: Option<At<[usize; 3]>>,
-    /// Cell starts (`n + 1` entries) and connectivity.
-    cells: Option<At<(Vec<i64>, Vec<i64>)>>,
+    cells: Option<At<CellList<'a>>>,
     types: Option<At<Vec<u8>>>,
     point_count: Option<At<usize>>,
     cell_count: Option<At<usize>>,
@@ -177,9 +211,7 @@ impl<'a> Parser<'a> {
     ) -> Result<Vec<f64>> {
         if self.binary {
             let block = self.binary_block(ty, tuples, comps, what)?;
-            let mut out = Vec::with_capacity(block.len() / ty.size());
-            decode_f64(ty, block, &mut out);
-            return Ok(out);
+            return Ok(to_f64(block, ty.element(), true));
         }
         let n = tuples
             .checked_mul(comps)
@@ -210,23 +242,23 @@ impl<'a> Parser<'a> {
         Ok(out)
     }
 
-    /// Reads `n` integer values of type `ty` as `i64` (cell arrays).
-    fn values_i64(
-        &mut self,
-        ty: ValueType,
-        n: usize,
-        what: What,
-        ty_at: usize,
-    ) -> Result<Vec<i64>> {
+    /// Reads `n` integer values of type `ty` (cell arrays): a binary block as it is, to be
+    /// read a value at a time, or an ASCII file's values.
+    fn ids(&mut self, ty: ValueType, n: usize, what: What, ty_at: usize) -> Result<Ids<'a>> {
         if !ty.is_integer() {
             return Err(self.err(ty_at, format!("{} must hold integers", what.section)));
         }
         if self.binary {
             let block = self.binary_block(ty, n, 1, what)?;
-            let mut out = Vec::with_capacity(block.len() / ty.size());
-            decode_i64(ty, block, &mut out);
-            return Ok(out);
+            // Integer types have elements (checked above).
+            let ids = Integers::new(block, ty.element(), true);
+            return Ok(ids.map_or(Ids::Values(Vec::new()), Ids::Block));
         }
+        Ok(Ids::Values(self.ascii_i64(n, what)?))
+    }
+
+    /// Reads `n` ASCII integers.
+    fn ascii_i64(&mut self, n: usize, what: What) -> Result<Vec<i64>> {
         let mut out = Vec::with_capacity(n.min(self.c.remaining() / 2 + 1));
         for i in 0..n {
             let t = self.c.token().ok_or_else(|| self.truncated(what, i, n))?;
@@ -264,7 +296,7 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn parse(&mut self) -> Result<Parsed> {
+    fn parse(&mut self) -> Result<Parsed<'a>> {
         let dataset = self.header()?;
         let mut p = Parsed {
             dataset,
@@ -407,16 +439,20 @@ impl<'a> Parser<'a> {
             section: "POINTS",
             unit: "points",
         };
-        let v = self.values_f64(ty, n, 3, what)?;
+        let points = if self.binary {
+            let block = self.binary_block(ty, n, 3, what)?;
+            to_tuples(block, ty.element(), true, DVec3::from_array)
+        } else {
+            let v = self.values_f64(ty, n, 3, what)?;
+            v.chunks_exact(3).map(DVec3::from_slice).collect()
+        };
         self.skip_metadata();
-        Ok(v.chunks_exact(3)
-            .map(|c| DVec3::new(c[0], c[1], c[2]))
-            .collect())
+        Ok(points)
     }
 
     /// `CELLS`, in the classic layout (a count before each cell's ids) or VTK 5.1's
-    /// (`OFFSETS` and `CONNECTIVITY` arrays). Returns cell starts (`n + 1`) and connectivity.
-    fn cells(&mut self) -> Result<(Vec<i64>, Vec<i64>)> {
+    /// (`OFFSETS` and `CONNECTIVITY` arrays).
+    fn cells(&mut self) -> Result<CellList<'a>> {
         let a = self.count("the number of cells")?;
         let b = self.count("the size of the cell list")?;
         if self.c.peek_token().is_some_and(|t| t.is("OFFSETS")) {
@@ -427,7 +463,7 @@ impl<'a> Parser<'a> {
                 section: "CELLS OFFSETS",
                 unit: "offsets",
             };
-            let offsets = self.values_i64(ty, a, what, ty_at)?;
+            let offsets = self.ids(ty, a, what, ty_at)?;
             self.skip_metadata();
             self.keyword("CONNECTIVITY", "after the CELLS OFFSETS")?;
             let ty_at = self.c.pos();
@@ -436,35 +472,39 @@ impl<'a> Parser<'a> {
                 section: "CELLS CONNECTIVITY",
                 unit: "ids",
             };
-            let connectivity = self.values_i64(ty, b, what, ty_at)?;
+            let ids = self.ids(ty, b, what, ty_at)?;
             self.skip_metadata();
-            if offsets.is_empty() {
-                return Ok((vec![0], connectivity));
-            }
-            return Ok((offsets, connectivity));
+            let starts = match offsets {
+                _ if a == 0 => vec![0],
+                Ids::Values(v) => v,
+                Ids::Block(o) => (0..o.len()).map(|k| o.get(k)).collect(),
+            };
+            return Ok(CellList {
+                starts,
+                skip: 0,
+                ids,
+            });
         }
         if a == 0 {
-            return Ok((vec![0], Vec::new()));
+            return Ok(CellList {
+                starts: vec![0],
+                skip: 0,
+                ids: Ids::Values(Vec::new()),
+            });
         }
-        // Classic layout: 4-byte ints in binary files, split into starts and ids as read.
+        // Classic layout: 4-byte ints in binary files.
         let at = self.c.pos();
         let what = What {
             section: "CELLS",
             unit: "values",
         };
-        let split = if self.binary {
-            let block = self.binary_block(ValueType::Int, b, 1, what)?;
-            split_counted(a, block.len() / 4, |i| {
-                block
-                    .get(4 * i..4 * i + 4)
-                    .and_then(|w| w.try_into().ok())
-                    .map_or(-1, |w| i64::from(i32::from_be_bytes(w)))
-            })
-        } else {
-            let list = self.values_i64(ValueType::Int, b, what, at)?;
-            split_counted(a, list.len(), |i| list.get(i).copied().unwrap_or(-1))
-        };
-        split.map_err(|message| self.err(at, message))
+        let ids = self.ids(ValueType::Int, b, what, at)?;
+        let starts = counted_starts(a, ids.len(), |i| ids.get(i)).map_err(|m| self.err(at, m))?;
+        Ok(CellList {
+            starts,
+            skip: 1,
+            ids,
+        })
     }
 
     fn cell_types(&mut self) -> Result<Vec<u8>> {
@@ -474,12 +514,11 @@ impl<'a> Parser<'a> {
             section: "CELL_TYPES",
             unit: "cell types",
         };
-        let codes = self.values_i64(ValueType::Int, n, what, at)?;
+        let codes = self.ids(ValueType::Int, n, what, at)?;
         self.skip_metadata();
-        codes
-            .iter()
-            .enumerate()
-            .map(|(i, &code)| {
+        (0..codes.len())
+            .map(|i| {
+                let code = codes.get(i);
                 u8::try_from(code).map_err(|_| {
                     self.err(at, format!("cell {i} has an invalid cell type code {code}"))
                 })
@@ -678,7 +717,7 @@ impl<'a> Parser<'a> {
     }
 
     /// Checks the sections against each other and builds the mesh.
-    fn build_mesh(&self, p: Parsed) -> std::result::Result<Mesh, Error> {
+    fn build_mesh(&self, p: Parsed<'a>) -> std::result::Result<Mesh, Error> {
         let end = self.c.len();
         let points = p
             .points
@@ -688,8 +727,8 @@ impl<'a> Parser<'a> {
             Dataset::Unstructured => match p.cells {
                 None => (Vec::new(), Vec::new()),
                 Some(cells) => {
-                    let (offsets, connectivity) = cells.value;
-                    let n_cells = offsets.len().saturating_sub(1);
+                    let CellList { starts, skip, ids } = &cells.value;
+                    let n_cells = starts.len().saturating_sub(1);
                     let types = p.types.ok_or_else(|| {
                         self.err(end, "the file has CELLS but no CELL_TYPES section")
                     })?;
@@ -705,10 +744,12 @@ impl<'a> Parser<'a> {
                             )
                             .into());
                     }
-                    let converted = cells_from_vtk(
-                        &connectivity,
-                        &offsets,
+                    let converted = cells_from_ids(
+                        ids.len(),
+                        |k| ids.get(k),
+                        starts,
                         OffsetStyle::Starts,
+                        *skip,
                         &types.value,
                         n_points,
                     )?;
@@ -769,16 +810,16 @@ impl<'a> Parser<'a> {
     }
 }
 
-/// Splits a classic cell list of `len` values (`value(i)` is the i-th), a vertex count before
-/// each of `cells` cells' ids, into cell starts (`cells + 1`) and connectivity.
-fn split_counted(
+/// Where each of `cells` cells' records starts in a classic cell list of `len` values
+/// (`value(i)` is the i-th), each record a vertex count and that many ids: `cells + 1`
+/// entries, the last `len`. Every count must fit in what remains, and the records must use
+/// the whole list.
+fn counted_starts(
     cells: usize,
     len: usize,
     value: impl Fn(usize) -> i64,
-) -> std::result::Result<(Vec<i64>, Vec<i64>), String> {
+) -> std::result::Result<Vec<i64>, String> {
     let mut starts = Vec::with_capacity(cells.min(len) + 1);
-    starts.push(0i64);
-    let mut connectivity = Vec::with_capacity(len.saturating_sub(cells));
     let mut read = 0usize;
     for cell in 0..cells {
         if read >= len {
@@ -786,6 +827,7 @@ fn split_counted(
                 "CELLS lists {cell} cells in {len} values, but claims {cells} cells"
             ));
         }
+        starts.push(read as i64);
         let count = value(read);
         let remaining = len - read - 1;
         let count = usize::try_from(count)
@@ -796,16 +838,15 @@ fn split_counted(
                     "CELLS: cell {cell} claims {count} points, but only {remaining} values remain"
                 )
             })?;
-        connectivity.extend((read + 1..read + 1 + count).map(&value));
         read += 1 + count;
-        starts.push(connectivity.len() as i64);
     }
     if read != len {
         return Err(format!(
             "CELLS claims {len} values, but its {cells} cells use {read}"
         ));
     }
-    Ok((starts, connectivity))
+    starts.push(len as i64);
+    Ok(starts)
 }
 
 #[cfg(test)]
@@ -821,22 +862,19 @@ mod tests {
     }
 
     #[test]
-    fn classic_cell_lists_split_into_starts_and_ids() {
+    fn classic_cell_lists_give_record_starts() {
         let list = [3i64, 7, 8, 9, 1, 5];
         let get = |i: usize| list[i];
-        assert_eq!(
-            split_counted(2, 6, get),
-            Ok((vec![0, 3, 4], vec![7, 8, 9, 5]))
-        );
-        assert!(split_counted(3, 6, get)
+        assert_eq!(counted_starts(2, 6, get), Ok(vec![0, 4, 6]));
+        assert!(counted_starts(3, 6, get)
             .unwrap_err()
             .contains("lists 2 cells"));
-        assert!(split_counted(1, 6, get).unwrap_err().contains("use 4"));
+        assert!(counted_starts(1, 6, get).unwrap_err().contains("use 4"));
         let bad = [5i64, 1, 2];
-        assert!(split_counted(1, 3, |i| bad[i])
+        assert!(counted_starts(1, 3, |i| bad[i])
             .unwrap_err()
             .contains("only 2 values remain"));
         let negative = [-1i64, 1];
-        assert!(split_counted(1, 2, |i| negative[i]).is_err());
+        assert!(counted_starts(1, 2, |i| negative[i]).is_err());
     }
 }

@@ -1,5 +1,8 @@
-//! The data types of legacy VTK arrays and the decoding of their values: big-endian binary
-//! blocks and ASCII words, into `f64` (data) or `i64` (cell arrays).
+//! The data types of legacy VTK arrays, how binary files store them (big-endian
+//! [`ScalarType`] elements, decoded by [`crate::io::elements`]), and ASCII words as `f64`
+//! (data) or `i64` (cell arrays).
+
+use crate::io::elements::{is_integer, ScalarType};
 
 /// A legacy VTK data type name, as `vtkDataReader` accepts them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,77 +63,31 @@ impl ValueType {
         })
     }
 
+    /// How binary files store its values (always big-endian): `long` as 8 bytes, as VTK on
+    /// 64-bit Linux reads it, and `vtkIdType` as 4, as VTK's legacy writer writes it.
+    pub fn element(self) -> ScalarType {
+        match self {
+            ValueType::Char => ScalarType::I8,
+            ValueType::UnsignedChar => ScalarType::U8,
+            ValueType::Short => ScalarType::I16,
+            ValueType::UnsignedShort => ScalarType::U16,
+            ValueType::Int | ValueType::IdType => ScalarType::I32,
+            ValueType::UnsignedInt => ScalarType::U32,
+            ValueType::Long | ValueType::Int64 => ScalarType::I64,
+            ValueType::UnsignedLong | ValueType::UnsignedInt64 => ScalarType::U64,
+            ValueType::Float => ScalarType::F32,
+            ValueType::Double => ScalarType::F64,
+        }
+    }
+
     /// Bytes per value in binary files.
     pub fn size(self) -> usize {
-        match self {
-            ValueType::Char | ValueType::UnsignedChar => 1,
-            ValueType::Short | ValueType::UnsignedShort => 2,
-            ValueType::Int | ValueType::UnsignedInt | ValueType::IdType | ValueType::Float => 4,
-            ValueType::Long
-            | ValueType::UnsignedLong
-            | ValueType::Int64
-            | ValueType::UnsignedInt64
-            | ValueType::Double => 8,
-        }
+        self.element().size()
     }
 
     /// Whether values are integers (cell arrays must be).
     pub fn is_integer(self) -> bool {
-        !matches!(self, ValueType::Float | ValueType::Double)
-    }
-}
-
-fn array<const N: usize>(chunk: &[u8]) -> [u8; N] {
-    chunk.try_into().unwrap_or([0; N])
-}
-
-/// Appends the big-endian values of `block` (a whole number of values) as `f64`.
-pub(super) fn decode_f64(ty: ValueType, block: &[u8], out: &mut Vec<f64>) {
-    macro_rules! go {
-        ($t:ty, $n:expr) => {
-            out.extend(
-                block
-                    .chunks_exact($n)
-                    .map(|c| <$t>::from_be_bytes(array::<$n>(c)) as f64),
-            )
-        };
-    }
-    match ty {
-        ValueType::Char => go!(i8, 1),
-        ValueType::UnsignedChar => go!(u8, 1),
-        ValueType::Short => go!(i16, 2),
-        ValueType::UnsignedShort => go!(u16, 2),
-        ValueType::Int | ValueType::IdType => go!(i32, 4),
-        ValueType::UnsignedInt => go!(u32, 4),
-        ValueType::Long | ValueType::Int64 => go!(i64, 8),
-        ValueType::UnsignedLong | ValueType::UnsignedInt64 => go!(u64, 8),
-        ValueType::Float => go!(f32, 4),
-        ValueType::Double => go!(f64, 8),
-    }
-}
-
-/// Appends the big-endian integer values of `block` as `i64` (unsigned values beyond
-/// `i64::MAX` become `i64::MAX`, which no id check accepts). Float types append nothing.
-pub(super) fn decode_i64(ty: ValueType, block: &[u8], out: &mut Vec<i64>) {
-    macro_rules! go {
-        ($t:ty, $n:expr) => {
-            out.extend(
-                block.chunks_exact($n).map(|c| {
-                    i64::try_from(<$t>::from_be_bytes(array::<$n>(c))).unwrap_or(i64::MAX)
-                }),
-            )
-        };
-    }
-    match ty {
-        ValueType::Char => go!(i8, 1),
-        ValueType::UnsignedChar => go!(u8, 1),
-        ValueType::Short => go!(i16, 2),
-        ValueType::UnsignedShort => go!(u16, 2),
-        ValueType::Int | ValueType::IdType => go!(i32, 4),
-        ValueType::UnsignedInt => go!(u32, 4),
-        ValueType::Long | ValueType::Int64 => go!(i64, 8),
-        ValueType::UnsignedLong | ValueType::UnsignedInt64 => go!(u64, 8),
-        ValueType::Float | ValueType::Double => {}
+        is_integer(self.element())
     }
 }
 
@@ -179,17 +136,14 @@ mod tests {
             .contains("unknown"));
     }
 
+    /// Binary files store each type as VTK's legacy writer and reader do.
     #[test]
-    fn big_endian_decoding() {
-        let mut f = Vec::new();
-        decode_f64(ValueType::Float, &1.5f32.to_be_bytes(), &mut f);
-        decode_f64(ValueType::Short, &(-3i16).to_be_bytes(), &mut f);
-        decode_f64(ValueType::UnsignedChar, &[200], &mut f);
-        assert_eq!(f, vec![1.5, -3.0, 200.0]);
-        let mut i = Vec::new();
-        decode_i64(ValueType::Int, &(-7i32).to_be_bytes(), &mut i);
-        decode_i64(ValueType::UnsignedInt64, &u64::MAX.to_be_bytes(), &mut i);
-        assert_eq!(i, vec![-7, i64::MAX]);
+    fn stored_elements() {
+        assert_eq!(ValueType::IdType.element(), ScalarType::I32);
+        assert_eq!(ValueType::Long.element(), ScalarType::I64);
+        assert_eq!(ValueType::UnsignedLong.element(), ScalarType::U64);
+        assert_eq!(ValueType::Float.element(), ScalarType::F32);
+        assert!(ValueType::UnsignedChar.is_integer() && !ValueType::Double.is_integer());
     }
 
     #[test]

@@ -9,9 +9,11 @@ use glam::DVec3;
 #[cfg(unix)]
 use super::decode::FileSource;
 use super::decode::{
-    ascii_f64, ascii_i64, is_integer, read_binary, skip_binary, to_f64, to_i64, to_tuples,
-    Base64Source, Compressor, Integers, Layout, RawSource, ScalarType, Source,
+    ascii_f64, ascii_i64, read_binary, skip_binary, Base64Source, Compressor, Layout, RawSource,
+    Source,
 };
+use crate::io::elements::{is_integer, to_f64, to_i64, to_tuples, Integers, ScalarType};
+
 use super::xml::{attr, check_file_type, is_blank, Attr, Event, OpenElements, Scanner};
 use super::FORMAT;
 use crate::error::{Error, ReadError};
@@ -658,6 +660,7 @@ impl<'a> Decoder<'a> {
                     |k| ids.get(k),
                     offsets,
                     OffsetStyle::Ends,
+                    0,
                     types,
                     points,
                 )?
