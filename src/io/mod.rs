@@ -136,7 +136,7 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
         ))
     })?;
     match format {
-        Format::LegacyVtk => legacy::read(&read_bytes(path)?).map_err(|e| e.in_file(path)),
+        Format::LegacyVtk => legacy::read_file(path),
         Format::Vtu => vtu::read_file(path),
         Format::Pvtu => vtu::read_parallel_file(path),
         Format::Plot3d => {
