@@ -4,7 +4,7 @@
 //!
 //! | format | read | write |
 //! |---|---|---|
-//! | legacy VTK (`.vtk`), ASCII and BINARY, `UNSTRUCTURED_GRID` and `STRUCTURED_GRID` | [`legacy::read`] | [`legacy::write`] (BINARY unstructured grid) |
+//! | legacy VTK (`.vtk`), ASCII and BINARY, `UNSTRUCTURED_GRID` and `STRUCTURED_GRID` | [`legacy::read`], [`legacy::read_file`] | [`legacy::write`] (BINARY unstructured grid) |
 //! | VTU (`.vtu`), ascii, base64, raw appended, zlib, LZ4 or LZMA compression, 32/64-bit headers | [`vtu::read`], [`vtu::read_file`] | [`vtu::write`] (zlib or none) |
 //! | parallel VTU (`.pvtu`): an index and one `.vtu` a piece | [`vtu::read_parallel`], [`vtu::read_parallel_file`] | — |
 //! | PLOT3D whole single-grid `*xyz.bin` + `*q.bin` | [`plot3d::read`] | — |
