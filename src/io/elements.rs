@@ -181,6 +181,13 @@ pub(super) struct Integers<'a> {
 }
 
 impl<'a> Integers<'a> {
+    /// No elements.
+    pub(super) const EMPTY: Integers<'static> = Integers {
+        bytes: &[],
+        ty: ScalarType::I64,
+        big_endian: false,
+    };
+
     /// `None` for a float type.
     pub(super) fn new(bytes: &'a [u8], ty: ScalarType, big_endian: bool) -> Option<Self> {
         is_integer(ty).then_some(Integers {

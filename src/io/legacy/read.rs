@@ -39,49 +39,26 @@ impl<T> At<T> {
     }
 }
 
-/// Integers of a cell array as read: a binary file's block of big-endian elements of an integer
-/// type, read a value at a time where the cells are converted (no copy of the file's largest
-/// array), or an ASCII file's values.
-enum Ids<'a> {
-    Block(Cow<'a, [u8]>, ScalarType),
-    Values(Vec<i64>),
+/// Integers of a cell array as read, as big-endian elements of an integer type: a binary
+/// file's block as it is, read a value at a time where the cells are converted (no copy of
+/// the file's largest array), or an ASCII file's values stored the same way.
+struct Ids<'a> {
+    bytes: Cow<'a, [u8]>,
+    ty: ScalarType,
 }
 
 impl Ids<'_> {
+    /// Parsed values, stored as big-endian `i64`s.
+    fn from_values(values: &[i64]) -> Ids<'static> {
+        Ids {
+            bytes: Cow::Owned(values.iter().flat_map(|v| v.to_be_bytes()).collect()),
+            ty: ScalarType::I64,
+        }
+    }
+
     /// The values, to be read one at a time.
-    fn view(&self) -> IdsView<'_> {
-        match self {
-            Ids::Block(bytes, ty) => match Integers::new(bytes, *ty, true) {
-                Some(ints) => IdsView::Block(ints),
-                None => IdsView::Values(&[]),
-            },
-            Ids::Values(v) => IdsView::Values(v),
-        }
-    }
-}
-
-/// [`Ids`] as read.
-#[derive(Clone, Copy)]
-enum IdsView<'a> {
-    Block(Integers<'a>),
-    Values(&'a [i64]),
-}
-
-impl IdsView<'_> {
-    fn len(&self) -> usize {
-        match self {
-            IdsView::Block(b) => b.len(),
-            IdsView::Values(v) => v.len(),
-        }
-    }
-
-    /// Value `k` (`k < len()`; beyond it, 0).
-    #[inline]
-    fn get(&self, k: usize) -> i64 {
-        match self {
-            IdsView::Block(b) => b.get(k),
-            IdsView::Values(v) => v.get(k).copied().unwrap_or(0),
-        }
+    fn view(&self) -> Integers<'_> {
+        Integers::new(&self.bytes, self.ty, true).unwrap_or(Integers::EMPTY)
     }
 }
 
@@ -308,9 +285,12 @@ impl<'a> Parser<'a> {
         }
         if self.binary {
             let block = self.binary_block(ty, n, 1, what)?;
-            return Ok(Ids::Block(block, ty.element()));
+            return Ok(Ids {
+                bytes: block,
+                ty: ty.element(),
+            });
         }
-        Ok(Ids::Values(self.ascii_i64(n, what)?))
+        Ok(Ids::from_values(&self.ascii_i64(n, what)?))
     }
 
     /// Reads `n` ASCII integers.
@@ -530,13 +510,10 @@ impl<'a> Parser<'a> {
             };
             let ids = self.ids(ty, b, what, ty_at)?;
             self.skip_metadata();
-            let starts = match offsets {
-                _ if a == 0 => vec![0],
-                Ids::Values(v) => v,
-                block => {
-                    let o = block.view();
-                    (0..o.len()).map(|k| o.get(k)).collect()
-                }
+            let starts = if a == 0 {
+                vec![0]
+            } else {
+                offsets.view().to_vec()
             };
             return Ok(CellList {
                 starts,
@@ -548,7 +525,7 @@ impl<'a> Parser<'a> {
             return Ok(CellList {
                 starts: vec![0],
                 skip: 0,
-                ids: Ids::Values(Vec::new()),
+                ids: Ids::from_values(&[]),
             });
         }
         // Classic layout: 4-byte ints in binary files.
