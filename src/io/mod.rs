@@ -81,31 +81,45 @@ const READ_CHUNK: usize = 8 << 20;
 /// one. Anything else, or a file whose size changes while it is read, is read with one
 /// `std::fs::read`.
 pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>, Error> {
+    let file = std::fs::File::open(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    read_open_file(&file, path)
+}
+
+/// [`read_bytes`] of a file already open (`path` names it in errors) whose cursor is at its
+/// start, as it is after positioned reads alone: a regular file larger than one chunk by
+/// chunks in parallel, anything else (a pipe too) by one read to its end.
+pub(crate) fn read_open_file(file: &std::fs::File, path: &Path) -> Result<Vec<u8>, Error> {
+    use std::io::Read;
     let io_err = |source| Error::Io {
         path: path.to_path_buf(),
         source,
     };
     #[cfg(unix)]
-    if let Some(bytes) = read_in_parallel(path).map_err(io_err)? {
+    if let Some(bytes) = read_in_parallel(file).map_err(io_err)? {
         return Ok(bytes);
     }
-    std::fs::read(path).map_err(io_err)
+    let mut bytes = Vec::new();
+    let mut file = file;
+    file.read_to_end(&mut bytes).map_err(io_err)?;
+    Ok(bytes)
 }
 
 /// The file's bytes read by chunks in parallel; `None` when it is not a regular file larger
 /// than a chunk, or when it was not read whole (shorter or longer than its size said).
 #[cfg(unix)]
-fn read_in_parallel(path: &Path) -> std::io::Result<Option<Vec<u8>>> {
+fn read_in_parallel(file: &std::fs::File) -> std::io::Result<Option<Vec<u8>>> {
     use std::os::unix::fs::FileExt;
 
-    let file = std::fs::File::open(path)?;
     let meta = file.metadata()?;
     let len = match usize::try_from(meta.len()) {
         Ok(len) if meta.is_file() && len > READ_CHUNK => len,
         _ => return Ok(None),
     };
     let mut bytes = vec![0u8; len];
-    let whole = read_exact_at(&file, &mut bytes, 0).is_ok();
+    let whole = read_exact_at(file, &mut bytes, 0).is_ok();
     let mut beyond = [0u8; 1];
     Ok((whole && file.read_at(&mut beyond, len as u64)? == 0).then_some(bytes))
 }
@@ -197,7 +211,9 @@ mod tests {
             assert!(read == bytes, "{len} bytes");
             #[cfg(unix)]
             assert_eq!(
-                read_in_parallel(&path).unwrap().is_some(),
+                read_in_parallel(&std::fs::File::open(&path).unwrap())
+                    .unwrap()
+                    .is_some(),
                 len > READ_CHUNK,
                 "{len}"
             );
@@ -206,6 +222,35 @@ mod tests {
         match read_bytes(&missing) {
             Err(Error::Io { path, .. }) => assert_eq!(path, missing),
             other => panic!("{other:?}"),
+        }
+    }
+
+    /// A legacy file that is not a regular one (a named pipe, as a shell's `<(…)` gives) is
+    /// read whole from the one open, ASCII or BINARY, and gives what its bytes give.
+    #[cfg(unix)]
+    #[test]
+    fn legacy_files_are_read_from_pipes() {
+        let mesh = crate::datasets::generate(crate::datasets::Dataset::PumpRotor, 1000).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let mut ascii = Vec::new();
+        legacy::write_ascii(&mesh, &mut ascii).unwrap();
+        let mut binary = Vec::new();
+        legacy::write(&mesh, &mut binary).unwrap();
+        for (k, bytes) in [ascii, binary].into_iter().enumerate() {
+            let want = legacy::read(&bytes).unwrap();
+            let pipe = dir.path().join(format!("pipe{k}.vtk"));
+            let made = std::process::Command::new("mkfifo")
+                .arg(&pipe)
+                .status()
+                .unwrap();
+            assert!(made.success());
+            let writer = {
+                let pipe = pipe.clone();
+                std::thread::spawn(move || std::fs::write(pipe, bytes).unwrap())
+            };
+            let got = read_file(&pipe, &ReadOptions::default()).unwrap();
+            writer.join().unwrap();
+            assert_eq!(got, want, "file {k}");
         }
     }
 }

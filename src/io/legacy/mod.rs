@@ -118,21 +118,19 @@ const TEXT_CHUNK: usize = 64 << 10;
 /// assert_eq!(cylvol::io::legacy::read_file(&path).unwrap(), mesh);
 /// ```
 pub fn read_file(path: &Path) -> Result<Mesh, Error> {
+    let file = std::fs::File::open(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
     #[cfg(unix)]
-    {
-        let io_err = |source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        };
-        let file = std::fs::File::open(path).map_err(io_err)?;
-        let meta = file.metadata().map_err(io_err)?;
+    if let Ok(meta) = file.metadata() {
         if let (true, Ok(len)) = (meta.is_file(), usize::try_from(meta.len())) {
             if let Some(result) = read::read_file(&file, len, TEXT_CHUNK) {
                 return result.map_err(|e| e.in_file(path));
             }
         }
     }
-    read(&crate::io::read_bytes(path)?).map_err(|e| e.in_file(path))
+    read(&crate::io::read_open_file(&file, path)?).map_err(|e| e.in_file(path))
 }
 
 /// Writes a mesh as a BINARY legacy VTK unstructured grid (classic `CELLS` layout).
