@@ -236,6 +236,29 @@ impl<'a> Parser<'a> {
         })
     }
 
+    /// An array of `tuples` tuples of `comps` values of type `ty` (named `section` in
+    /// errors), with any metadata after it skipped.
+    fn data_array(
+        &mut self,
+        name: String,
+        ty: ValueType,
+        tuples: usize,
+        comps: usize,
+        section: &str,
+    ) -> Result<DataArray> {
+        let what = What {
+            section,
+            unit: "tuples",
+        };
+        let values = self.values_f64(ty, tuples, comps, what)?;
+        self.skip_metadata();
+        Ok(DataArray {
+            name,
+            components: comps,
+            values,
+        })
+    }
+
     /// Reads `tuples × comps` values of type `ty` as `f64`.
     fn values_f64(
         &mut self,
@@ -580,27 +603,19 @@ impl<'a> Parser<'a> {
             let tuples = self.count(&format!("the tuples of FIELD array '{array_name}'"))?;
             let ty = self.value_type(&format!("FIELD array '{array_name}'"))?;
             let section_name = format!("FIELD array '{array_name}'");
-            let what = What {
-                section: &section_name,
-                unit: "tuples",
-            };
-            let values = self.values_f64(ty, tuples, comps, what)?;
-            self.skip_metadata();
+            let array = self.data_array(array_name, ty, tuples, comps, &section_name)?;
             if let Some((association, expected)) = section {
                 if tuples != expected {
                     return Err(self.err(
                         name.offset,
                         format!(
-                            "{association} FIELD array '{array_name}' has {tuples} tuples, but the section has {expected}"
+                            "{association} FIELD array '{}' has {tuples} tuples, but the section has {expected}",
+                            array.name
                         ),
                     ));
                 }
                 if comps > 0 {
-                    arrays.push(DataArray {
-                        name: array_name,
-                        components: comps,
-                        values,
-                    });
+                    arrays.push(array);
                 }
             }
         }
@@ -649,21 +664,7 @@ impl<'a> Parser<'a> {
             }
             let _table = self.expect("the LOOKUP_TABLE name")?;
             let section = label("SCALARS", &name);
-            let values = self.values_f64(
-                ty,
-                n,
-                comps,
-                What {
-                    section: &section,
-                    unit: "tuples",
-                },
-            )?;
-            self.skip_metadata();
-            return Ok(Some(DataArray {
-                name,
-                components: comps,
-                values,
-            }));
+            return self.data_array(name, ty, n, comps, &section).map(Some);
         }
         let (keep, fixed_comps) = if t.is("VECTORS") || t.is("NORMALS") {
             (true, Some(3))
@@ -737,21 +738,8 @@ impl<'a> Parser<'a> {
         };
         let ty = self.value_type(&label(&kind, &name))?;
         let section = label(&kind, &name);
-        let values = self.values_f64(
-            ty,
-            n,
-            comps,
-            What {
-                section: &section,
-                unit: "tuples",
-            },
-        )?;
-        self.skip_metadata();
-        Ok(keep.then_some(DataArray {
-            name,
-            components: comps,
-            values,
-        }))
+        let array = self.data_array(name, ty, n, comps, &section)?;
+        Ok(keep.then_some(array))
     }
 
     /// Checks the sections against each other and builds the mesh.
