@@ -119,14 +119,15 @@ fn sector_with_wedge_and_tet() -> Arrays {
             );
         }
     }
-    // A wedge on the top face of cell (0, 0): triangle (p0, p1, p2) extruded upwards.
+    // A wedge on the top face of cell (0, 0): triangle (p0, p1, p2) extruded upwards, in
+    // VTK's numbering (its base 0, 1, 2 turns away from the top by the right-hand rule).
     let top = a.n_points() as i64;
     let base = [id(0, 0, 1), id(1, 0, 1), id(0, 1, 1)];
     for &b in &base {
         let p = &a.points[b as usize * 3..b as usize * 3 + 3].to_vec();
         a.points.extend([p[0], p[1], p[2] + 0.5]);
     }
-    a.push_cell(13, &[base[0], base[1], base[2], top, top + 1, top + 2]);
+    a.push_cell(13, &[base[0], base[2], base[1], top, top + 2, top + 1]);
     // A tetrahedron on the top face of cell (1, 2).
     let apex = a.n_points() as i64;
     a.points

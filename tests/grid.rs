@@ -603,7 +603,7 @@ fn ring(
                 };
                 let (b, t) = (q(k), q(k + 1));
                 if i == 0 && r0 == 0.0 {
-                    // Wedge [axis, p_j, p_j+1] × 2, stored [0, 1, 2, 2, 3, 4, 5, 5].
+                    // The wedge VTK numbers [axis, p_j+1, p_j] × 2, stored as CellKind says.
                     cells.push([b[0], b[1], b[2], b[2], t[0], t[1], t[2], t[2]]);
                     kinds.push(CellKind::Wedge);
                 } else {

@@ -295,8 +295,8 @@ fn wedge_pyramid_tetrahedron_mix() {
     let pyramid = CellKind::Pyramid.collapse(&[0, 1, 2, 3, 8]);
     let tet_pyramid = CellKind::Tetrahedron.collapse(&[0, 1, 8, 9]);
     // Wedge: triangle (b5, b1, 10) at y = 0, (b6, b2, 11) at y = 1; its quad (b5, b1, b2, b6)
-    // is the hexahedron's x = 1 face.
-    let wedge = CellKind::Wedge.collapse(&[5, 1, 10, 6, 2, 11]);
+    // is the hexahedron's x = 1 face. In VTK's numbering (the base turns away from the top).
+    let wedge = CellKind::Wedge.collapse(&[5, 10, 1, 6, 11, 2]);
     let tet_wedge = CellKind::Tetrahedron.collapse(&[5, 10, 1, 12]);
     let tet_under = CellKind::Tetrahedron.collapse(&[4, 6, 5, 13]);
     let cells = vec![hex, pyramid, tet_pyramid, wedge, tet_wedge, tet_under];
@@ -381,7 +381,7 @@ fn o_grid(nr: usize, nt: usize, nh: usize, axis: CellKind, duplicate_seam: bool)
                 let hex = cylvol::io::structured::cell_ids(i, j, k, id);
                 if i == 0 && axis == CellKind::Wedge {
                     cells.push(
-                        CellKind::Wedge.collapse(&[hex[0], hex[1], hex[2], hex[4], hex[5], hex[6]]),
+                        CellKind::Wedge.collapse(&[hex[0], hex[2], hex[1], hex[4], hex[6], hex[5]]),
                     );
                     kinds.push(CellKind::Wedge);
                 } else {
@@ -629,7 +629,7 @@ fn stacked(upper: &str) -> Mesh {
         "wedges" => (
             vec![
                 lower,
-                // Wedges are stored collapsed: [0, 1, 2, 2, 3, 4, 5, 5].
+                // Stored collapsed as CellKind says: VTK's wedges [4, 6, 5, 8, 10, 9], [5, 6, 7, 9, 10, 11].
                 [4, 5, 6, 6, 8, 9, 10, 10],
                 [5, 7, 6, 6, 9, 11, 10, 10],
             ],

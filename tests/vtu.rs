@@ -48,7 +48,7 @@ fn small_mesh() -> Mesh {
     let vtk_cells: Vec<(CellKind, Vec<u32>)> = vec![
         (CellKind::Hexahedron, vec![0, 1, 4, 3, 6, 7, 10, 9]),
         (CellKind::Hexahedron, vec![1, 2, 5, 4, 7, 8, 11, 10]),
-        (CellKind::Wedge, vec![6, 7, 9, 12, 13, 14]),
+        (CellKind::Wedge, vec![6, 9, 7, 12, 14, 13]),
         (CellKind::Pyramid, vec![7, 8, 11, 10, 15]),
         (CellKind::Tetrahedron, vec![16, 17, 18, 19]),
     ];
@@ -217,7 +217,7 @@ def mixed_grid():
     pts = [(0,0,0),(1,0,0),(2,0,0),(0,1,0),(1,1,0),(2,1,0),(0,0,1),(1,0,1),(2,0,1),(0,1,1),
            (1,1,1),(2,1,1),(0,0,2),(1,0,2),(0,1,2),(1.5,0.5,2.1),(3,0,0),(4,0,0),(3,1,0),(3,0,1)]
     cells = [(vtk.VTK_HEXAHEDRON,[0,1,4,3,6,7,10,9]),(vtk.VTK_HEXAHEDRON,[1,2,5,4,7,8,11,10]),
-             (vtk.VTK_WEDGE,[6,7,9,12,13,14]),(vtk.VTK_PYRAMID,[7,8,11,10,15]),
+             (vtk.VTK_WEDGE,[6,9,7,12,14,13]),(vtk.VTK_PYRAMID,[7,8,11,10,15]),
              (vtk.VTK_TETRA,[16,17,18,19])]
     g = vtk.vtkUnstructuredGrid()
     p = vtk.vtkPoints(); p.SetDataTypeToFloat()

@@ -92,7 +92,7 @@ fn arrays(u: &mut Unstructured) -> Result<Arrays> {
                 ];
                 // Sometimes a wedge, pyramid or tetrahedron made of the hexahedron's corners.
                 let (code, ids): (u8, Vec<i64>) = match u.int_in_range(0u8..=7)? {
-                    0 => (13, vec![hex[0], hex[1], hex[3], hex[4], hex[5], hex[7]]),
+                    0 => (13, vec![hex[0], hex[3], hex[1], hex[4], hex[7], hex[5]]),
                     1 => (14, vec![hex[0], hex[1], hex[2], hex[3], hex[4]]),
                     2 => (10, vec![hex[0], hex[1], hex[3], hex[4]]),
                     3 => (

@@ -7,13 +7,15 @@
 //! |---|---|---|---|
 //! | hexahedron | 12 | 0…7 | `[0, 1, 2, 3, 4, 5, 6, 7]` |
 //! | voxel (read as a hexahedron) | 11 | 0…7, x fastest | `[0, 1, 3, 2, 4, 5, 7, 6]` |
-//! | wedge | 13 | 0…5 | `[0, 1, 2, 2, 3, 4, 5, 5]` |
+//! | wedge | 13 | 0…5 | `[0, 2, 1, 1, 3, 5, 4, 4]` |
 //! | pyramid | 14 | 0…4 | `[0, 1, 2, 3, 4, 4, 4, 4]` |
 //! | tetrahedron | 10 | 0…3 | `[0, 1, 2, 2, 3, 3, 3, 3]` |
 //!
-//! In each case VTK's parametric coordinates of the kind's vertices are the hexahedron's
-//! parametric coordinates of the slots they occupy, so a well-formed cell of any kind has a
-//! non-negative Jacobian everywhere (zero only on the collapsed edges and faces).
+//! A cell VTK calls well formed (`vtkCellValidator`) has a non-negative Jacobian everywhere as
+//! stored (zero only on the collapsed edges and faces): VTK's hexahedron, pyramid and
+//! tetrahedron number their base so that its normal by the right-hand rule points into the
+//! cell, but its wedge numbers the base triangle `0, 1, 2` so that its normal points *out*
+//! (away from `3, 4, 5`), so the wedge's base enters the hexahedron's in reverse.
 
 use std::fmt;
 
@@ -84,7 +86,7 @@ impl CellKind {
     pub fn hex_slots(self) -> [usize; 8] {
         match self {
             CellKind::Hexahedron => [0, 1, 2, 3, 4, 5, 6, 7],
-            CellKind::Wedge => [0, 1, 2, 2, 3, 4, 5, 5],
+            CellKind::Wedge => [0, 2, 1, 1, 3, 5, 4, 4],
             CellKind::Pyramid => [0, 1, 2, 3, 4, 4, 4, 4],
             CellKind::Tetrahedron => [0, 1, 2, 2, 3, 3, 3, 3],
         }
@@ -94,7 +96,7 @@ impl CellKind {
     pub fn vtk_slots(self) -> &'static [usize] {
         match self {
             CellKind::Hexahedron => &[0, 1, 2, 3, 4, 5, 6, 7],
-            CellKind::Wedge => &[0, 1, 2, 4, 5, 6],
+            CellKind::Wedge => &[0, 2, 1, 4, 6, 5],
             CellKind::Pyramid => &[0, 1, 2, 3, 4],
             CellKind::Tetrahedron => &[0, 1, 2, 4],
         }

@@ -148,16 +148,21 @@ fn collapsed_kinds_are_not_inverted() {
         DVec3::X + DVec3::Z,
         DVec3::Y + DVec3::Z,
     ];
-    let wedge = CellKind::Wedge.collapse(&[0, 1, 2, 3, 4, 5]);
+    // VTK's numbering: the wedge's base 0, 1, 2 turns (right-hand rule) away from 3, 4, 5
+    // (here towards −z), the tetrahedron's 0, 1, 2 towards 3 — as `vtkCellValidator` wants.
+    let wedge = CellKind::Wedge.collapse(&[0, 2, 1, 3, 5, 4]);
     let tet = CellKind::Tetrahedron.collapse(&[0, 1, 2, 3]);
-    let m = Mesh::from_parts(MeshParts {
-        points: pts,
-        cells: vec![wedge, tet],
+    let parts = |cells: Vec<[u32; 8]>| MeshParts {
+        points: pts.clone(),
+        cells,
         kinds: vec![CellKind::Wedge, CellKind::Tetrahedron],
         ..Default::default()
-    })
-    .unwrap();
+    };
+    let m = Mesh::from_parts(parts(vec![wedge, tet])).unwrap();
     assert_eq!(m.kind_counts()[1], (CellKind::Wedge, 1));
+    // The other winding is the mirror image VTK calls inverted, and so do we.
+    let mirrored = CellKind::Wedge.collapse(&[0, 1, 2, 3, 4, 5]);
+    assert!(Mesh::from_parts(parts(vec![mirrored, tet])).is_err());
 }
 
 #[test]

@@ -125,8 +125,9 @@ static void sector(Arrays *a) {
       const double *p = a->points + 3 * base[i];
       add_point(a, p[0], p[1], p[2] + 0.5);
     }
-    wedge[0] = base[0]; wedge[1] = base[1]; wedge[2] = base[2];
-    wedge[3] = top; wedge[4] = top + 1; wedge[5] = top + 2;
+    /* VTK's numbering: the base 0, 1, 2 turns away from the top (right-hand rule). */
+    wedge[0] = base[0]; wedge[1] = base[2]; wedge[2] = base[1];
+    wedge[3] = top; wedge[4] = top + 2; wedge[5] = top + 1;
     add_cell(a, 13, wedge, 6);
   }
   apex = add_point(a, 1.75 * cos(0.75), 1.75 * sin(0.75), 0.9);

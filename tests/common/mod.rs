@@ -117,14 +117,15 @@ pub fn o_grid_with_axis_wedges(
     let mut kinds = Vec::new();
     for k in 0..nh {
         for j in 0..nt {
-            // Wedge: triangle (axis, ring1 j, ring1 j+1) at k and k+1.
+            // Wedge: triangle (axis, ring1 j, ring1 j+1) at k and k+1, in VTK's numbering
+            // (the base turns away from the top by the right-hand rule).
             let w = [
                 id(k, 0, 0),
-                id(k, 1, j),
                 id(k, 1, j + 1),
+                id(k, 1, j),
                 id(k + 1, 0, 0),
-                id(k + 1, 1, j),
                 id(k + 1, 1, j + 1),
+                id(k + 1, 1, j),
             ];
             cells.push(CellKind::Wedge.collapse(&w));
             kinds.push(CellKind::Wedge);
