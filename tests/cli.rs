@@ -221,6 +221,62 @@ fn errors_go_to_standard_error_with_a_non_zero_exit() {
     }
 }
 
+/// Standard output that cannot be written is an error, not a panic: a full device is
+/// reported on standard error; a reader that closed the pipe ends the program quietly with
+/// the status a shell gives a program SIGPIPE ended (141).
+#[cfg(unix)]
+#[test]
+fn standard_output_that_cannot_be_written_is_not_a_panic() {
+    let full = Command::new(env!("CARGO_BIN_EXE_cylvol"))
+        .args(["info", "pump-rotor:20000", "--json"])
+        .stdout(std::fs::File::create("/dev/full").unwrap())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&full.stderr);
+    assert_eq!(full.status.code(), Some(1), "{err}");
+    assert!(err.contains("error: standard output"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+
+    for args in [
+        &["info", "pump-rotor:20000", "--json"][..],
+        &["stats", "pump-rotor:20000", "--json"][..],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_cylvol"))
+            .args(args)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take()); // the reader goes before anything is written
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(141), "{args:?}: {err}");
+        assert!(
+            !err.contains("panicked") && !err.contains("error"),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// `gen` to a file it cannot write (another extension) says so before generating anything
+/// and leaves an existing file as it was.
+#[test]
+fn gen_to_another_extension_leaves_the_file_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let notes = dir.path().join("notes.txt");
+    std::fs::write(&notes, "keep me").unwrap();
+    let out = cylvol(&["gen", "pump-rotor:20000", "-o", notes.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("can only write .vtk or .vtu"), "{err}");
+    assert!(
+        !err.contains("generated"),
+        "generated before refusing: {err}"
+    );
+    assert_eq!(std::fs::read_to_string(&notes).unwrap(), "keep me");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
 #[test]
 fn a_truncated_file_is_reported_with_its_name_and_where() {
     let dir = tempfile::tempdir().unwrap();

@@ -191,8 +191,8 @@ pub fn plot(study: &StepStudy, title: &str) -> Plot {
 }
 
 /// Prints a study as a table.
-pub fn print_table(report: &Value, study: &StepStudy) {
-    println!(
+pub fn print_table(report: &Value, study: &StepStudy) -> Result<(), Error> {
+    outln!(
         "{} — {} cells, {}, {}×{} image, mean cell size {:.4e}",
         report["dataset"].as_str().unwrap_or(""),
         report["cells"],
@@ -201,15 +201,20 @@ pub fn print_table(report: &Value, study: &StepStudy) {
         report["height"],
         study.mean_cell_size
     );
-    println!(
+    outln!(
         "reference: {} mean cell size, step {:.4e}, {:.3} s",
         factor_label(study.reference.factor),
         study.reference.step,
         study.reference.time_s
     );
-    println!(
+    outln!(
         "{:>7} {:>11} {:>9} {:>11} {:>11} {:>7}",
-        "step", "(world)", "time s", "rmse", "max err", "order"
+        "step",
+        "(world)",
+        "time s",
+        "rmse",
+        "max err",
+        "order"
     );
     for (k, r) in study.runs.iter().enumerate() {
         let order = k
@@ -217,7 +222,7 @@ pub fn print_table(report: &Value, study: &StepStudy) {
             .and_then(|i| study.order.get(i).copied().flatten())
             .map(|o| format!("{o:.2}"))
             .unwrap_or_default();
-        println!(
+        outln!(
             "{:>7} {:>11.4e} {:>9.3} {:>11.3e} {:>11.3e} {:>7}",
             factor_label(r.factor),
             r.step,
@@ -228,10 +233,10 @@ pub fn print_table(report: &Value, study: &StepStudy) {
         );
     }
     if let Some(o) = study.order_fit {
-        println!("fitted order: {o:.2}");
+        outln!("fitted order: {o:.2}");
     }
     let t = &report["termination"];
-    println!(
+    outln!(
         "early termination at {} ({} rays stopped): at 1/2× rmse {:.3e}, max {:.3e} in {:.3} s (without it: see 1/2× above)",
         t["threshold"],
         t["rays_stopped"],
@@ -239,6 +244,7 @@ pub fn print_table(report: &Value, study: &StepStudy) {
         t["max_err"].as_f64().unwrap_or(0.0),
         t["time_s"].as_f64().unwrap_or(0.0)
     );
+    Ok(())
 }
 
 pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
@@ -278,13 +284,13 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
         log(format_args!("wrote {}", path.display()));
     }
     if args.json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&result.report)
                 .map_err(|e| Error::Invalid(e.to_string()))?
         );
     } else {
-        print_table(&result.report, &result.study);
+        print_table(&result.report, &result.study)?;
     }
     Ok(())
 }

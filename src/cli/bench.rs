@@ -272,8 +272,8 @@ pub fn progress_bar(len: u64, label: &str) -> ProgressBar {
 }
 
 /// Prints one dataset's report as a table.
-pub fn print_table(report: &Value) {
-    println!(
+pub fn print_table(report: &Value) -> Result<(), Error> {
+    outln!(
         "{} — {} cells, {}×{} image, step {:.4e}",
         report["dataset"].as_str().unwrap_or(""),
         report["cells"],
@@ -281,9 +281,16 @@ pub fn print_table(report: &Value) {
         report["height"],
         report["step"].as_f64().unwrap_or(0.0)
     );
-    println!(
+    outln!(
         "{:<10} {:>8} {:<6} {:>12} {:>9} {:>10} {:>9} {:>9}",
-        "structure", "build s", "path", "samples", "hex/smp", "inner/smp", "leaf/smp", "frame s"
+        "structure",
+        "build s",
+        "path",
+        "samples",
+        "hex/smp",
+        "inner/smp",
+        "leaf/smp",
+        "frame s"
     );
     for kind in StructureKind::ALL {
         let s = &report["structures"][kind.name()];
@@ -300,7 +307,7 @@ pub fn print_table(report: &Value) {
                     "-".into()
                 }
             };
-            println!(
+            outln!(
                 "{:<10} {:>8.3} {:<6} {:>12} {:>9} {:>10} {:>9} {:>9.3}",
                 kind.name(),
                 s["build_s"].as_f64().unwrap_or(0.0),
@@ -321,10 +328,11 @@ pub fn print_table(report: &Value) {
                 .filter_map(|k| r[*k].as_f64().map(|v| format!("{k} {v:.2}")))
                 .collect();
             if !parts.is_empty() {
-                println!("cyl ÷ cart {family} {path}: {}", parts.join(", "));
+                outln!("cyl ÷ cart {family} {path}: {}", parts.join(", "));
             }
         }
     }
+    Ok(())
 }
 
 pub fn run(args: &BenchArgs) -> Result<(), Error> {
@@ -376,14 +384,14 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
         result.report["grid_order"] = json!(args.grid_order.name());
         if !args.json {
             if k > 0 {
-                println!();
+                outln!();
             }
-            print_table(&result.report);
+            print_table(&result.report)?;
         }
         reports.push(result.report);
     }
     if args.json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&Value::Array(reports))
                 .map_err(|e| Error::Invalid(e.to_string()))?

@@ -121,7 +121,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         (a > 0.0).then_some(b / a)
     };
 
-    println!(
+    outln!(
         "{} — {} cells, {} points, scalar '{}', axis {:?}",
         DEMO_DATASET.name(),
         info_field(&info, "cells"),
@@ -131,15 +131,17 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
             .unwrap_or("none"),
         detection.axis.direction.to_array()
     );
-    println!();
-    println!(
+    outln!();
+    outln!(
         "{:<30} {:>14} {:>14}",
-        "cylindrical ÷ Cartesian", "talk (rotor)", "cylvol"
+        "cylindrical ÷ Cartesian",
+        "talk (rotor)",
+        "cylvol"
     );
     let mut comparison = Vec::new();
     for (family, key, label, talk) in TALK_ROTOR {
         let ours = ratio(family, key);
-        println!(
+        outln!(
             "{:<30} {:>14.2} {:>14}",
             label,
             talk,
@@ -148,8 +150,8 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         );
         comparison.push(json!({ "measure": label, "talk": talk, "cylvol": ours }));
     }
-    println!();
-    println!(
+    outln!();
+    outln!(
         "(hexahedra tested and nodes visited: per point located, over 100,000 points inside cells)"
     );
 
@@ -175,12 +177,15 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         image.write_png(&path, Some([0.0; 3]))?;
         images.push(path.display().to_string());
     }
-    println!();
-    super::bench::print_table(&bench.report);
-    println!();
-    println!(
+    outln!();
+    super::bench::print_table(&bench.report)?;
+    outln!();
+    outln!(
         "{:<30} {:>14} {:>10} {:>10}",
-        "per frame, cyl ÷ cart", "talk (rotor)", "paper", "fast"
+        "per frame, cyl ÷ cart",
+        "talk (rotor)",
+        "paper",
+        "fast"
     );
     let mut frame_comparison = Vec::new();
     for (family, key, label, talk) in TALK_ROTOR_FRAME {
@@ -193,7 +198,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         };
         let (paper, fast) = (ours("paper"), ours("fast"));
         let show = |v: Option<f64>| v.map(|v| format!("{v:.2}")).unwrap_or_else(|| "-".into());
-        println!(
+        outln!(
             "{:<30} {:>14.2} {:>10} {:>10}",
             label,
             talk,
@@ -203,9 +208,10 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         frame_comparison
             .push(json!({ "measure": label, "talk": talk, "paper": paper, "fast": fast }));
     }
-    println!(
+    outln!(
         "(per {}×{} frame of the demo's view; fps = cart frame time ÷ cyl frame time)",
-        DEMO_IMAGE, DEMO_IMAGE
+        DEMO_IMAGE,
+        DEMO_IMAGE
     );
 
     // The price of accuracy through the cylindrical BVH.
@@ -236,8 +242,8 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         ),
     )
     .write(&plot_path)?;
-    println!();
-    super::accuracy::print_table(&accuracy.report, &accuracy.study);
+    outln!();
+    super::accuracy::print_table(&accuracy.report, &accuracy.study)?;
 
     let mesh_path = args.out.join(format!("{}.vtu", DEMO_DATASET.name()));
     cylvol::io::write_file(&mesh, &mesh_path)?;

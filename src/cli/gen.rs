@@ -26,6 +26,8 @@ pub struct GenArgs {
 }
 
 pub fn run(args: &GenArgs) -> Result<(), Error> {
+    // An output we cannot write is refused before anything is generated.
+    cylvol::io::writer_for(&args.output)?;
     let input = Input::parse(&args.spec)?;
     let started = Instant::now();
     let mesh = input.load(&Default::default())?;

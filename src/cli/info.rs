@@ -88,7 +88,7 @@ pub fn run(args: &InfoArgs) -> Result<(), Error> {
     if args.json {
         let text = serde_json::to_string_pretty(&info)
             .map_err(|e| Error::Invalid(format!("JSON output failed: {e}")))?;
-        println!("{text}");
+        outln!("{text}");
         return Ok(());
     }
     let types: Vec<String> = mesh
@@ -97,25 +97,30 @@ pub fn run(args: &InfoArgs) -> Result<(), Error> {
         .filter(|(_, n)| *n > 0)
         .map(|(k, n)| format!("{k} {n}"))
         .collect();
-    println!("{}", args.input.input);
-    println!("  points         {}", info.points);
-    println!("  cells          {} ({})", info.cells, types.join(", "));
-    println!("  point scalars  {}", info.point_scalars.join(", "));
-    println!("  cell scalars   {}", info.cell_scalars.join(", "));
+    outln!("{}", args.input.input);
+    outln!("  points         {}", info.points);
+    outln!("  cells          {} ({})", info.cells, types.join(", "));
+    outln!("  point scalars  {}", info.point_scalars.join(", "));
+    outln!("  cell scalars   {}", info.cell_scalars.join(", "));
     match (&info.active_scalar, info.scalar_range) {
-        (Some(name), Some([lo, hi])) => println!(
+        (Some(name), Some([lo, hi])) => outln!(
             "  active scalar  {name} ({}) range [{lo}, {hi}]",
             info.active_association.as_deref().unwrap_or("?")
         ),
-        _ => println!("  active scalar  none"),
+        _ => outln!("  active scalar  none"),
     }
     let b = info.bounds;
-    println!(
+    outln!(
         "  bounds         x [{}, {}]  y [{}, {}]  z [{}, {}]",
-        b[0], b[1], b[2], b[3], b[4], b[5]
+        b[0],
+        b[1],
+        b[2],
+        b[3],
+        b[4],
+        b[5]
     );
     let (o, d) = (info.axis.origin, info.axis.direction);
-    println!(
+    outln!(
         "  axis           origin ({:.6}, {:.6}, {:.6}) direction ({:.6}, {:.6}, {:.6}), {}",
         o[0],
         o[1],

@@ -1,5 +1,16 @@
 //! Argument parsing and dispatch of the `cylvol` subcommands, one file per subcommand.
 
+/// `println!` that returns from the enclosing function with an error, instead of panicking,
+/// where standard output cannot be written (a reader that closed the pipe, a full disk).
+macro_rules! outln {
+    () => {
+        $crate::cli::write_out(format_args!("\n"))?
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::write_out(format_args!("{}\n", format_args!($($arg)*)))?
+    };
+}
+
 mod accuracy;
 mod bench;
 mod camera;
@@ -110,6 +121,21 @@ pub fn build_logged(
     Ok(accel)
 }
 
+/// What [`write_out`]'s errors name as the file.
+const STANDARD_OUTPUT: &str = "standard output";
+
+/// Writes to standard output (through [`outln!`]).
+pub fn write_out(args: std::fmt::Arguments<'_>) -> Result<(), cylvol::Error> {
+    use std::io::Write;
+    std::io::stdout()
+        .lock()
+        .write_fmt(args)
+        .map_err(|source| cylvol::Error::Io {
+            path: STANDARD_OUTPUT.into(),
+            source,
+        })
+}
+
 /// Writes a log line to standard error.
 pub fn log(args: std::fmt::Arguments<'_>) {
     eprintln!("cylvol: {args}");
@@ -129,6 +155,14 @@ pub fn run() -> i32 {
     };
     match result {
         Ok(()) => 0,
+        // The reader of our output is gone (`cylvol info --json | head`): stop without a
+        // word, with the status a shell gives a program SIGPIPE ended.
+        Err(cylvol::Error::Io { path, source })
+            if path.as_os_str() == STANDARD_OUTPUT
+                && source.kind() == std::io::ErrorKind::BrokenPipe =>
+        {
+            141
+        }
         Err(e) => {
             eprintln!("cylvol: error: {e}");
             1

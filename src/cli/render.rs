@@ -268,7 +268,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             "frame_s": frame_s,
             "stats": stats,
         });
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&report).map_err(|e| Error::Invalid(e.to_string()))?
         );

@@ -199,19 +199,19 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
         },
     });
     if args.json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&report).map_err(|e| Error::Invalid(e.to_string()))?
         );
         return Ok(());
     }
     let cells = mesh.cell_count() as f64;
-    println!(
+    outln!(
         "{} — {} cells",
         report["dataset"].as_str().unwrap_or(""),
         mesh.cell_count()
     );
-    println!(
+    outln!(
         "{:<10} {:>12} {:>12} {:>8} {:>10} {:>8} {:>8} {:>9} {:>7} {:>8} {:>7}",
         "structure",
         "grid cells",
@@ -232,7 +232,7 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
                 .map(|v| format!("{v:.digits$}"))
                 .unwrap_or_else(|| "-".into())
         };
-        println!(
+        outln!(
             "{:<10} {:>12} {:>12} {:>8.1} {:>10} {:>8.3} {:>8} {:>9} {:>7} {:>8} {:>7}",
             accel.kind().name(),
             if accel.kind().is_grid() {
@@ -257,7 +257,7 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
             .iter()
             .filter_map(|k| r[k].as_f64().map(|v| format!("{k} {v:.2}")))
             .collect();
-        println!("cyl ÷ cart {name}: {}", parts.join(", "));
+        outln!("cyl ÷ cart {name}: {}", parts.join(", "));
     }
     Ok(())
 }

@@ -165,25 +165,65 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
     }
 }
 
+/// A mesh writer: [`legacy::write`] or [`vtu::write`].
+pub type MeshWriter = fn(&Mesh, &mut dyn std::io::Write) -> std::io::Result<()>;
+
+/// The writer [`write_file`] uses for `path`, by its extension; an error naming the path for
+/// any other extension (so that a program can refuse an output before any work).
+pub fn writer_for(path: &Path) -> Result<MeshWriter, Error> {
+    match Format::from_path(path) {
+        Some(Format::LegacyVtk) => Ok(legacy::write),
+        Some(Format::Vtu) => Ok(vtu::write),
+        _ => Err(Error::Invalid(format!(
+            "{}: can only write .vtk or .vtu",
+            path.display()
+        ))),
+    }
+}
+
 /// Writes a mesh, choosing the writer from the extension (`.vtk`: legacy binary, `.vtu`).
+///
+/// Nothing is created for another extension. The mesh is written to a new file beside `path`
+/// that replaces it only once written whole, so a write that fails (a full disk) leaves what
+/// was at `path` as it was.
+///
+/// ```
+/// use cylvol::datasets::{generate, Dataset};
+/// let dir = tempfile::tempdir().unwrap();
+/// let mesh = generate(Dataset::PumpRotor, 1000).unwrap();
+/// let path = dir.path().join("rotor.vtu");
+/// cylvol::io::write_file(&mesh, &path).unwrap();
+/// let back = cylvol::io::read_file(&path, &Default::default()).unwrap();
+/// assert_eq!(back.cell_count(), mesh.cell_count());
+/// // Another extension is refused, and an existing file left alone.
+/// let notes = dir.path().join("notes.txt");
+/// std::fs::write(&notes, "keep me").unwrap();
+/// assert!(cylvol::io::write_file(&mesh, &notes).is_err());
+/// assert_eq!(std::fs::read_to_string(&notes).unwrap(), "keep me");
+/// ```
 pub fn write_file(mesh: &Mesh, path: &Path) -> Result<(), Error> {
+    let write = writer_for(path)?;
     let io_err = |source| Error::Io {
         path: path.to_path_buf(),
         source,
     };
-    let file = std::fs::File::create(path).map_err(io_err)?;
-    let mut out = std::io::BufWriter::new(file);
-    match Format::from_path(path) {
-        Some(Format::LegacyVtk) => legacy::write(mesh, &mut out).map_err(io_err)?,
-        Some(Format::Vtu) => vtu::write(mesh, &mut out).map_err(io_err)?,
-        _ => {
-            return Err(Error::Invalid(format!(
-                "{}: can only write .vtk or .vtu",
-                path.display()
-            )))
-        }
+    let name = path
+        .file_name()
+        .ok_or_else(|| Error::Invalid(format!("{}: not a file name", path.display())))?;
+    let mut partial_name = std::ffi::OsString::from(".");
+    partial_name.push(name);
+    partial_name.push(format!(".cylvol-{}.partial", std::process::id()));
+    let partial = path.with_file_name(partial_name);
+    let written = (|| {
+        let mut out = std::io::BufWriter::new(std::fs::File::create(&partial)?);
+        write(mesh, &mut out)?;
+        std::io::Write::flush(&mut out)?;
+        std::fs::rename(&partial, path)
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&partial);
     }
-    std::io::Write::flush(&mut out).map_err(io_err)
+    written.map_err(io_err)
 }
 
 #[cfg(test)]
