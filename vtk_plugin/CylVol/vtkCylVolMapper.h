@@ -115,8 +115,10 @@ public:
 
   ///@{
   /**
-   * Structure build preset: 0 default, 1 fast build, 2 compact/fine, 3 as in the paper
-   * (grids). Changing it rebuilds the structure at the next render.
+   * Structure build preset: 0 default, 1 fast build, 2 compact (grids) / fine (BVHs), 3 the
+   * talk's grid sizes (grids; BVHs as 0), 4 fine grids (fewest cells tested, about ten times
+   * the memory; BVHs as 2), as CylvolBuildParams::preset says. Changing it rebuilds the
+   * structure at the next render.
    */
   virtual void SetBuildPreset(int preset);
   vtkGetMacro(BuildPreset, int);
