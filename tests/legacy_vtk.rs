@@ -2,9 +2,10 @@
 //! `/usr/bin/python3` and `import vtk`), round trips, both `CELLS` layouts, structured grids,
 //! and bad input.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::Command;
 use std::sync::OnceLock;
 
 use cylvol::io::legacy::{self, CellLayout, Encoding, LegacyOptions};
@@ -38,20 +39,6 @@ fn names(arrays: &[DataArray]) -> Vec<&str> {
 
 // ---------------------------------------------------------------------------------------------
 // VTK through Python
-
-fn have_vtk() -> bool {
-    static HAVE: OnceLock<bool> = OnceLock::new();
-    *HAVE.get_or_init(|| {
-        let ok = Command::new("/usr/bin/python3")
-            .args(["-c", "import vtk"])
-            .output()
-            .is_ok_and(|o| o.status.success());
-        if !ok {
-            eprintln!("NOTE: /usr/bin/python3 cannot import vtk; skipping the comparison with VTK");
-        }
-        ok
-    })
-}
 
 /// Reads a legacy file with VTK's reader (everything it holds) and prints a JSON summary.
 const VTK_SUMMARY: &str = r#"
@@ -88,23 +75,8 @@ print(json.dumps({'points': g.GetNumberOfPoints(), 'cells': g.GetNumberOfCells()
                   'cell_arrays': arrays(g.GetCellData())}))
 "#;
 
-fn python(script: &str, args: &[&str]) -> String {
-    let out = Command::new("/usr/bin/python3")
-        .arg("-c")
-        .arg(script)
-        .args(args)
-        .output()
-        .expect("run /usr/bin/python3");
-    assert!(
-        out.status.success(),
-        "python failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).expect("utf-8 output")
-}
-
 fn vtk_summary(path: &Path) -> Value {
-    let text = python(VTK_SUMMARY, &[path.to_str().unwrap()]);
+    let text = common::vtk_python(VTK_SUMMARY, &[path.to_str().unwrap()]);
     serde_json::from_str(&text).expect("JSON from python")
 }
 
@@ -220,13 +192,13 @@ fn mixer_has_the_documented_counts_and_arrays() {
 
 #[test]
 fn mixer_point_p_range_matches_vtk_to_1e6() {
-    if !have_vtk() {
+    if !common::vtk_python_available() {
         return;
     }
     let script = "import vtk,sys\nr=vtk.vtkUnstructuredGridReader()\nr.SetFileName(sys.argv[1])\n\
                   r.Update()\nlo,hi=r.GetOutput().GetPointData().GetArray('p').GetRange()\n\
                   print(repr(lo), repr(hi))";
-    let out = python(script, &[MIXER]);
+    let out = common::vtk_python(script, &[MIXER]);
     let v: Vec<f64> = out.split_whitespace().map(|s| s.parse().unwrap()).collect();
     let ours = array(mixer().point_data(), "p")
         .range(Component::Index(0))
@@ -246,7 +218,7 @@ fn hexa_is_ascii_hexahedra_with_point_scalars() {
 
 #[test]
 fn real_files_agree_with_vtk() {
-    if !have_vtk() {
+    if !common::vtk_python_available() {
         return;
     }
     assert_matches_vtk(mixer(), &vtk_summary(Path::new(MIXER)));
@@ -262,16 +234,24 @@ r = vtk.vtkUnstructuredGridReader(); r.SetFileName(src)
 r.ReadAllScalarsOn(); r.ReadAllVectorsOn(); r.ReadAllFieldsOn(); r.Update()
 g = r.GetOutput()"#;
 
+/// Runs `body` after [`VTK_READS_SRC`] on the mixer, with a new folder as `out`: the folder
+/// and what the script printed; `None` (the test skipped) without VTK.
+fn vtk_rewrites_the_mixer(body: &str) -> Option<(tempfile::TempDir, String)> {
+    if !common::vtk_python_available() {
+        return None;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = VTK_READS_SRC.to_string() + body;
+    let out = common::vtk_python(&script, &[MIXER, dir.path().to_str().unwrap()]);
+    Some((dir, out))
+}
+
 /// VTK 9.1 writes the mixer again: its default (VTK 5.1 layout, with METADATA blocks when
 /// arrays carry range information) in binary and ASCII, and the classic layout (version 4.2).
 #[test]
 fn files_vtk_writes_read_the_same_in_both_cell_layouts() {
-    if !have_vtk() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let script = VTK_READS_SRC.to_string()
-        + r#"
+    let Some((dir, default_version)) = vtk_rewrites_the_mixer(
+        r#"
 g.GetPoints().GetData().GetRange(-1)
 for i in range(g.GetPointData().GetNumberOfArrays()):
     g.GetPointData().GetArray(i).GetRange(-1)
@@ -284,8 +264,10 @@ for name, binary, version in [('v51_binary', True, None), ('v51_ascii', False, N
     if version: w.SetFileVersion(version)
     w.Write()
 print(vtk.vtkUnstructuredGridWriter().GetFileVersion())
-"#;
-    let default_version = python(&script, &[MIXER, dir.path().to_str().unwrap()]);
+"#,
+    ) else {
+        return;
+    };
     assert_eq!(
         default_version.trim(),
         "51",
@@ -328,12 +310,8 @@ print(vtk.vtkUnstructuredGridWriter().GetFileVersion())
 /// stay, and neither ghost array is kept, in both encodings and both cell layouts.
 #[test]
 fn ghost_cells_vtk_writes_are_dropped() {
-    if !have_vtk() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let script = VTK_READS_SRC.to_string()
-        + r#"
+    let Some((dir, _)) = vtk_rewrites_the_mixer(
+        r#"
 cells = g.AllocateCellGhostArray()
 for c in range(g.GetNumberOfCells()):
     # DUPLICATECELL (1) every 7th, HIDDENCELL (32) every 11th, REFINEDCELL (4) every 5th.
@@ -348,8 +326,10 @@ for name, binary, version in [('v51_binary', True, None), ('v42_ascii', False, 4
     else: w.SetFileTypeToASCII()
     if version: w.SetFileVersion(version)
     w.Write()
-"#;
-    python(&script, &[MIXER, dir.path().to_str().unwrap()]);
+"#,
+    ) else {
+        return;
+    };
     let reference = mixer();
     let kept: Vec<usize> = (0..reference.cell_count())
         .filter(|c| c % 7 != 0 && c % 11 != 0)
@@ -524,7 +504,7 @@ fn the_mixer_round_trips_through_our_writer() {
 
 #[test]
 fn vtk_reads_what_we_write() {
-    if !have_vtk() {
+    if !common::vtk_python_available() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -542,7 +522,7 @@ fn vtk_reads_what_we_write() {
                   r.Update()\npd=r.GetOutput().GetPointData()\n\
                   print(' '.join(sorted(pd.GetArrayName(i).replace(' ','_') for i in range(pd.GetNumberOfArrays()))))";
     assert_eq!(
-        python(script, &[path.to_str().unwrap()]).trim(),
+        common::vtk_python(script, &[path.to_str().unwrap()]).trim(),
         "p total_pressure uv velocity"
     );
 }
@@ -582,7 +562,7 @@ fn structured_grid_gives_the_product_of_cell_dimensions() {
     let mut first = m.cells()[0];
     first.sort();
     assert_eq!(first, [0, 1, 3, 4, 12, 13, 15, 16]);
-    if have_vtk() {
+    if common::vtk_python_available() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("slab.vtk");
         std::fs::write(&path, &text).unwrap();
@@ -592,7 +572,7 @@ fn structured_grid_gives_the_product_of_cell_dimensions() {
 
 #[test]
 fn structured_grid_written_by_vtk_in_binary() {
-    if !have_vtk() {
+    if !common::vtk_python_available() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -619,7 +599,7 @@ g.GetCellData().AddArray(c)
 w = vtk.vtkStructuredGridWriter(); w.SetInputData(g); w.SetFileName(sys.argv[1])
 w.SetFileTypeToBinary(); w.Write()
 "#;
-    python(script, &[path.to_str().unwrap()]);
+    common::vtk_python(script, &[path.to_str().unwrap()]);
     let m = legacy::read(&std::fs::read(&path).unwrap()).unwrap();
     assert_eq!(m.cell_count(), 4 * 6 * 3);
     assert_eq!(array(m.point_data(), "flow").components, 3);

@@ -2,7 +2,7 @@
 //! reader, layout variants made from the real files (byte order, record markers, IBLANK,
 //! precision, grid count), and malformed files (multi-grid, 2-D, truncated, mismatched Q).
 
-use std::process::Command;
+mod common;
 
 use cylvol::io::plot3d::{self, ByteOrder, Precision};
 use cylvol::{Component, Error, Mesh};
@@ -268,29 +268,13 @@ for name in ["Density", "Momentum", "StagnationEnergy"]:
 print(json.dumps(out))
 "#;
 
-fn vtk_available() -> bool {
-    Command::new("/usr/bin/python3")
-        .args(["-c", "import vtk"])
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
-
 fn compare_with_vtk(xyz: &str, q: &str, mesh: &Mesh) {
     let dims = plot3d::detect_layout(&bytes(xyz)).unwrap().dims;
-    if !vtk_available() {
-        println!("note: skipping the VTK comparison: /usr/bin/python3 cannot import vtk");
+    if !common::vtk_python_available() {
         return;
     }
-    let out = Command::new("/usr/bin/python3")
-        .args(["-c", VTK_SCRIPT, &data(xyz), &data(q)])
-        .output()
-        .expect("run python");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let out = common::vtk_python(VTK_SCRIPT, &[&data(xyz), &data(q)]);
+    let v: serde_json::Value = serde_json::from_str(&out).expect("json");
     let f = |v: &serde_json::Value| -> f64 { v.as_str().expect("string").parse().expect("number") };
     let vtk_dims: Vec<usize> = v["dims"]
         .as_array()

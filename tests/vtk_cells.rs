@@ -4,16 +4,15 @@
 //! writers, must be read without complaint and interpolate as VTK's shape functions do at
 //! points VTK places inside each cell.
 
+mod common;
+
 use std::path::Path;
-use std::process::Command;
 
 use cylvol::accel::{Accel, AccelParams, Counters, StructureKind};
 use cylvol::axis::Axis;
 use cylvol::io::{read_file, ReadOptions};
 use cylvol::render::Interpolation;
 use glam::DVec3;
-
-const PYTHON: &str = "/usr/bin/python3";
 
 /// Writes `cells.vtu`, `cells.vtk` (legacy 4.2, binary) and `probes.json` into the folder
 /// given (VTK's validator prints to standard output): per probe the cell, the point VTK's `EvaluateLocation` puts at the parametric
@@ -104,37 +103,16 @@ with open(os.path.join(out, "probes.json"), "w") as f:
     json.dump(probes, f)
 "#;
 
-fn vtk_available() -> bool {
-    let ok = Command::new(PYTHON)
-        .args(["-c", "import vtk"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok {
-        eprintln!("note: skipping: `{PYTHON} -c 'import vtk'` failed");
-    }
-    ok
-}
-
 /// VTK's cells, read from its VTU and legacy files: every kind is accepted (none reported
 /// inverted), counted under its own name, and each probe VTK placed in a cell is located in
 /// that cell by every structure, where our interpolation gives VTK's value.
 #[test]
 fn cells_vtk_makes_read_and_interpolate_as_in_vtk() {
-    if !vtk_available() {
+    if !common::vtk_python_available() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(PYTHON)
-        .arg("-c")
-        .arg(SCRIPT)
-        .arg(dir.path())
-        .output()
-        .expect("run python");
-    assert!(
-        out.status.success(),
-        "VTK's script failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::vtk_python(SCRIPT, &[dir.path().to_str().unwrap()]);
     let probes = std::fs::read(dir.path().join("probes.json")).unwrap();
     let probes: serde_json::Value = serde_json::from_slice(&probes).unwrap();
     let probes: Vec<(u32, DVec3, f64)> = probes

@@ -1,15 +1,14 @@
 //! VTU reader and writer: round trips in every mode, files written by VTK itself, our files read
 //! by VTK, and bad input (truncation, corruption, wrong types) giving errors, never panics.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use cylvol::io::vtu::{self, ByteOrder, Encoding, HeaderType, VtuOptions};
 use cylvol::{CellKind, DataArray, Error, Mesh, MeshParts};
 use glam::DVec3;
-
-const PYTHON: &str = "/usr/bin/python3";
 
 fn hexa_vtk() -> &'static str {
     concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/hexa.vtk")
@@ -196,18 +195,6 @@ fn several_pieces_are_joined() {
 // ---------------------------------------------------------------------------------------------
 // VTK's own reader and writer.
 
-fn vtk_available() -> bool {
-    let ok = Command::new(PYTHON)
-        .args(["-c", "import vtk"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false);
-    if !ok {
-        eprintln!("note: skipping: `{PYTHON} -c 'import vtk'` failed");
-    }
-    ok
-}
-
 /// Python helper: `gen DIR HEXA` writes VTK files; `summary FILE…` prints what VTK reads.
 const SCRIPT: &str = r#"
 import json, sys, os
@@ -330,21 +317,6 @@ else:
     print(json.dumps([summary(p) for p in sys.argv[2:]]))
 "#;
 
-fn python(args: &[&str]) -> String {
-    let out = Command::new(PYTHON)
-        .arg("-c")
-        .arg(SCRIPT)
-        .args(args)
-        .output()
-        .expect("run python");
-    assert!(
-        out.status.success(),
-        "python failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
 /// What VTK (or we) read from a file: counts, VTK cell types, bounds, per-component ranges.
 #[derive(Debug, PartialEq)]
 struct Summary {
@@ -364,7 +336,7 @@ fn vtk_summaries(files: &[PathBuf]) -> Vec<Summary> {
     let mut args = vec!["summary".to_string()];
     args.extend(files.iter().map(|f| f.to_str().unwrap().to_string()));
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let json: serde_json::Value = serde_json::from_str(&python(&args)).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&common::vtk_python(SCRIPT, &args)).unwrap();
     let arrays = |v: &serde_json::Value| {
         v.as_array()
             .unwrap()
@@ -450,11 +422,11 @@ fn read_file(path: &Path) -> Result<Mesh, Error> {
 
 #[test]
 fn files_written_by_vtk_read_as_vtk_reads_them() {
-    if !vtk_available() {
+    if !common::vtk_python_available() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    python(&["gen", dir.path().to_str().unwrap(), hexa_vtk()]);
+    common::vtk_python(SCRIPT, &["gen", dir.path().to_str().unwrap(), hexa_vtk()]);
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir.path())
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -545,11 +517,11 @@ fn fast_render(mesh: &Mesh) -> (cylvol::render::Image, cylvol::render::RenderSta
 
 #[test]
 fn parallel_files_written_by_vtk_read_as_the_whole_mesh() {
-    if !vtk_available() {
+    if !common::vtk_python_available() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    python(&["pgen", dir.path().to_str().unwrap(), hexa_vtk()]);
+    common::vtk_python(SCRIPT, &["pgen", dir.path().to_str().unwrap(), hexa_vtk()]);
     let options = cylvol::io::ReadOptions::default();
     let whole = cylvol::io::read_file(Path::new(hexa_vtk()), &options).unwrap();
     let (whole_image, whole_stats) = fast_render(&whole);
@@ -660,7 +632,7 @@ fn parallel_index_joins_pieces_and_names_bad_ones() {
 
 #[test]
 fn our_files_read_in_vtk() {
-    if !vtk_available() {
+    if !common::vtk_python_available() {
         return;
     }
     let mesh = small_mesh();

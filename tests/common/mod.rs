@@ -239,3 +239,41 @@ pub fn closed_neighbours(mesh: &Mesh) -> cylvol::render::Topology {
     assert!(n.is_closed(), "hanging faces: {:?}", n.hanging_faces());
     n
 }
+
+/// VTK's Python: Debian's `python3-vtk9` belongs to this interpreter.
+pub const VTK_PYTHON: &str = "/usr/bin/python3";
+
+/// Whether [`VTK_PYTHON`] imports `vtk` (asked once per test program); a note on standard
+/// error says the comparisons with VTK are skipped where it does not.
+pub fn vtk_python_available() -> bool {
+    static HAVE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *HAVE.get_or_init(|| {
+        let ok = std::process::Command::new(VTK_PYTHON)
+            .args(["-c", "import vtk"])
+            .output()
+            .is_ok_and(|o| o.status.success());
+        if !ok {
+            eprintln!(
+                "note: `{VTK_PYTHON} -c 'import vtk'` failed; skipping the comparison with VTK"
+            );
+        }
+        ok
+    })
+}
+
+/// Runs `script` with `args` in [`VTK_PYTHON`] and gives its standard output; a script that
+/// fails fails the test with its standard error.
+pub fn vtk_python(script: &str, args: &[&str]) -> String {
+    let out = std::process::Command::new(VTK_PYTHON)
+        .arg("-c")
+        .arg(script)
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("run {VTK_PYTHON}: {e}"));
+    assert!(
+        out.status.success(),
+        "python failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("utf-8 output")
+}
