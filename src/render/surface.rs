@@ -498,6 +498,76 @@ impl BoundarySurface {
         Some(hit.and_then(|(s, _, i)| self.faces.get(i as usize).map(|&f| (sign * s, f))))
     }
 
+    /// Every crossing of a boundary face by the open segment `(t0, t1)` of the ray
+    /// `origin + t dir` (`t0 < t1`), exactly (each bilinear face solved as
+    /// [`BoundarySurface::first_face_crossing`] solves it), in increasing order with the cell
+    /// of the face crossed; `None` where one of them cannot be told robustly (near a face's
+    /// edge, tangent) or there are more than [`MAX_CROSSINGS`]. Where every face without a
+    /// neighbour bounds the mesh, the ray passes between the mesh and the space outside at
+    /// these `t` and nowhere else on the segment, so the parity of their number tells whether
+    /// its ends lie on the same side. Node visits are counted in `counters`.
+    ///
+    /// ```
+    /// use cylvol::accel::Counters;
+    /// use cylvol::datasets::{generate, Dataset};
+    /// use cylvol::mesh::topology::FaceNeighbors;
+    /// use cylvol::render::surface::BoundarySurface;
+    /// use glam::DVec3;
+    /// let mesh = generate(Dataset::PumpInlet, 2000).unwrap();
+    /// let faces = FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+    /// let surface = BoundarySurface::new(&mesh, &faces);
+    /// // A ray through the pipe from far off: in once, out once.
+    /// let b = cylvol::geometry::bounds::Aabb::from_points(mesh.points());
+    /// let (o, d) = (b.center() - DVec3::new(10.0, 0.013, 0.021) * b.diagonal(), DVec3::X);
+    /// let mut c = Counters::default();
+    /// let all = surface.crossings_between(None, &mesh, o, d, 0.0, 1e9, &mut c).unwrap();
+    /// assert_eq!(all.len(), 2);
+    /// let (first, _) = surface.next_crossing(None, o, d, 0.0, 1e9, &mut c).unwrap();
+    /// assert!(all.ts()[0].0 >= first);
+    /// // Between the two, none.
+    /// let (t_in, t_out) = (all.ts()[0].0, all.ts()[1].0);
+    /// let none = surface.crossings_between(None, &mesh, o, d, t_in + 1e-3, t_out - 1e-3, &mut c);
+    /// assert_eq!(none.unwrap().len(), 0);
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn crossings_between(
+        &self,
+        faces: Option<RayFaces<'_>>,
+        mesh: &Mesh,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        counters: &mut Counters,
+    ) -> Option<BoundaryCrossings> {
+        if t0.partial_cmp(&t1) != Some(std::cmp::Ordering::Less) {
+            return Some(BoundaryCrossings::default());
+        }
+        let mut found = BoundaryCrossings::default();
+        let mut undecided = false;
+        self.along(faces, origin, dir, t0, t1, counters, |i, lo, hi| {
+            if undecided {
+                return None;
+            }
+            let ((c, f), _, _) = self.face_span(i, origin, dir, lo, hi)?;
+            match segment_crossings(&face_corners(mesh, c, f), origin, dir, t0, t1, 0.0) {
+                Some(x) => {
+                    for &t in x.ts() {
+                        undecided |= !found.push(t, c);
+                    }
+                }
+                None => undecided = true,
+            }
+            // No hit: every face the segment may cross is offered.
+            None
+        });
+        if undecided {
+            return None;
+        }
+        found.ts[..found.n].sort_by(|a, b| a.0.total_cmp(&b.0));
+        Some(found)
+    }
+
     /// Boundary face `i` (its `(cell, face)`) and the part of `[lo, hi]` (the ray's interval
     /// in the face's box) in which the ray is in the face's slab too; `None` where there is
     /// none. The conservative bound every traversal of the surface tests a face by.
@@ -601,6 +671,45 @@ impl BoundarySurface {
                 })
             });
             *near = edges.iter().all(|s| s.holds(*p, r));
+        }
+    }
+}
+
+/// The most boundary crossings [`BoundarySurface::crossings_between`] reports on one segment.
+pub const MAX_CROSSINGS: usize = 16;
+
+/// A segment's crossings of the boundary ([`BoundarySurface::crossings_between`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BoundaryCrossings {
+    ts: [(f64, u32); MAX_CROSSINGS],
+    n: usize,
+}
+
+impl BoundaryCrossings {
+    /// The crossings' `t` with the cell of the face crossed, in increasing order of `t`.
+    pub fn ts(&self) -> &[(f64, u32)] {
+        &self.ts[..self.n]
+    }
+
+    /// How many there are.
+    pub fn len(&self) -> usize {
+        self.n
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// Adds one; `false` where there is no room left.
+    fn push(&mut self, t: f64, cell: u32) -> bool {
+        match self.ts.get_mut(self.n) {
+            Some(slot) => {
+                *slot = (t, cell);
+                self.n += 1;
+                true
+            }
+            None => false,
         }
     }
 }
