@@ -434,8 +434,8 @@ fn depth_in_stops_each_ray_at_its_pixel_depth() {
 }
 
 /// `--depth` then `--depth-in` of the same file: rays stop where they reached half opacity,
-/// so the image's own depth is the same where the stopping sample is kept, and none where
-/// it is cut; pixels without a depth are unchanged, and most others change.
+/// so the image's own depth is the same where the stopping sample is kept, none where it is
+/// cut, and never farther; pixels without a depth are unchanged, and most others change.
 #[test]
 fn the_depth_written_read_back_stops_rays_at_half_opacity() {
     let dir = tempfile::tempdir().unwrap();
@@ -458,8 +458,11 @@ fn the_depth_written_read_back_stops_rays_at_half_opacity() {
                 assert!(d_again.is_nan(), "pixel ({i}, {j}): depth {d_again}");
                 continue;
             }
+            // (Or, where the depth was the middle of a piece of the ray in the mesh too
+            // short for a sample, a chord, that piece cut at the depth: the middle of what
+            // is left of it, nearer.)
             assert!(
-                d_again.is_nan() || d_again == d,
+                d_again.is_nan() || d_again <= d,
                 "pixel ({i}, {j}): depth {d} then {d_again}"
             );
             changed += usize::from(again[j][i] != rows[j][i]);

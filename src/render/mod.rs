@@ -21,6 +21,7 @@
 pub mod accuracy;
 pub mod boundary;
 pub mod camera;
+pub mod chords;
 pub mod clip;
 pub mod image;
 pub mod march;

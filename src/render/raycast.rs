@@ -20,16 +20,31 @@
 //! the crossing, or extended to it over the outside neighbour's segment. Its opacity is that
 //! of its length, `1 − (1 − α_step)^(length/step)`. The in-mesh length of a ray is thus exact
 //! up to the crossing estimate instead of a step per crossing, which makes the error of an
-//! image fall with the square of the step (midpoint rule) rather than linearly. A boundary
-//! missed by the samples (a chord or gap shorter than a step) is not seen. The tests of a
+//! image fall with the square of the step (midpoint rule) rather than linearly. The tests of a
 //! crossing search count in [`RenderStats::hex_tests`] and
 //! [`RenderStats::boundary_refinements`], not in the sample counts; a point outside the box of
 //! the mesh's points (the ray's end on the clip box, typically) is outside with no search.
 //! Where a clipping plane starts a ray inside the mesh, the first sample stands for the ray
 //! from the plane (its step starts there); where one ends it inside the mesh, the last sample
-//! ends at the plane, as at a boundary crossing (a piece of the mesh between a plane and the
-//! boundary that holds no sample is not seen, as a chord shorter than a step is not). Where
-//! the opaque-geometry depth stops a ray inside the mesh, the last sample keeps its full step.
+//! ends at the plane, as at a boundary crossing. Where the opaque-geometry depth stops a ray
+//! inside the mesh, the last sample keeps its full step.
+//!
+//! # Chords and gaps
+//! The samples alone miss a piece of the ray in the mesh shorter than a step between two
+//! samples outside it (a *chord*: a ray grazing the silhouette, a thin plate, a coarse mesh's
+//! corner), and count as mesh a piece outside it between two samples in it (a *gap*: a thin
+//! blade crossed). With a boundary surface ([`Neighbours::surface`], complete neighbours),
+//! wherever the ray may cross the boundary between two positions (the fast path's exits from
+//! the mesh and entries into it, samples past a possible crossing, the ray's ends; on the paper
+//! path every pair the surface's bound does not rule out), every crossing in between is found
+//! exactly ([`BoundarySurface::crossings_between`]) and sorted by [`super::chords`]: the
+//! earlier sample's exit, the later one's entry, and the chords between, each sampled once at
+//! its middle for its own length ([`RenderStats::chord_samples`]; a gap's ends cut the two
+//! samples' segments, [`RenderStats::gaps`]). A constant medium's transmittance is then
+//! exact for every ray, whatever its stretches' lengths (`tests/render.rs`). Where a crossing
+//! cannot be told robustly (a ray through a boundary face's edge) or without the surface, the
+//! samples alone decide, as above; a piece between a clipping plane or the eye and the
+//! boundary is a chord like any other.
 //!
 //! # Interpolation and gradient opacity
 //! A located sample's scalar is the trilinear interpolant of its cell's corner values, or with
@@ -113,6 +128,7 @@ use serde::Serialize;
 
 use super::boundary::{face_violation, interpolate_crossing, partial_opacity, BISECTIONS};
 use super::camera::{Camera, RayGenerator, RaySource};
+use super::chords::{classify, side_unknown, Between, Chord, End};
 use super::clip::ClipPlanes;
 use super::image::Image;
 use super::march::{boundary_face_crossing, boundary_plane_crossing, March};
@@ -420,7 +436,8 @@ pub struct RenderStats {
     /// ray's first cell.
     pub entry_walk_hits: u64,
     /// Containment tests (and inverse maps) made to find where rays cross the mesh boundary
-    /// between two samples (see [`super::boundary`]); also counted in `hex_tests`.
+    /// between two samples (see [`super::boundary`]), and to locate the middles of chords
+    /// (see `chord_samples`); also counted in `hex_tests`.
     pub boundary_refinements: u64,
     /// Samples the fast path found in a cell by the cell's face planes alone, with no inverse
     /// map: in a transparent cell, or in an intensity projection's cell that cannot beat the
@@ -449,6 +466,15 @@ pub struct RenderStats {
     /// references such a cell (grids); the samples passed over are counted in `space_skips`,
     /// the node or grid cell visits in `internal_visits` and `leaf_visits`.
     pub transparent_jumps: u64,
+    /// Pieces of the rays in the mesh that held no sample (shorter than a step: a ray
+    /// grazing the mesh, a thin part), each sampled once at its middle for its own length
+    /// (see [`super::chords`]; only with a boundary surface). Not counted in `samples` or
+    /// `samples_located`; locating their middles is counted in `hex_tests`.
+    pub chord_samples: u64,
+    /// Stretches of the rays outside the mesh between two samples in it (shorter than a
+    /// step: a thin blade or gap crossed), found by the boundary surface and left out of the
+    /// samples' segments (see [`super::chords`]).
+    pub gaps: u64,
 }
 
 impl AddAssign for RenderStats {
@@ -475,6 +501,8 @@ impl AddAssign for RenderStats {
         self.transparent_jumps += o.transparent_jumps;
         self.extreme_skips += o.extreme_skips;
         self.extreme_jumps += o.extreme_jumps;
+        self.chord_samples += o.chord_samples;
+        self.gaps += o.gaps;
     }
 }
 
@@ -1671,6 +1699,233 @@ impl<'a> Renderer<'a> {
         0.5 * (b.t_outside + b.t_inside)
     }
 
+    /// The boundary crossings between the positions `a` and `b` of the ray (`a.0 < b.0`, no
+    /// sample between them), sorted by what they mean for compositing ([`super::chords`]):
+    /// the exit of `a`'s sample, the entry of `b`'s, the chords between. `None` without a
+    /// boundary surface whose faces bound the mesh (complete neighbours), or where the
+    /// crossings cannot all be told robustly or disagree with what is known of the ends (the
+    /// caller then keeps to its samples). The surface's node visits are counted in
+    /// `surface_visits`.
+    fn between(
+        &self,
+        faces: Option<RayFaces<'_>>,
+        origin: DVec3,
+        dir: DVec3,
+        a: (f64, End),
+        b: (f64, End),
+        stats: &mut RenderStats,
+    ) -> Option<Between> {
+        if !self.options.boundary_segments || !self.neighbours.complete() {
+            return None;
+        }
+        let surface = self.neighbours.surface()?;
+        let mut c = Counters::default();
+        let crossings =
+            surface.crossings_between(faces, self.volume.mesh, origin, dir, a.0, b.0, &mut c);
+        stats.surface_visits += c.internal_visits + c.leaf_visits;
+        let crossings = crossings?;
+        let mut a = a;
+        if side_unknown(a.1, b.1) {
+            // Neither end's side known (a ray too short for a sample between the eye or
+            // clipping planes): the middle of the stretch up to the first crossing tells it.
+            let to = crossings.ts().first().map_or(b.0, |c| c.0);
+            let p = origin + dir * (0.5 * (a.0 + to));
+            let mut counters = Counters::default();
+            let inside = self
+                .volume
+                .accel
+                .locate(self.volume.mesh, p, &mut counters)
+                .is_some();
+            stats.add_counters(&counters);
+            stats.boundary_refinements += counters.hex_tests;
+            stats.structure_locates += 1;
+            a.1 = match (a.1, inside) {
+                (_, false) => End::Outside,
+                (End::Passed, true) => End::Sample,
+                (_, true) => End::In,
+            };
+        }
+        classify(crossings.ts(), a, b)
+    }
+
+    /// Whether the ray may cross the mesh's boundary between `t0` and `t1`, by the boundary
+    /// surface's conservative bound ([`BoundarySurface::next_crossing`]); `false` without a
+    /// surface whose faces bound the mesh. For the paper path, which has no march to tell it
+    /// a sample's neighbour lies across the boundary.
+    fn may_cross_boundary(
+        &self,
+        faces: Option<RayFaces<'_>>,
+        origin: DVec3,
+        dir: DVec3,
+        t0: f64,
+        t1: f64,
+        stats: &mut RenderStats,
+    ) -> bool {
+        if !self.options.boundary_segments || !self.neighbours.complete() {
+            return false;
+        }
+        let Some(surface) = self.neighbours.surface() else {
+            return false;
+        };
+        let mut c = Counters::default();
+        let next = surface.next_crossing(faces, origin, dir, t0, t1, &mut c);
+        stats.surface_visits += c.internal_visits + c.leaf_visits;
+        next.is_some()
+    }
+
+    /// Samples each of `chords` (pieces of the ray in the mesh that hold no sample, front to
+    /// back) once at its middle, standing for its own length, and composites it (or, for an
+    /// intensity projection, offers its scalar to the extreme). The middle is located by a
+    /// walk from the chord's face cell on the fast path, through the structure on the paper
+    /// path (and where the walk gives up); a middle located nowhere (a chord too thin for the
+    /// inverse map's tolerance) or in a transparent cell adds nothing. Counted in
+    /// [`RenderStats::chord_samples`].
+    #[allow(clippy::too_many_arguments)]
+    fn composite_chords(
+        &self,
+        chords: &[Chord],
+        origin: DVec3,
+        dir: DVec3,
+        acc: &mut Accum,
+        extreme: &Cell<Option<(f64, f64)>>,
+        transparent: Option<&TransparentCells>,
+        counters: &mut Counters,
+        stats: &mut RenderStats,
+    ) {
+        let mesh = self.volume.mesh;
+        let opts = &self.options;
+        for chord in chords {
+            if chord.length().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                continue;
+            }
+            let t = chord.middle();
+            let p = origin + dir * t;
+            let before = counters.hex_tests;
+            let walked = match opts.path {
+                RenderPath::Fast if (chord.cell as usize) < mesh.cell_count() => {
+                    let mut work = WalkWork::default();
+                    let end = walk_within(
+                        mesh,
+                        self.neighbours,
+                        chord.cell,
+                        None,
+                        p,
+                        MAX_ENTRY_PLANE_STEPS,
+                        &mut work,
+                    );
+                    counters.hex_tests += work.tests;
+                    stats.walk_steps += work.plane_steps;
+                    match end {
+                        WalkEnd::Found(c, q) => Some((c, q)),
+                        _ => None,
+                    }
+                }
+                _ => None,
+            };
+            let found = walked.or_else(|| {
+                if opts.path == RenderPath::Fast {
+                    stats.structure_locates += 1;
+                }
+                self.volume.accel.locate(mesh, p, counters)
+            });
+            stats.boundary_refinements += counters.hex_tests - before;
+            let Some((cell, q)) = found else {
+                continue;
+            };
+            stats.chord_samples += 1;
+            if transparent.is_some_and(|m| m.contains(cell)) {
+                continue;
+            }
+            let q = q.clamp(DVec3::ZERO, DVec3::ONE);
+            let (s, values) = self.scalar_at(cell, q);
+            if opts.blend != Blend::Composite {
+                if opts.blend.replaces(s, extreme.get().map(|e| e.0)) {
+                    extreme.set(Some((s, t)));
+                }
+                continue;
+            }
+            let Some((rgb, alpha_step)) = self.colour(s, values, cell, q, dir, stats) else {
+                continue;
+            };
+            let piece = Last {
+                t,
+                start: Some(chord.start),
+                rgb,
+                alpha_step,
+                transmittance_before: acc.transmittance,
+                color_before: acc.color,
+                depth_before: acc.depth,
+                inside: (cell, q),
+            };
+            acc.composite(&piece, chord.end, opts.step, opts.depth_opacity);
+        }
+    }
+
+    /// The scalar at parameters `param` (in the cell's cube) of `cell`: the trilinear (or
+    /// nearest-corner) interpolant of point data, with the corner values; a cell's value.
+    #[inline]
+    fn scalar_at(&self, cell: u32, param: DVec3) -> (f64, Option<[f64; 8]>) {
+        let field = &self.volume.field;
+        match field.association {
+            Association::Point => {
+                let values =
+                    self.volume.mesh.cells()[cell as usize].map(|i| field.scalars[i as usize]);
+                (
+                    self.options.interpolation.sample(&values, param),
+                    Some(values),
+                )
+            }
+            Association::Cell => (field.scalars[cell as usize], None),
+        }
+    }
+
+    /// The colour (shaded where shading is on) and the opacity over a step of a sample of
+    /// scalar `s` at parameters `param` (in the cell's cube) of `cell`, with the corner
+    /// `values` of point data; `None` where it adds nothing. The gradient is evaluated only
+    /// where shading or gradient opacity needs it (a cell scalar has none to evaluate), and
+    /// only once the transfer function gives the sample some opacity.
+    #[inline]
+    fn colour(
+        &self,
+        s: f64,
+        values: Option<[f64; 8]>,
+        cell: u32,
+        param: DVec3,
+        dir: DVec3,
+        stats: &mut RenderStats,
+    ) -> Option<([f64; 3], f64)> {
+        let opts = &self.options;
+        let [r, g, b, mut a] = self.table.lookup(s);
+        if a <= 0.0 || a.is_nan() {
+            return None;
+        }
+        let grad = match values {
+            Some(values) if opts.shading.is_some() || opts.gradient_opacity.is_some() => {
+                stats.gradient_evaluations += 1;
+                physical_gradient(
+                    &self.volume.mesh.cell_corners(cell as usize),
+                    &values,
+                    param,
+                )
+            }
+            _ => None,
+        };
+        if let Some(go) = &opts.gradient_opacity {
+            let f = go.at(grad.map_or(0.0, |g| g.length()));
+            if f != 1.0 {
+                a = self.table.step_opacity(self.table.unit_opacity(s) * f);
+                if a <= 0.0 || a.is_nan() {
+                    return None;
+                }
+            }
+        }
+        let c = match &opts.shading {
+            Some(shading) => shading.shade([r, g, b], grad, dir),
+            None => [r, g, b],
+        };
+        Some((c, a))
+    }
+
     /// Whether the ray `origin + t dir`, in the mesh at `t_from` (a located sample), stays
     /// in it up to `t`: where no boundary face's bound lies on the way
     /// ([`BoundarySurface::next_crossing`]; conservative, so `true` is proved). `until` keeps
@@ -1733,6 +1988,19 @@ impl<'a> Renderer<'a> {
             (t_out, t_out < box_span.1)
         } else {
             (t_stop, false)
+        };
+        // What is known of the ray's start and end for its chords (see `super::chords`): on
+        // the mesh's padded box they are outside; at the eye, on a clipping plane or at
+        // opaque geometry, either side.
+        let start_end = if t_in > 0.0 && !starts_on_plane {
+            End::Outside
+        } else {
+            End::Unknown
+        };
+        let end_end = if t_out < box_span.1 {
+            End::Unknown
+        } else {
+            End::Outside
         };
         let step = opts.step;
         let vol = self.volume;
@@ -1867,6 +2135,24 @@ impl<'a> Renderer<'a> {
                 *k += 1;
             }
         };
+        // The fast path's march left the mesh by a boundary face since the last located
+        // sample (the ray may have left the mesh and come back: a gap).
+        let mut crossed_boundary = false;
+        // Whether the ray stopped at early termination.
+        let mut terminated = false;
+        // What is known of the position before sample `k` (the previous sample's, or the
+        // ray's start): in the mesh (a located sample), outside, or passed over by a jump.
+        let previous = |k: u64, was_in: bool, after_jump: bool| -> (f64, End) {
+            if k == 0 {
+                (t_in, start_end)
+            } else if was_in {
+                (sample_t(k - 1), End::Sample)
+            } else if after_jump {
+                (sample_t(k - 1), End::Passed)
+            } else {
+                (sample_t(k - 1), End::Outside)
+            }
+        };
         let mut k = 0u64;
         'samples: loop {
             let t = sample_t(k);
@@ -1938,6 +2224,7 @@ impl<'a> Renderer<'a> {
                             // Left the mesh by the planes: settled locally where the
                             // boundary surface proves the sample outside.
                             prev = None;
+                            crossed_boundary = true;
                             let seg = Segment {
                                 origin,
                                 dir,
@@ -1971,6 +2258,9 @@ impl<'a> Renderer<'a> {
                             }
                         }
                         WalkEnd::GaveUp => {
+                            // The march did not follow the ray there: it may have left the
+                            // mesh on the way.
+                            crossed_boundary = true;
                             stats.structure_locates += 1;
                             walked = Some(vol.accel.locate(mesh, p, &mut counters));
                         }
@@ -2016,28 +2306,30 @@ impl<'a> Renderer<'a> {
                         stats.samples += 1;
                         k += 1;
                         if !Skipper::new(vol.accel).may_hold(p, &mut counters) {
+                            // In no piece's bound: outside the mesh, as a sample located
+                            // nowhere is (below).
                             stats.space_skips += 1;
-                            prev_in = false;
-                            close_at_exit(&mut acc, t, None, &mut counters, stats);
-                            continue 'samples;
+                            None
+                        } else {
+                            // After a jump, the visible cell jumped to is the hint. The
+                            // previous ray's first cell is a hint for this ray's first entry
+                            // only: later, it lies far behind.
+                            let h = jumped_to.take().or(if first_cell.is_none() {
+                                *hint
+                            } else {
+                                None
+                            });
+                            self.locate_entry(
+                                origin,
+                                dir,
+                                t,
+                                surface_cell.take(),
+                                h,
+                                &mut march,
+                                &mut counters,
+                                stats,
+                            )
                         }
-                        // After a jump, the visible cell jumped to is the hint. The previous
-                        // ray's first cell is a hint for this ray's first entry only: later,
-                        // it lies far behind.
-                        let h =
-                            jumped_to
-                                .take()
-                                .or(if first_cell.is_none() { *hint } else { None });
-                        self.locate_entry(
-                            origin,
-                            dir,
-                            t,
-                            surface_cell.take(),
-                            h,
-                            &mut march,
-                            &mut counters,
-                            stats,
-                        )
                     }
                 }
             };
@@ -2055,23 +2347,106 @@ impl<'a> Renderer<'a> {
             // or not).
             let after_jump = std::mem::take(&mut jumped);
             let Some((cell, param)) = found else {
-                prev_in = false;
+                let was_in = std::mem::replace(&mut prev_in, false);
+                crossed_boundary = false;
                 // Located nowhere: outside the mesh, exactly.
                 let proved = proved_exit.take();
+                // Where the exit was not proved by parity (its crossing then the only one),
+                // the crossings since the previous position: its sample's exit, and the
+                // chords after it (or between two positions outside).
+                let between = match proved {
+                    Some(_) => None,
+                    None => self.between(
+                        faces,
+                        origin,
+                        dir,
+                        previous(k - 1, was_in, after_jump),
+                        (t, End::Outside),
+                        stats,
+                    ),
+                };
                 close_at_exit(
                     &mut acc,
                     t,
-                    proved.map(|p| p.crossing),
+                    proved.map(|p| p.crossing).or(between.and_then(|b| b.exit)),
                     &mut counters,
                     stats,
                 );
+                if let Some(b) = &between {
+                    self.composite_chords(
+                        b.chords(),
+                        origin,
+                        dir,
+                        &mut acc,
+                        &extreme,
+                        transparent,
+                        &mut counters,
+                        stats,
+                    );
+                    if 1.0 - acc.transmittance >= opts.early_termination {
+                        stats.early_terminations += 1;
+                        terminated = true;
+                        break;
+                    }
+                }
                 (outside_until, surface_cell) =
                     proved.map_or_else(|| next_surface_crossing(t), |p| p.next);
                 continue;
             };
-            // The previous composited sample (if any) keeps its full end: this one is inside.
-            acc.last = None;
             let was_in = std::mem::replace(&mut prev_in, true);
+            // The crossings since the previous position where the ray may have crossed the
+            // boundary: from outside (the entry, and chords before it), or from a sample in
+            // the mesh where the march left it, or the paper path's surface bound says it may
+            // (a gap). The previous sample's exit closes it; the entry starts this one.
+            let crossed = std::mem::take(&mut crossed_boundary)
+                || (!fast
+                    && was_in
+                    && self.may_cross_boundary(
+                        faces,
+                        origin,
+                        dir,
+                        previous(k - 1, was_in, after_jump).0,
+                        t,
+                        stats,
+                    ));
+            let mut entry: Option<Option<f64>> = None;
+            if !was_in || crossed {
+                let b = self.between(
+                    faces,
+                    origin,
+                    dir,
+                    previous(k - 1, was_in, after_jump),
+                    (t, End::Sample),
+                    stats,
+                );
+                if let Some(b) = b {
+                    if b.exit.is_some() && b.entry.is_some() {
+                        stats.gaps += 1;
+                    }
+                    if let (Some(e), Some(l)) = (b.exit, acc.last.take()) {
+                        acc.exit(l, e, step, opts.depth_opacity);
+                    }
+                    self.composite_chords(
+                        b.chords(),
+                        origin,
+                        dir,
+                        &mut acc,
+                        &extreme,
+                        transparent,
+                        &mut counters,
+                        stats,
+                    );
+                    if 1.0 - acc.transmittance >= opts.early_termination {
+                        stats.early_terminations += 1;
+                        terminated = true;
+                        break;
+                    }
+                    entry = Some(b.entry);
+                }
+            }
+            // The previous composited sample (if any) keeps its full end (or the exit just
+            // found): this one is inside.
+            acc.last = None;
             let raw_param = param;
             stats.samples_located += 1;
             if first_cell.is_none() {
@@ -2164,48 +2539,21 @@ impl<'a> Renderer<'a> {
                 continue;
             }
             let param = param.clamp(DVec3::ZERO, DVec3::ONE);
-            let (s, values) = match vol.field.association {
-                Association::Point => {
-                    let values = mesh.cells()[cell as usize].map(|i| vol.field.scalars[i as usize]);
-                    (opts.interpolation.sample(&values, param), Some(values))
-                }
-                Association::Cell => (vol.field.scalars[cell as usize], None),
-            };
+            let (s, values) = self.scalar_at(cell, param);
             if !compositing {
                 if opts.blend.replaces(s, extreme.get().map(|e| e.0)) {
                     extreme.set(Some((s, t)));
                 }
                 continue;
             }
-            let [r, g, b, mut a] = self.table.lookup(s);
-            if a <= 0.0 || a.is_nan() {
+            let Some((c, a)) = self.colour(s, values, cell, param, dir, stats) else {
                 continue;
-            }
-            // The gradient, only where shading or gradient opacity needs it (a cell scalar is
-            // constant in its cell: no gradient to evaluate).
-            let grad = match values {
-                Some(values) if opts.shading.is_some() || opts.gradient_opacity.is_some() => {
-                    stats.gradient_evaluations += 1;
-                    physical_gradient(&mesh.cell_corners(cell as usize), &values, param)
-                }
-                _ => None,
-            };
-            if let Some(go) = &opts.gradient_opacity {
-                let f = go.at(grad.map_or(0.0, |g| g.length()));
-                if f != 1.0 {
-                    a = self.table.step_opacity(self.table.unit_opacity(s) * f);
-                    if a <= 0.0 || a.is_nan() {
-                        continue;
-                    }
-                }
-            }
-            let c = match &opts.shading {
-                Some(shading) => shading.shade([r, g, b], grad, dir),
-                None => [r, g, b],
             };
             // Where the previous position was outside the mesh, the segment starts at the
             // crossing (the ray's start counts as outside unless it is in the mesh).
-            let start = if was_in || !opts.boundary_segments {
+            let start = if let Some(e) = entry {
+                e
+            } else if was_in || !opts.boundary_segments {
                 None
             } else {
                 let t_prev = if k >= 2 { sample_t(k - 2) } else { t_in };
@@ -2285,13 +2633,49 @@ impl<'a> Renderer<'a> {
                 }
                 if 1.0 - acc.transmittance >= opts.early_termination {
                     stats.early_terminations += 1;
+                    terminated = true;
                     break;
                 }
             }
         }
         // The ray's end: where it is outside the mesh, the last sample ends at the crossing;
-        // where it is in the mesh on a clipping plane, at the plane.
-        if let Some(l) = acc.last.take() {
+        // where it is in the mesh on a clipping plane, at the plane. Where the boundary
+        // surface tells the crossings since the last position, the pieces of the ray in the
+        // mesh after it are chords (the whole ray's, where it is too short for a sample); on
+        // the fast path, not where the surface proved the ray outside up to its end.
+        let (t_last, last_end) = previous(k, prev_in, jumped);
+        let may_cross = !(surface.is_some() && last_end == End::Outside && outside_until >= t_out);
+        let between = (!terminated && may_cross && t_out.is_finite() && t_last < t_out)
+            .then(|| {
+                self.between(
+                    faces,
+                    origin,
+                    dir,
+                    (t_last, last_end),
+                    (t_out, end_end),
+                    stats,
+                )
+            })
+            .flatten();
+        if let Some(b) = between {
+            if let Some(l) = acc.last.take() {
+                match b.exit {
+                    Some(e) => acc.exit(l, e, step, opts.depth_opacity),
+                    None if ends_on_plane => acc.exit(l, t_out, step, opts.depth_opacity),
+                    None => {}
+                }
+            }
+            self.composite_chords(
+                b.chords(),
+                origin,
+                dir,
+                &mut acc,
+                &extreme,
+                transparent,
+                &mut counters,
+                stats,
+            );
+        } else if let Some(l) = acc.last.take() {
             let seg = Segment {
                 origin,
                 dir,
