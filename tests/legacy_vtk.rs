@@ -366,6 +366,106 @@ for name, binary, version in [('v51_binary', True, None), ('v42_ascii', False, 4
     }
 }
 
+/// The four legacy layouts VTK 9.1 writes (binary or ASCII, VTK 5.1's cell layout or version
+/// 4.2's), as a script's loop over `name, binary, version`.
+const VTK_WRITES_FOUR_LAYOUTS: &str = r#"
+for name, binary, version in [('v51_binary', True, None), ('v51_ascii', False, None),
+                              ('v42_binary', True, 42), ('v42_ascii', False, 42)]:
+    w = vtk.vtkUnstructuredGridWriter(); w.SetInputData(g)
+    w.SetFileName(out + '/' + name + '.vtk')
+    if binary: w.SetFileTypeToBinary()
+    else: w.SetFileTypeToASCII()
+    if version: w.SetFileVersion(version)
+    w.Write()
+"#;
+
+/// Our reader on a file VTK wrote from the mixer with arrays added: both the whole-file and
+/// the block-by-block reader give the mixer (VTK's ASCII files with VTK's rounding, so their
+/// points and arrays are compared with what VTK reads), and every numeric array VTK's reader
+/// gives.
+fn read_like_vtk(path: &Path, name: &str) -> Mesh {
+    let bytes = std::fs::read(path).unwrap();
+    let m = legacy::read(&bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let from_file = legacy::read_file(path).unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(from_file == m, "{name}: read_file gives another mesh");
+    let reference = mixer();
+    assert_eq!(m.cells(), reference.cells(), "{name}");
+    assert_eq!(m.kinds(), reference.kinds(), "{name}");
+    if name.ends_with("binary") {
+        assert_eq!(m.points(), reference.points(), "{name}");
+    }
+    assert_matches_vtk(&m, &vtk_summary(path));
+    m
+}
+
+/// VTK writes string arrays — a case name in field data (with a space, an empty one, and one
+/// of 20,000 characters), a label per point (empty ones, 60- to 69-character ones: 1- and
+/// 2-byte length headers), a tag per cell, cell pedigree ids — and a variant array, in all four
+/// layouts. Both readers skip them and read the mixer and the numeric arrays VTK's reader
+/// gives; before, the whole file was refused ("'string' arrays are not supported"). Cut inside
+/// the point labels, either reader says where it ended.
+#[test]
+fn string_arrays_vtk_writes_are_skipped() {
+    let body = r#"
+def strings(name, n, value):
+    s = vtk.vtkStringArray(); s.SetName(name)
+    for i in range(n):
+        s.InsertNextValue(value(i))
+    return s
+g.GetFieldData().AddArray(strings('case name', 3, lambda i: ['mixer run 7', '', 'x' * 20000][i]))
+g.GetPointData().AddArray(strings('zone label', g.GetNumberOfPoints(),
+    lambda i: '' if i % 5 == 0 else 'y' * (60 + i % 10) if i % 3 == 0 else 'blade %d' % (i % 7)))
+g.GetCellData().AddArray(strings('tag', g.GetNumberOfCells(), lambda i: 'c%d' % i))
+g.GetCellData().SetPedigreeIds(strings('ids', g.GetNumberOfCells(), lambda i: 'cell %d' % i))
+v = vtk.vtkVariantArray(); v.SetName('notes')
+for x in (3, 'a b', 2.5):
+    v.InsertNextValue(vtk.vtkVariant(x))
+g.GetFieldData().AddArray(v)
+"#
+    .to_string()
+        + VTK_WRITES_FOUR_LAYOUTS;
+    let Some((dir, _)) = vtk_rewrites_the_mixer(&body) else {
+        return;
+    };
+    for name in ["v51_binary", "v51_ascii", "v42_binary", "v42_ascii"] {
+        let path = dir.path().join(format!("{name}.vtk"));
+        let bytes = std::fs::read(&path).unwrap();
+        let has = |what: &[u8]| bytes.windows(what.len()).any(|w| w == what);
+        assert!(has(b"zone%20label 1 37843 string\n"), "{name}");
+        assert!(has(b"PEDIGREE_IDS ids string\n") && has(b"notes 1 3 variant\n"));
+        if name.ends_with("binary") {
+            // "mixer run 7", "", then 20,000 bytes: 1- and 4-byte length headers; and a
+            // 64-character label's 2-byte one.
+            assert!(has(b"\xcbmixer run 7\xc0\x40\x00\x4e\x20xxx"), "{name}");
+            assert!(has(&[&[0x80, 64][..], &[b'y'; 64]].concat()), "{name}");
+        } else {
+            assert!(has(b"mixer%20run%207\n\nxxx"), "{name}");
+        }
+        let m = read_like_vtk(&path, name);
+        assert_eq!(names(m.point_data()), names(mixer().point_data()), "{name}");
+        assert_eq!(names(m.cell_data()), names(mixer().cell_data()), "{name}");
+
+        let start = bytes
+            .windows(28)
+            .position(|w| w == b"zone%20label 1 37843 string\n")
+            .unwrap()
+            + 28;
+        for k in 1..8 {
+            let cut = &bytes[..start + k * 10_000];
+            let message = read_error_message(&legacy::read(cut).unwrap_err());
+            assert!(
+                message.contains("file ends inside FIELD array 'zone label' after")
+                    && message.contains("of 37843 tuples"),
+                "{name}, cut {k}: {message}"
+            );
+            let cut_file = dir.path().join("cut.vtk");
+            std::fs::write(&cut_file, cut).unwrap();
+            let from_file = legacy::read_file(&cut_file).unwrap_err().to_string();
+            assert!(from_file.ends_with(&message), "{from_file} / {message}");
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Writing
 
@@ -805,6 +905,14 @@ fn bad_numbers_and_keywords_name_their_line() {
     let message = read_error_message(&read_err(&cube(CUBE_POINTS, CUBE_CELLS, CUBE_TYPES, data)));
     assert!(
         message.contains("'bit' arrays are not supported"),
+        "{message}"
+    );
+    // Strings are no scalars: VTK's reader takes no attribute from them either.
+    let data = "POINT_DATA 8\nSCALARS s string\nLOOKUP_TABLE default\na\nb\nc\nd\ne\nf\ng\nh\n";
+    let message = read_error_message(&read_err(&cube(CUBE_POINTS, CUBE_CELLS, CUBE_TYPES, data)));
+    assert!(
+        message.contains("point SCALARS 's': 'string' values are not numbers")
+            && message.contains("line 13"),
         "{message}"
     );
 }
