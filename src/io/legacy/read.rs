@@ -201,6 +201,12 @@ impl<'a> Parser<'a> {
         ArrayType::parse(&t.text).map_err(|m| self.err(t.offset, format!("{what}: {m}")))
     }
 
+    /// The data type of an attribute that holds numbers (bits among them).
+    fn numeric_type(&mut self, what: &str) -> Result<ArrayType> {
+        let t = self.expect(&format!("the data type of {what}"))?;
+        ArrayType::parse_numeric(&t.text).map_err(|m| self.err(t.offset, format!("{what}: {m}")))
+    }
+
     fn truncated(&self, what: What, done: usize, total: usize) -> ReadError {
         self.err(
             self.c.len(),
@@ -223,18 +229,28 @@ impl<'a> Parser<'a> {
         comps: usize,
         what: What,
     ) -> Result<Cow<'a, [u8]>> {
-        let start = self.c.pos();
         let n = tuples
             .checked_mul(comps)
             .and_then(|n| n.checked_mul(ty.size()))
-            .ok_or_else(|| self.too_large(start, what))?;
+            .ok_or_else(|| self.too_large(self.c.pos(), what))?;
+        self.bytes_of(n, tuples, what, |available| available / (comps * ty.size()))
+    }
+
+    /// The `n` bytes of a binary block of `tuples` tuples (none if `n` is 0); where the file
+    /// ends first, an error saying how many tuples the `available` bytes held (`held`).
+    fn bytes_of(
+        &mut self,
+        n: usize,
+        tuples: usize,
+        what: What,
+        held: impl Fn(usize) -> usize,
+    ) -> Result<Cow<'a, [u8]>> {
         if n == 0 {
             return Ok(Cow::Borrowed(&[]));
         }
+        let start = self.c.pos();
         self.c.binary(n).map_err(|shortfall| match shortfall {
-            Shortfall::Truncated(available) => {
-                self.truncated(what, available / (comps * ty.size()), tuples)
-            }
+            Shortfall::Truncated(available) => self.truncated(what, held(available), tuples),
             Shortfall::Io(e) => self.err(
                 start,
                 format!("could not read {n} bytes of {}: {e}", what.section),
@@ -242,9 +258,46 @@ impl<'a> Parser<'a> {
         })
     }
 
+    /// Reads `tuples × comps` bits as 0 and 1, as `vtkDataReader` reads a `bit` array: in a
+    /// binary file packed eight a byte after the rest of the keyword line, the first value in
+    /// the high bit; in an ASCII file one integer a value, any but 0 meaning 1.
+    fn bits(&mut self, tuples: usize, comps: usize, what: What) -> Result<Vec<f64>> {
+        let n = tuples
+            .checked_mul(comps)
+            .ok_or_else(|| self.too_large(self.c.pos(), what))?;
+        if self.binary {
+            let block = self.bytes_of(n.div_ceil(8), tuples, what, |available| {
+                available * 8 / comps.max(1)
+            })?;
+            return Ok((0..n)
+                .map(|i| f64::from((block[i / 8] >> (7 - i % 8)) & 1))
+                .collect());
+        }
+        let mut out = Vec::with_capacity(n.min(self.c.remaining() / 2 + 1));
+        for i in 0..n {
+            let t = self
+                .c
+                .token()
+                .ok_or_else(|| self.truncated(what, i / comps, tuples))?;
+            let v = parse_i64(&t.text).ok_or_else(|| {
+                self.err(
+                    t.offset,
+                    format!(
+                        "'{}' in {} is not an integer (bits are 0 or 1)",
+                        t.show(),
+                        what.section
+                    ),
+                )
+            })?;
+            out.push(if v == 0 { 0.0 } else { 1.0 });
+        }
+        Ok(out)
+    }
+
     /// An array of `tuples` tuples of `comps` values of type `ty` (named `section` in
-    /// errors), with any metadata after it skipped: `None` for strings and variants, which
-    /// are read past, as the VTU reader skips string arrays (no mesh array can hold them).
+    /// errors), with any metadata after it skipped: numbers, bits as 0 and 1 (VTK's
+    /// `vtkBitArray` is a numeric array), and `None` for strings and variants, which are read
+    /// past, as the VTU reader skips string arrays (no mesh array can hold them).
     fn data_array(
         &mut self,
         name: String,
@@ -259,6 +312,7 @@ impl<'a> Parser<'a> {
         };
         let values = match ty {
             ArrayType::Number(ty) => Some(self.values_f64(ty, tuples, comps, what)?),
+            ArrayType::Bit => Some(self.bits(tuples, comps, what)?),
             ArrayType::String => {
                 self.skip_strings(tuples, comps, what)?;
                 None
@@ -719,7 +773,7 @@ impl<'a> Parser<'a> {
         let label = |kind: &str, name: &str| format!("{association} {kind} '{name}'");
         if t.is("SCALARS") {
             let name = decode_name(&self.expect("the SCALARS name")?.text);
-            let ty = self.value_type(&label("SCALARS", &name))?;
+            let ty = self.numeric_type(&label("SCALARS", &name))?;
             let mut comps = 1;
             let next = self.expect("LOOKUP_TABLE after SCALARS")?;
             let next = if next.is("LOOKUP_TABLE") {
@@ -750,7 +804,7 @@ impl<'a> Parser<'a> {
             }
             let _table = self.expect("the LOOKUP_TABLE name")?;
             let section = label("SCALARS", &name);
-            return self.data_array(name, ArrayType::Number(ty), n, comps, &section);
+            return self.data_array(name, ty, n, comps, &section);
         }
         let (keep, fixed_comps) = if t.is("VECTORS") || t.is("NORMALS") {
             (true, Some(3))
@@ -827,7 +881,7 @@ impl<'a> Parser<'a> {
         let ty = if t.is("PEDIGREE_IDS") {
             self.array_type(&label(&kind, &name))?
         } else {
-            ArrayType::Number(self.value_type(&label(&kind, &name))?)
+            self.numeric_type(&label(&kind, &name))?
         };
         let section = label(&kind, &name);
         let array = self.data_array(name, ty, n, comps, &section)?;
@@ -1031,6 +1085,7 @@ mod tests {
         structured.extend(b"\n");
         files.push(structured);
         files.push(strings_binary());
+        files.push(bits_binary());
 
         let outcome = |r: std::result::Result<Mesh, Error>| match r {
             Ok(m) => Ok(m),
@@ -1107,6 +1162,42 @@ mod tests {
         assert_eq!(mesh.point_data()[0].name, "t");
         assert_eq!(mesh.point_data()[0].values, [0.5, 1.5, 2.5, 3.5]);
         assert!(mesh.cell_data().is_empty());
+    }
+
+    /// A binary tetrahedron with bit arrays: dataset field data, point scalars and vectors, a
+    /// 2-component cell FIELD array.
+    fn bits_binary() -> Vec<u8> {
+        let mut f = b"# vtk DataFile Version 4.2\nbits\nBINARY\nDATASET UNSTRUCTURED_GRID\n\
+            FIELD FieldData 1\nflags 1 3 bit\n\xa0\nPOINTS 4 double\n"
+            .to_vec();
+        for p in [[0f64, 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]] {
+            f.extend(p.iter().flat_map(|v| v.to_be_bytes()));
+        }
+        f.extend(b"\nCELLS 1 5\n");
+        f.extend([4i32, 0, 1, 2, 3].iter().flat_map(|v| v.to_be_bytes()));
+        f.extend(b"\nCELL_TYPES 1\n");
+        f.extend(10i32.to_be_bytes());
+        f.extend(b"\nCELL_DATA 1\nFIELD FieldData 1\nmarks 2 1 bit\n\x40\n");
+        f.extend(b"POINT_DATA 4\nSCALARS wet bit\nLOOKUP_TABLE default\n\x90\n");
+        f.extend(b"VECTORS v bit\n\xa5\x30\n");
+        f
+    }
+
+    /// Bit arrays are read as 0 and 1, high bit first, where VTK's reader keeps them.
+    #[test]
+    fn bits_are_read_high_bit_first() {
+        let mesh = read(&bits_binary()).unwrap();
+        let [wet, v] = mesh.point_data() else {
+            panic!("{:?}", mesh.point_data());
+        };
+        assert_eq!(
+            (wet.name.as_str(), &wet.values[..]),
+            ("wet", &[1., 0., 0., 1.][..])
+        );
+        let v_bits = [1., 0., 1., 0., 0., 1., 0., 1., 0., 0., 1., 1.];
+        assert_eq!((v.components, &v.values[..]), (3, &v_bits[..]));
+        assert_eq!(mesh.cell_data()[0].values, [0., 1.]);
+        assert_eq!(mesh.cell_data()[0].components, 2);
     }
 
     #[test]
