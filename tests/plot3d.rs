@@ -4,7 +4,10 @@
 
 mod common;
 
+use std::path::{Path, PathBuf};
+
 use cylvol::io::plot3d::{self, ByteOrder, Precision};
+use cylvol::io::ReadOptions;
 use cylvol::{Component, Error, Mesh};
 
 fn data(name: &str) -> String {
@@ -566,4 +569,77 @@ fn fuzz_seeds_are_valid_files() {
         seen += 1;
     }
     assert_eq!(seen, 5);
+}
+
+/// Copies of the shared files in a new folder, under the names given (`(shared, copy)`).
+fn copies(files: &[(&str, &str)]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    for (from, to) in files {
+        std::fs::copy(data(from), dir.path().join(to)).unwrap();
+    }
+    dir
+}
+
+/// What `io::read_file` says about a grid, with or without `--q`.
+fn read_file_error(grid: &Path, q: Option<PathBuf>) -> String {
+    let options = ReadOptions { q_file: q };
+    message(cylvol::io::read_file(grid, &options))
+}
+
+/// A bad Q file is reported under its own name, never the grid's: cut short (found beside the
+/// grid, or given), of other dimensions, with a NaN in it. A bad grid is still the grid's.
+#[test]
+fn q_file_errors_name_the_q_file() {
+    let dir = copies(&[("combxyz.bin", "combxyz.bin"), ("postq.bin", "postq.bin")]);
+    let grid = dir.path().join("combxyz.bin");
+    let q = dir.path().join("combq.bin");
+    let full = bytes("combq.bin");
+    std::fs::write(&q, &full[..1000]).unwrap();
+    let prefix = format!(
+        "{}: PLOT3D Q: truncated file: it has 1000 bytes",
+        q.display()
+    );
+    let msg = read_file_error(&grid, None);
+    assert!(msg.starts_with(&prefix), "{msg}");
+    assert!(!msg.contains("combxyz"), "{msg}");
+    let other = dir.path().join("other.bin");
+    std::fs::write(&other, &full[..1000]).unwrap();
+    let msg = read_file_error(&grid, Some(other.clone()));
+    assert!(
+        msg.starts_with(&format!("{}: PLOT3D Q", other.display())),
+        "{msg}"
+    );
+
+    let post_q = dir.path().join("postq.bin");
+    let msg = read_file_error(&grid, Some(post_q.clone()));
+    assert!(
+        msg.starts_with(&format!(
+            "{}: PLOT3D Q: the Q file's dimensions 38×76×38",
+            post_q.display()
+        )),
+        "{msg}"
+    );
+
+    // A NaN density at point 100: the Q file's header is 12 bytes of dimensions and 16 of
+    // free-stream values (big-endian f32, no record markers).
+    let mut nan = full.clone();
+    nan[28 + 4 * 100..28 + 4 * 101].copy_from_slice(&f32::NAN.to_be_bytes());
+    std::fs::write(&q, &nan).unwrap();
+    let msg = read_file_error(&grid, None);
+    assert!(
+        msg.starts_with(&format!(
+            "{}: invalid mesh: point array 'Density'",
+            q.display()
+        )) && msg.contains("non-finite"),
+        "{msg}"
+    );
+
+    // The grid cut short, the Q file whole: the grid's error.
+    std::fs::write(&q, &full).unwrap();
+    std::fs::write(&grid, &bytes("combxyz.bin")[..5000]).unwrap();
+    let msg = read_file_error(&grid, None);
+    assert!(
+        msg.starts_with(&format!("{}: PLOT3D grid", grid.display())),
+        "{msg}"
+    );
 }

@@ -160,7 +160,10 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
                 None => plot3d_q_file_for(path),
             };
             let q = q_path.as_deref().map(read_bytes).transpose()?;
-            plot3d::read(&bytes, q.as_deref()).map_err(|e| e.in_file(path))
+            plot3d::read_blaming(&bytes, q.as_deref()).map_err(|(kind, e)| match (kind, &q_path) {
+                (plot3d::FileKind::Solution, Some(q_path)) => e.in_file(q_path),
+                _ => e.in_file(path),
+            })
         }
     }
 }
