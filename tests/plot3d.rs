@@ -643,3 +643,41 @@ fn q_file_errors_name_the_q_file() {
         "{msg}"
     );
 }
+
+/// The mesh `io::read_file` gives for a grid (its Q file found by name).
+fn read_file(grid: &Path) -> Mesh {
+    cylvol::io::read_file(grid, &ReadOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Upper-case names, as old PLOT3D data often has them: `COMBXYZ.BIN` finds `COMBQ.BIN`, or
+/// `COMBq.bin` (another case for the `q` or the extension), preferring the grid's own case
+/// style when both are there; never a file whose name differs before the `xyz`
+/// (`combq.bin`), nor a folder.
+#[test]
+fn q_files_are_found_whatever_the_case_of_q_and_the_extension() {
+    let arrays = |m: &Mesh| m.point_data().len();
+    let dir = copies(&[("combxyz.bin", "COMBXYZ.BIN"), ("combq.bin", "COMBQ.BIN")]);
+    let grid = dir.path().join("COMBXYZ.BIN");
+    assert_eq!(read_file(&grid).point_data(), comb().point_data());
+
+    // A second candidate in another case style: the wrong dimensions, so taking it fails.
+    std::fs::write(dir.path().join("COMBq.bin"), bytes("postq.bin")).unwrap();
+    assert_eq!(arrays(&read_file(&grid)), 3);
+    std::fs::remove_file(dir.path().join("COMBQ.BIN")).unwrap();
+    let msg = read_file_error(&grid, None);
+    assert!(
+        msg.starts_with(&format!("{}:", dir.path().join("COMBq.bin").display())),
+        "{msg}"
+    );
+    std::fs::copy(data("combq.bin"), dir.path().join("COMBq.bin")).unwrap();
+    assert_eq!(read_file(&grid).point_data(), comb().point_data());
+
+    // Lower-case grid, upper-case extension on the Q file.
+    let dir = copies(&[("combxyz.bin", "combxyz.bin"), ("combq.bin", "combq.BIN")]);
+    assert_eq!(arrays(&read_file(&dir.path().join("combxyz.bin"))), 3);
+
+    // Not another prefix's Q file, not a folder.
+    let dir = copies(&[("combxyz.bin", "COMBXYZ.BIN"), ("combq.bin", "combq.bin")]);
+    std::fs::create_dir(dir.path().join("COMBQ.BIN")).unwrap();
+    assert_eq!(arrays(&read_file(&dir.path().join("COMBXYZ.BIN"))), 0);
+}
