@@ -36,10 +36,21 @@ impl Input {
         }
     }
 
-    /// Loads the mesh: generates the dataset or reads the file.
+    /// Loads the mesh: generates the dataset or reads the file. A Q file in `options` is an
+    /// error for anything but a PLOT3D grid.
     pub fn load(&self, options: &ReadOptions) -> Result<Mesh, Error> {
         match self {
-            Input::Synthetic(dataset, cells) => datasets::generate(*dataset, *cells),
+            Input::Synthetic(dataset, cells) => {
+                if let Some(q) = &options.q_file {
+                    return Err(Error::Invalid(format!(
+                        "{}: a PLOT3D Q file goes with a PLOT3D grid, but {} is a synthetic \
+                         dataset",
+                        q.display(),
+                        dataset.name()
+                    )));
+                }
+                datasets::generate(*dataset, *cells)
+            }
             Input::File(path) => load_file(path, options),
         }
     }

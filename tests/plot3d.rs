@@ -681,3 +681,44 @@ fn q_files_are_found_whatever_the_case_of_q_and_the_extension() {
     std::fs::create_dir(dir.path().join("COMBQ.BIN")).unwrap();
     assert_eq!(arrays(&read_file(&dir.path().join("COMBXYZ.BIN"))), 0);
 }
+
+/// Runs the `cylvol` program: its status and standard error.
+fn cylvol(args: &[&str]) -> (i32, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cylvol"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A Q file given for anything but a PLOT3D grid is refused, naming both (it was ignored):
+/// a legacy file, a VTU file, a synthetic dataset; through the library and the program.
+#[test]
+fn q_file_for_other_inputs_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let vtu = dir.path().join("inlet.vtu");
+    let inlet = cylvol::input::load("pump-inlet:1000", &ReadOptions::default()).unwrap();
+    cylvol::io::write_file(&inlet, &vtu).unwrap();
+    let q = data("combq.bin");
+    let with_q = ReadOptions {
+        q_file: Some(q.clone().into()),
+    };
+    let hexa = data("hexa.vtk");
+    for (input, what) in [
+        (hexa.as_str(), "a legacy VTK file"),
+        (vtu.to_str().unwrap(), "a VTU file"),
+        ("pump-inlet:1000", "a synthetic dataset"),
+    ] {
+        let msg = message(cylvol::input::load(input, &with_q));
+        let want = format!("{q}: a PLOT3D Q file goes with a PLOT3D grid, but");
+        assert!(msg.starts_with(&want) && msg.ends_with(what), "{msg}");
+        let (status, stderr) = cylvol(&["info", input, "--q", &q]);
+        assert_eq!(status, 1, "{stderr}");
+        assert!(stderr.contains(&want) && stderr.contains(what), "{stderr}");
+    }
+    // Still read as before without it.
+    assert!(cylvol::input::load(&hexa, &ReadOptions::default()).is_ok());
+}

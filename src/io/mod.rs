@@ -55,6 +55,16 @@ impl Format {
             _ => None,
         }
     }
+
+    /// What a file of this format is, for messages, unless it is a PLOT3D grid.
+    fn not_plot3d(self) -> Option<&'static str> {
+        match self {
+            Format::LegacyVtk => Some("a legacy VTK file"),
+            Format::Vtu => Some("a VTU file"),
+            Format::Pvtu => Some("a parallel VTU index"),
+            Format::Plot3d => None,
+        }
+    }
 }
 
 /// The Q file that belongs to a PLOT3D grid file by name: `combxyz.bin` → `combq.bin`,
@@ -202,7 +212,8 @@ pub(crate) fn read_exact_at(
         .try_for_each(|(i, chunk)| file.read_exact_at(chunk, offset + (i * READ_CHUNK) as u64))
 }
 
-/// Reads a mesh file, choosing the reader from its extension. Errors name the file.
+/// Reads a mesh file, choosing the reader from its extension. Errors name the file. A Q file
+/// in `options` is an error for any file but a PLOT3D grid.
 pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
     let format = Format::from_path(path).ok_or_else(|| {
         Error::Invalid(format!(
@@ -211,6 +222,13 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
             path.display()
         ))
     })?;
+    if let (Some(q), Some(other)) = (&options.q_file, format.not_plot3d()) {
+        return Err(Error::Invalid(format!(
+            "{}: a PLOT3D Q file goes with a PLOT3D grid, but {} is {other}",
+            q.display(),
+            path.display()
+        )));
+    }
     match format {
         Format::LegacyVtk => legacy::read_file(path),
         Format::Vtu => vtu::read_file(path),
