@@ -722,3 +722,52 @@ fn q_file_for_other_inputs_is_refused() {
     // Still read as before without it.
     assert!(cylvol::input::load(&hexa, &ReadOptions::default()).is_ok());
 }
+
+/// A grid with no Q file beside it and none given says so on standard error, with the names
+/// looked for (it was silent), before `render`'s "no scalar array" error, so that error can
+/// be understood; with a Q file beside it or given, nothing is said.
+#[test]
+fn missing_q_file_is_said_on_standard_error() {
+    let dir = copies(&[("combxyz.bin", "combxyz.bin")]);
+    let grid = dir.path().join("combxyz.bin");
+    let grid = grid.to_str().unwrap();
+    let note = format!(
+        "cylvol: no PLOT3D Q file found beside {grid} (looked for combq.bin, combq.BIN, \
+         combQ.bin, combQ.BIN): the mesh has no point arrays to render; give its Q file with \
+         --q FILE\n"
+    );
+    let (status, stderr) = cylvol(&["info", grid]);
+    assert_eq!(status, 0, "{stderr}");
+    assert!(stderr.starts_with(&note), "{stderr}");
+    let png = dir.path().join("out.png");
+    let args = [
+        "render",
+        grid,
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "16x16",
+    ];
+    let (status, stderr) = cylvol(&args);
+    assert_eq!(status, 1, "{stderr}");
+    let error = stderr.find("cylvol: error:").expect("an error");
+    assert!(stderr[error..].contains("no scalar array"), "{stderr}");
+    assert!(stderr[..error].starts_with(&note), "{stderr}");
+
+    let q = data("combq.bin");
+    let (status, stderr) = cylvol(&["info", grid, "--q", &q]);
+    assert!(status == 0 && !stderr.contains("Q file"), "{stderr}");
+    std::fs::copy(&q, dir.path().join("combq.bin")).unwrap();
+    let (status, stderr) = cylvol(&["info", grid]);
+    assert!(status == 0 && !stderr.contains("Q file"), "{stderr}");
+
+    let mut notes = Vec::new();
+    let input = cylvol::input::Input::parse(&data("postxyz.bin")).unwrap();
+    let mesh = input
+        .load_logged(&ReadOptions::default(), &mut |n| notes.push(n))
+        .unwrap();
+    assert!(
+        notes.is_empty() && mesh.point_data().len() == 3,
+        "{notes:?}"
+    );
+}
