@@ -1,5 +1,7 @@
 //! Resolution of a command-line `INPUT`: a mesh file (`.vtk`, `.vtu`, `.pvtu`, PLOT3D grid) or a
-//! synthetic dataset `NAME[:CELLS]` such as `pump-rotor:2100000`.
+//! synthetic dataset `NAME[:CELLS]` such as `pump-rotor:2100000`. Loading one says on
+//! standard error what a user should know (a PLOT3D grid without a Q file), or gives it to a
+//! caller's log ([`Input::load_logged`]).
 
 use std::path::{Path, PathBuf};
 
@@ -36,21 +38,94 @@ impl Input {
         }
     }
 
-    /// Loads the mesh: generates the dataset or reads the file.
+    /// Loads the mesh: generates the dataset or reads the file. A Q file in `options` is an
+    /// error for anything but a PLOT3D grid. What a user should know of the load goes to
+    /// standard error, where the program's logs go: a PLOT3D grid with no Q file given and
+    /// none beside it (so no arrays to render) says so, and which names were looked for.
     pub fn load(&self, options: &ReadOptions) -> Result<Mesh, Error> {
+        self.load_logged(options, &mut |note| eprintln!("cylvol: {note}"))
+    }
+
+    /// [`Input::load`], giving what it would write to standard error to `log` instead.
+    ///
+    /// ```
+    /// use cylvol::input::Input;
+    /// let dir = tempfile::tempdir().unwrap();
+    /// let grid = dir.path().join("ductxyz.bin");
+    /// // A big-endian 2×2×2 grid, no Q file beside it.
+    /// let mut xyz: Vec<u8> = [2i32, 2, 2].iter().flat_map(|v| v.to_be_bytes()).collect();
+    /// for axis in 0..3 {
+    ///     xyz.extend((0..8).flat_map(|n| (((n >> axis) & 1) as f32).to_be_bytes()));
+    /// }
+    /// std::fs::write(&grid, &xyz).unwrap();
+    /// let mut notes = Vec::new();
+    /// let input = Input::parse(grid.to_str().unwrap()).unwrap();
+    /// let mesh = input.load_logged(&Default::default(), &mut |n| notes.push(n)).unwrap();
+    /// assert!(mesh.point_data().is_empty());
+    /// assert!(notes[0].starts_with("no PLOT3D Q file found beside"), "{notes:?}");
+    /// assert!(notes[0].contains("ductq.bin"), "{notes:?}");
+    /// ```
+    pub fn load_logged(
+        &self,
+        options: &ReadOptions,
+        log: &mut dyn FnMut(String),
+    ) -> Result<Mesh, Error> {
         match self {
-            Input::Synthetic(dataset, cells) => datasets::generate(*dataset, *cells),
-            Input::File(path) => load_file(path, options),
+            Input::Synthetic(dataset, cells) => {
+                if let Some(q) = &options.q_file {
+                    return Err(Error::Invalid(format!(
+                        "{}: a PLOT3D Q file goes with a PLOT3D grid, but {} is a synthetic \
+                         dataset",
+                        q.display(),
+                        dataset.name()
+                    )));
+                }
+                datasets::generate(*dataset, *cells)
+            }
+            Input::File(path) => load_file(path, options, log),
         }
     }
 }
 
-fn load_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
+fn load_file(
+    path: &Path,
+    options: &ReadOptions,
+    log: &mut dyn FnMut(String),
+) -> Result<Mesh, Error> {
     if !path.exists() {
         return Err(Error::Invalid(format!(
             "{}: no such file, and not a dataset name (pump-inlet, pump-rotor, pump-diffuser)",
             path.display()
         )));
+    }
+    if options.q_file.is_none() && io::Format::from_path(path) == Some(io::Format::Plot3d) {
+        let names = io::plot3d_q_names(path);
+        match names.iter().find(|p| p.is_file()) {
+            // Read the file found here, so what was looked for is what is read.
+            Some(q) => {
+                let options = ReadOptions {
+                    q_file: Some(q.clone()),
+                };
+                return io::read_file(path, &options);
+            }
+            None => {
+                let looked_for: Vec<String> = names
+                    .iter()
+                    .filter_map(|p| p.file_name())
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .collect();
+                let looked = if looked_for.is_empty() {
+                    "no name to look for: the grid's name is not UTF-8".to_string()
+                } else {
+                    format!("looked for {}", looked_for.join(", "))
+                };
+                log(format!(
+                    "no PLOT3D Q file found beside {} ({looked}): the mesh has no point arrays \
+                     to render; give its Q file with --q FILE",
+                    path.display()
+                ));
+            }
+        }
     }
     io::read_file(path, options)
 }

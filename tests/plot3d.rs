@@ -4,7 +4,10 @@
 
 mod common;
 
+use std::path::{Path, PathBuf};
+
 use cylvol::io::plot3d::{self, ByteOrder, Precision};
+use cylvol::io::ReadOptions;
 use cylvol::{Component, Error, Mesh};
 
 fn data(name: &str) -> String {
@@ -566,4 +569,205 @@ fn fuzz_seeds_are_valid_files() {
         seen += 1;
     }
     assert_eq!(seen, 5);
+}
+
+/// Copies of the shared files in a new folder, under the names given (`(shared, copy)`).
+fn copies(files: &[(&str, &str)]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    for (from, to) in files {
+        std::fs::copy(data(from), dir.path().join(to)).unwrap();
+    }
+    dir
+}
+
+/// What `io::read_file` says about a grid, with or without `--q`.
+fn read_file_error(grid: &Path, q: Option<PathBuf>) -> String {
+    let options = ReadOptions { q_file: q };
+    message(cylvol::io::read_file(grid, &options))
+}
+
+/// A bad Q file is reported under its own name, never the grid's: cut short (found beside the
+/// grid, or given), of other dimensions, with a NaN in it. A bad grid is still the grid's.
+#[test]
+fn q_file_errors_name_the_q_file() {
+    let dir = copies(&[("combxyz.bin", "combxyz.bin"), ("postq.bin", "postq.bin")]);
+    let grid = dir.path().join("combxyz.bin");
+    let q = dir.path().join("combq.bin");
+    let full = bytes("combq.bin");
+    std::fs::write(&q, &full[..1000]).unwrap();
+    let prefix = format!(
+        "{}: PLOT3D Q: truncated file: it has 1000 bytes",
+        q.display()
+    );
+    let msg = read_file_error(&grid, None);
+    assert!(msg.starts_with(&prefix), "{msg}");
+    assert!(!msg.contains("combxyz"), "{msg}");
+    let other = dir.path().join("other.bin");
+    std::fs::write(&other, &full[..1000]).unwrap();
+    let msg = read_file_error(&grid, Some(other.clone()));
+    assert!(
+        msg.starts_with(&format!("{}: PLOT3D Q", other.display())),
+        "{msg}"
+    );
+
+    let post_q = dir.path().join("postq.bin");
+    let msg = read_file_error(&grid, Some(post_q.clone()));
+    assert!(
+        msg.starts_with(&format!(
+            "{}: PLOT3D Q: the Q file's dimensions 38×76×38",
+            post_q.display()
+        )),
+        "{msg}"
+    );
+
+    // A NaN density at point 100: the Q file's header is 12 bytes of dimensions and 16 of
+    // free-stream values (big-endian f32, no record markers).
+    let mut nan = full.clone();
+    nan[28 + 4 * 100..28 + 4 * 101].copy_from_slice(&f32::NAN.to_be_bytes());
+    std::fs::write(&q, &nan).unwrap();
+    let msg = read_file_error(&grid, None);
+    assert!(
+        msg.starts_with(&format!(
+            "{}: invalid mesh: point array 'Density'",
+            q.display()
+        )) && msg.contains("non-finite"),
+        "{msg}"
+    );
+
+    // The grid cut short, the Q file whole: the grid's error.
+    std::fs::write(&q, &full).unwrap();
+    std::fs::write(&grid, &bytes("combxyz.bin")[..5000]).unwrap();
+    let msg = read_file_error(&grid, None);
+    assert!(
+        msg.starts_with(&format!("{}: PLOT3D grid", grid.display())),
+        "{msg}"
+    );
+}
+
+/// The mesh `io::read_file` gives for a grid (its Q file found by name).
+fn read_file(grid: &Path) -> Mesh {
+    cylvol::io::read_file(grid, &ReadOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Upper-case names, as old PLOT3D data often has them: `COMBXYZ.BIN` finds `COMBQ.BIN`, or
+/// `COMBq.bin` (another case for the `q` or the extension), preferring the grid's own case
+/// style when both are there; never a file whose name differs before the `xyz`
+/// (`combq.bin`), nor a folder.
+#[test]
+fn q_files_are_found_whatever_the_case_of_q_and_the_extension() {
+    let arrays = |m: &Mesh| m.point_data().len();
+    let dir = copies(&[("combxyz.bin", "COMBXYZ.BIN"), ("combq.bin", "COMBQ.BIN")]);
+    let grid = dir.path().join("COMBXYZ.BIN");
+    assert_eq!(read_file(&grid).point_data(), comb().point_data());
+
+    // A second candidate in another case style: the wrong dimensions, so taking it fails.
+    std::fs::write(dir.path().join("COMBq.bin"), bytes("postq.bin")).unwrap();
+    assert_eq!(arrays(&read_file(&grid)), 3);
+    std::fs::remove_file(dir.path().join("COMBQ.BIN")).unwrap();
+    let msg = read_file_error(&grid, None);
+    assert!(
+        msg.starts_with(&format!("{}:", dir.path().join("COMBq.bin").display())),
+        "{msg}"
+    );
+    std::fs::copy(data("combq.bin"), dir.path().join("COMBq.bin")).unwrap();
+    assert_eq!(read_file(&grid).point_data(), comb().point_data());
+
+    // Lower-case grid, upper-case extension on the Q file.
+    let dir = copies(&[("combxyz.bin", "combxyz.bin"), ("combq.bin", "combq.BIN")]);
+    assert_eq!(arrays(&read_file(&dir.path().join("combxyz.bin"))), 3);
+
+    // Not another prefix's Q file, not a folder.
+    let dir = copies(&[("combxyz.bin", "COMBXYZ.BIN"), ("combq.bin", "combq.bin")]);
+    std::fs::create_dir(dir.path().join("COMBQ.BIN")).unwrap();
+    assert_eq!(arrays(&read_file(&dir.path().join("COMBXYZ.BIN"))), 0);
+}
+
+/// Runs the `cylvol` program: its status and standard error.
+fn cylvol(args: &[&str]) -> (i32, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cylvol"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A Q file given for anything but a PLOT3D grid is refused, naming both (it was ignored):
+/// a legacy file, a VTU file, a synthetic dataset; through the library and the program.
+#[test]
+fn q_file_for_other_inputs_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let vtu = dir.path().join("inlet.vtu");
+    let inlet = cylvol::input::load("pump-inlet:1000", &ReadOptions::default()).unwrap();
+    cylvol::io::write_file(&inlet, &vtu).unwrap();
+    let q = data("combq.bin");
+    let with_q = ReadOptions {
+        q_file: Some(q.clone().into()),
+    };
+    let hexa = data("hexa.vtk");
+    for (input, what) in [
+        (hexa.as_str(), "a legacy VTK file"),
+        (vtu.to_str().unwrap(), "a VTU file"),
+        ("pump-inlet:1000", "a synthetic dataset"),
+    ] {
+        let msg = message(cylvol::input::load(input, &with_q));
+        let want = format!("{q}: a PLOT3D Q file goes with a PLOT3D grid, but");
+        assert!(msg.starts_with(&want) && msg.ends_with(what), "{msg}");
+        let (status, stderr) = cylvol(&["info", input, "--q", &q]);
+        assert_eq!(status, 1, "{stderr}");
+        assert!(stderr.contains(&want) && stderr.contains(what), "{stderr}");
+    }
+    // Still read as before without it.
+    assert!(cylvol::input::load(&hexa, &ReadOptions::default()).is_ok());
+}
+
+/// A grid with no Q file beside it and none given says so on standard error, with the names
+/// looked for (it was silent), before `render`'s "no scalar array" error, so that error can
+/// be understood; with a Q file beside it or given, nothing is said.
+#[test]
+fn missing_q_file_is_said_on_standard_error() {
+    let dir = copies(&[("combxyz.bin", "combxyz.bin")]);
+    let grid = dir.path().join("combxyz.bin");
+    let grid = grid.to_str().unwrap();
+    let note = format!(
+        "cylvol: no PLOT3D Q file found beside {grid} (looked for combq.bin, combq.BIN, \
+         combQ.bin, combQ.BIN): the mesh has no point arrays to render; give its Q file with \
+         --q FILE\n"
+    );
+    let (status, stderr) = cylvol(&["info", grid]);
+    assert_eq!(status, 0, "{stderr}");
+    assert!(stderr.starts_with(&note), "{stderr}");
+    let png = dir.path().join("out.png");
+    let args = [
+        "render",
+        grid,
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "16x16",
+    ];
+    let (status, stderr) = cylvol(&args);
+    assert_eq!(status, 1, "{stderr}");
+    let error = stderr.find("cylvol: error:").expect("an error");
+    assert!(stderr[error..].contains("no scalar array"), "{stderr}");
+    assert!(stderr[..error].starts_with(&note), "{stderr}");
+
+    let q = data("combq.bin");
+    let (status, stderr) = cylvol(&["info", grid, "--q", &q]);
+    assert!(status == 0 && !stderr.contains("Q file"), "{stderr}");
+    std::fs::copy(&q, dir.path().join("combq.bin")).unwrap();
+    let (status, stderr) = cylvol(&["info", grid]);
+    assert!(status == 0 && !stderr.contains("Q file"), "{stderr}");
+
+    let mut notes = Vec::new();
+    let input = cylvol::input::Input::parse(&data("postxyz.bin")).unwrap();
+    let mesh = input
+        .load_logged(&ReadOptions::default(), &mut |n| notes.push(n))
+        .unwrap();
+    assert!(
+        notes.is_empty() && mesh.point_data().len() == 3,
+        "{notes:?}"
+    );
 }

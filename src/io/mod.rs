@@ -55,22 +55,94 @@ impl Format {
             _ => None,
         }
     }
+
+    /// What a file of this format is, for messages, unless it is a PLOT3D grid.
+    fn not_plot3d(self) -> Option<&'static str> {
+        match self {
+            Format::LegacyVtk => Some("a legacy VTK file"),
+            Format::Vtu => Some("a VTU file"),
+            Format::Pvtu => Some("a parallel VTU index"),
+            Format::Plot3d => None,
+        }
+    }
 }
 
 /// The Q file that belongs to a PLOT3D grid file by name: `combxyz.bin` → `combq.bin`,
-/// `grid.xyz` → `grid.q`, `grid.x` → `grid.q`; `None` when no such file exists.
+/// `COMBXYZ.BIN` → `COMBQ.BIN`, `grid.xyz` → `grid.q`, `grid.x` → `grid.q` or `grid.sol`;
+/// `None` when no such file exists. See [`plot3d_q_names`] for the names tried.
+///
+/// ```
+/// let dir = tempfile::tempdir().unwrap();
+/// let grid = dir.path().join("COMBXYZ.BIN");
+/// std::fs::write(dir.path().join("COMBq.bin"), b"").unwrap();
+/// assert_eq!(cylvol::io::plot3d_q_file_for(&grid), Some(dir.path().join("COMBq.bin")));
+/// ```
 pub fn plot3d_q_file_for(grid: &Path) -> Option<PathBuf> {
-    let name = grid.file_name()?.to_str()?;
-    let candidates: Vec<String> = if let Some(i) = name.rfind("xyz") {
-        vec![format!("{}q{}", &name[..i], &name[i + 3..])]
-    } else {
-        let stem = grid.file_stem()?.to_str()?;
-        vec![format!("{stem}.q"), format!("{stem}.sol")]
+    plot3d_q_names(grid).into_iter().find(|p| p.is_file())
+}
+
+/// The names a PLOT3D grid's Q file may have beside it, most likely first: the grid's name
+/// with its last `xyz` (in any case) replaced by `q`, or else with its extension replaced by
+/// `q` or `sol`. The `q` (or `sol`) comes in the case of what it replaces first (`XYZ` → `Q`,
+/// `xyz` → `q`), then in the other; the rest of the name after it (`.bin`) as it is, then in
+/// lower and upper case; so that `COMBXYZ.BIN` finds `COMBQ.BIN`, and also `COMBq.bin` or
+/// `COMBQ.bin`. The part before stays as it is, so no other grid's Q file is taken, and no
+/// name that is the grid's own but for case is given.
+///
+/// ```
+/// use std::path::Path;
+/// let names = cylvol::io::plot3d_q_names(Path::new("data/combxyz.bin"));
+/// assert_eq!(names[0], Path::new("data/combq.bin"));
+/// assert_eq!(names[1], Path::new("data/combq.BIN"));
+/// assert_eq!(names.len(), 4);
+/// assert_eq!(cylvol::io::plot3d_q_names(Path::new("GRID.X"))[0], Path::new("GRID.Q"));
+/// ```
+pub fn plot3d_q_names(grid: &Path) -> Vec<PathBuf> {
+    let Some(name) = grid.file_name().and_then(|n| n.to_str()) else {
+        return Vec::new();
     };
-    candidates
-        .into_iter()
-        .map(|c| grid.with_file_name(c))
-        .find(|p| p.is_file())
+    let upper_first = |s: &str| s.starts_with(|c: char| c.is_ascii_uppercase());
+    // Each form: the part kept, what replaces the marker (in the marker's case), what follows.
+    let mut forms: Vec<(String, String, &str)> = Vec::new();
+    if let Some(i) = name.to_ascii_lowercase().rfind("xyz") {
+        let q = if upper_first(&name[i..]) { "Q" } else { "q" };
+        forms.push((name[..i].to_string(), q.to_string(), &name[i + 3..]));
+    } else {
+        // As Path::file_stem splits: at the last dot, unless the name starts with it.
+        let (stem, extension) = match name.rfind('.').filter(|&d| d > 0) {
+            Some(dot) => (&name[..dot], &name[dot + 1..]),
+            None => (name, ""),
+        };
+        for q in ["q", "sol"] {
+            let q = if upper_first(extension) {
+                q.to_ascii_uppercase()
+            } else {
+                q.to_string()
+            };
+            forms.push((format!("{stem}."), q, ""));
+        }
+    }
+    let mut names: Vec<String> = Vec::new();
+    for (head, q, tail) in forms {
+        let other_q = if upper_first(&q) {
+            q.to_ascii_lowercase()
+        } else {
+            q.to_ascii_uppercase()
+        };
+        for q in [&q, &other_q] {
+            for tail in [
+                tail.to_string(),
+                tail.to_ascii_lowercase(),
+                tail.to_ascii_uppercase(),
+            ] {
+                let candidate = format!("{head}{q}{tail}");
+                if !candidate.eq_ignore_ascii_case(name) && !names.contains(&candidate) {
+                    names.push(candidate);
+                }
+            }
+        }
+    }
+    names.into_iter().map(|n| grid.with_file_name(n)).collect()
 }
 
 /// Bytes a parallel task of [`read_bytes`] reads.
@@ -140,7 +212,8 @@ pub(crate) fn read_exact_at(
         .try_for_each(|(i, chunk)| file.read_exact_at(chunk, offset + (i * READ_CHUNK) as u64))
 }
 
-/// Reads a mesh file, choosing the reader from its extension. Errors name the file.
+/// Reads a mesh file, choosing the reader from its extension. Errors name the file. A Q file
+/// in `options` is an error for any file but a PLOT3D grid.
 pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
     let format = Format::from_path(path).ok_or_else(|| {
         Error::Invalid(format!(
@@ -149,6 +222,13 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
             path.display()
         ))
     })?;
+    if let (Some(q), Some(other)) = (&options.q_file, format.not_plot3d()) {
+        return Err(Error::Invalid(format!(
+            "{}: a PLOT3D Q file goes with a PLOT3D grid, but {} is {other}",
+            q.display(),
+            path.display()
+        )));
+    }
     match format {
         Format::LegacyVtk => legacy::read_file(path),
         Format::Vtu => vtu::read_file(path),
@@ -160,7 +240,10 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
                 None => plot3d_q_file_for(path),
             };
             let q = q_path.as_deref().map(read_bytes).transpose()?;
-            plot3d::read(&bytes, q.as_deref()).map_err(|e| e.in_file(path))
+            plot3d::read_blaming(&bytes, q.as_deref()).map_err(|(kind, e)| match (kind, &q_path) {
+                (plot3d::FileKind::Solution, Some(q_path)) => e.in_file(q_path),
+                _ => e.in_file(path),
+            })
         }
     }
 }
@@ -263,6 +346,37 @@ mod tests {
             Err(Error::Io { path, .. }) => assert_eq!(path, missing),
             other => panic!("{other:?}"),
         }
+    }
+
+    /// Q file names: the `xyz` marker or the extension replaced, its case first, then the
+    /// other; what follows as it is, then lower and upper case; never the grid's own name.
+    #[test]
+    fn plot3d_q_names_keep_the_case_style_first() {
+        let names = |grid: &str| -> Vec<String> {
+            plot3d_q_names(Path::new(grid))
+                .iter()
+                .map(|p| p.to_str().unwrap().to_string())
+                .collect()
+        };
+        assert_eq!(
+            names("d/COMBXYZ.BIN"),
+            ["d/COMBQ.BIN", "d/COMBQ.bin", "d/COMBq.BIN", "d/COMBq.bin"]
+        );
+        assert_eq!(names("Xyz.Bin")[..2], ["Q.Bin", "Q.bin"]);
+        assert_eq!(names("post_xyz_001.bin")[0], "post_q_001.bin");
+        assert_eq!(names("xyzxyz.p3d")[0], "xyzq.p3d");
+        assert_eq!(
+            names("grid.x"),
+            ["grid.q", "grid.Q", "grid.sol", "grid.SOL"]
+        );
+        assert_eq!(
+            names("GRID.G"),
+            ["GRID.Q", "GRID.q", "GRID.SOL", "GRID.sol"]
+        );
+        assert_eq!(names("grid"), ["grid.q", "grid.Q", "grid.sol", "grid.SOL"]);
+        assert_eq!(names(".x")[0], ".x.q");
+        // Not the grid itself, whatever the case (on a file system that ignores it).
+        assert_eq!(names("g.q"), ["g.sol", "g.SOL"]);
     }
 
     /// A legacy file that is not a regular one (a named pipe, as a shell's `<(…)` gives) is

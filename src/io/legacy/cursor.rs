@@ -280,11 +280,44 @@ impl<'a> Cursor<'a> {
         })
     }
 
-    /// Takes `n` raw bytes after the rest of the current line (as VTK's reader discards the
-    /// rest of the keyword line before binary data).
-    pub fn binary(&mut self, n: usize) -> Result<Cow<'a, [u8]>, Shortfall> {
+    /// Moves past the rest of the current line, where binary data starts (VTK's reader
+    /// discards the rest of the keyword line before binary data).
+    pub fn start_binary(&mut self) {
         let _ = self.line();
         self.binary_from.get_or_insert(self.pos);
+    }
+
+    /// Takes `n` raw bytes after the rest of the current line ([`Cursor::start_binary`]).
+    pub fn binary(&mut self, n: usize) -> Result<Cow<'a, [u8]>, Shortfall> {
+        self.start_binary();
+        self.bytes(n)
+    }
+
+    /// Takes the next byte as it is; `None` at the end of the file.
+    pub fn byte(&mut self) -> Option<u8> {
+        let b = *self.rest().first()?;
+        self.pos += 1;
+        Some(b)
+    }
+
+    /// Moves past `n` bytes without reading them, or to the end of the file if it holds fewer
+    /// (then `false`).
+    pub fn skip(&mut self, n: u64) -> bool {
+        let remaining = self.remaining();
+        match usize::try_from(n) {
+            Ok(n) if n <= remaining => {
+                self.pos += n;
+                true
+            }
+            _ => {
+                self.pos = self.len();
+                false
+            }
+        }
+    }
+
+    /// Takes `n` raw bytes from the current position.
+    fn bytes(&mut self, n: usize) -> Result<Cow<'a, [u8]>, Shortfall> {
         let available = self.remaining();
         if n > available {
             self.pos = self.len();
@@ -353,6 +386,23 @@ mod tests {
             assert_eq!(*c.token().unwrap().text, *b"X");
             assert_eq!(*c.binary(1000).unwrap(), file[305..1305]);
             assert_eq!(*c.token().unwrap().text, *b"END");
+        });
+    }
+
+    /// Bytes one at a time and skips, across the text window's edges and to the end.
+    #[test]
+    fn bytes_and_skips() {
+        both_ways(b"S 1\n\xc2ab\xc0\x01Z", |c| {
+            assert_eq!(*c.token().unwrap().text, *b"S");
+            assert_eq!(*c.token().unwrap().text, *b"1");
+            c.start_binary();
+            assert_eq!(c.byte(), Some(0xc2));
+            assert!(c.skip(2));
+            assert_eq!((c.byte(), c.byte()), (Some(0xc0), Some(1)));
+            assert_eq!(c.pos(), 9);
+            assert!(!c.skip(2));
+            assert_eq!((c.pos(), c.byte()), (10, None));
+            assert!(c.skip(0) && !c.skip(u64::MAX));
         });
     }
 

@@ -22,8 +22,14 @@
 //!   ghost arrays too, as the VTU reader does;
 //! - the numeric data types `char`, `signed_char`, `unsigned_char`, `short`, `unsigned_short`,
 //!   `int`, `unsigned_int`, `long`, `unsigned_long` (8 bytes), `vtktypeint64`, `vtktypeuint64`,
-//!   `vtkIdType` (4 bytes, as VTK writes it), `float`, `double`. `bit` and string arrays are
-//!   reported as unsupported.
+//!   `vtkIdType` (4 bytes, as VTK writes it), `float`, `double`, and `bit` in `FIELD` arrays
+//!   and attributes (a `vtkBitArray`, which VTK's reader gives the pipeline as a numeric
+//!   array): values 0 and 1, kept like any other number;
+//! - `string` (and `utf8_string`) and `variant` arrays, which VTK writes for a
+//!   `vtkStringArray` or `vtkVariantArray` in field data (a case name, say) or as pedigree ids:
+//!   read past and not kept, as the VTU reader skips string arrays, since no mesh array holds
+//!   them. Elsewhere (`POINTS`, `SCALARS`, …) they are an error, as VTK's reader takes no
+//!   points or attribute from them either.
 //!
 //! Every parse failure is an [`Error::Read`] with the byte offset (and, in text, the line) where
 //! it was found; a file that ends early says in which section and after how many items. Cell

@@ -6,7 +6,7 @@ use glam::DVec3;
 use std::borrow::Cow;
 
 use super::cursor::{show, Cursor, Shortfall, Token};
-use super::values::{parse_f64, parse_i64, ValueType};
+use super::values::{parse_f64, parse_i64, ArrayType, ValueType};
 use crate::error::{Error, ReadError};
 use crate::io::elements::{to_f64, to_tuples, Integers, ScalarType};
 use crate::io::ghost::drop_ghost_cells;
@@ -195,6 +195,18 @@ impl<'a> Parser<'a> {
         ValueType::parse(&t.text).map_err(|m| self.err(t.offset, format!("{what}: {m}")))
     }
 
+    /// The data type of a `FIELD` array or `PEDIGREE_IDS`, which may be strings or variants.
+    fn array_type(&mut self, what: &str) -> Result<ArrayType> {
+        let t = self.expect(&format!("the data type of {what}"))?;
+        ArrayType::parse(&t.text).map_err(|m| self.err(t.offset, format!("{what}: {m}")))
+    }
+
+    /// The data type of an attribute that holds numbers (bits among them).
+    fn numeric_type(&mut self, what: &str) -> Result<ArrayType> {
+        let t = self.expect(&format!("the data type of {what}"))?;
+        ArrayType::parse_numeric(&t.text).map_err(|m| self.err(t.offset, format!("{what}: {m}")))
+    }
+
     fn truncated(&self, what: What, done: usize, total: usize) -> ReadError {
         self.err(
             self.c.len(),
@@ -217,18 +229,28 @@ impl<'a> Parser<'a> {
         comps: usize,
         what: What,
     ) -> Result<Cow<'a, [u8]>> {
-        let start = self.c.pos();
         let n = tuples
             .checked_mul(comps)
             .and_then(|n| n.checked_mul(ty.size()))
-            .ok_or_else(|| self.too_large(start, what))?;
+            .ok_or_else(|| self.too_large(self.c.pos(), what))?;
+        self.bytes_of(n, tuples, what, |available| available / (comps * ty.size()))
+    }
+
+    /// The `n` bytes of a binary block of `tuples` tuples (none if `n` is 0); where the file
+    /// ends first, an error saying how many tuples the `available` bytes held (`held`).
+    fn bytes_of(
+        &mut self,
+        n: usize,
+        tuples: usize,
+        what: What,
+        held: impl Fn(usize) -> usize,
+    ) -> Result<Cow<'a, [u8]>> {
         if n == 0 {
             return Ok(Cow::Borrowed(&[]));
         }
+        let start = self.c.pos();
         self.c.binary(n).map_err(|shortfall| match shortfall {
-            Shortfall::Truncated(available) => {
-                self.truncated(what, available / (comps * ty.size()), tuples)
-            }
+            Shortfall::Truncated(available) => self.truncated(what, held(available), tuples),
             Shortfall::Io(e) => self.err(
                 start,
                 format!("could not read {n} bytes of {}: {e}", what.section),
@@ -236,27 +258,143 @@ impl<'a> Parser<'a> {
         })
     }
 
+    /// Reads `tuples × comps` bits as 0 and 1, as `vtkDataReader` reads a `bit` array: in a
+    /// binary file packed eight a byte after the rest of the keyword line, the first value in
+    /// the high bit; in an ASCII file one integer a value, any but 0 meaning 1.
+    fn bits(&mut self, tuples: usize, comps: usize, what: What) -> Result<Vec<f64>> {
+        let n = tuples
+            .checked_mul(comps)
+            .ok_or_else(|| self.too_large(self.c.pos(), what))?;
+        if self.binary {
+            let block = self.bytes_of(n.div_ceil(8), tuples, what, |available| {
+                available * 8 / comps.max(1)
+            })?;
+            return Ok((0..n)
+                .map(|i| f64::from((block[i / 8] >> (7 - i % 8)) & 1))
+                .collect());
+        }
+        let mut out = Vec::with_capacity(n.min(self.c.remaining() / 2 + 1));
+        for i in 0..n {
+            let t = self
+                .c
+                .token()
+                .ok_or_else(|| self.truncated(what, i / comps, tuples))?;
+            let v = parse_i64(&t.text).ok_or_else(|| {
+                self.err(
+                    t.offset,
+                    format!(
+                        "'{}' in {} is not an integer (bits are 0 or 1)",
+                        t.show(),
+                        what.section
+                    ),
+                )
+            })?;
+            out.push(if v == 0 { 0.0 } else { 1.0 });
+        }
+        Ok(out)
+    }
+
     /// An array of `tuples` tuples of `comps` values of type `ty` (named `section` in
-    /// errors), with any metadata after it skipped.
+    /// errors), with any metadata after it skipped: numbers, bits as 0 and 1 (VTK's
+    /// `vtkBitArray` is a numeric array), and `None` for strings and variants, which are read
+    /// past, as the VTU reader skips string arrays (no mesh array can hold them).
     fn data_array(
         &mut self,
         name: String,
-        ty: ValueType,
+        ty: ArrayType,
         tuples: usize,
         comps: usize,
         section: &str,
-    ) -> Result<DataArray> {
+    ) -> Result<Option<DataArray>> {
         let what = What {
             section,
             unit: "tuples",
         };
-        let values = self.values_f64(ty, tuples, comps, what)?;
+        let values = match ty {
+            ArrayType::Number(ty) => Some(self.values_f64(ty, tuples, comps, what)?),
+            ArrayType::Bit => Some(self.bits(tuples, comps, what)?),
+            ArrayType::String => {
+                self.skip_strings(tuples, comps, what)?;
+                None
+            }
+            ArrayType::Variant => {
+                self.skip_variants(tuples, comps, what)?;
+                None
+            }
+        };
         self.skip_metadata();
-        Ok(DataArray {
+        Ok(values.map(|values| DataArray {
             name,
             components: comps,
             values,
-        })
+        }))
+    }
+
+    /// Reads past `tuples × comps` strings as `vtkDataReader` reads them. In a binary file:
+    /// after the rest of the keyword line, each value's length in a big-endian header whose
+    /// first byte's two high bits say its size — `11`: 1 byte, `10`: 2, `01`: 4 (the rest of
+    /// the header's bits the length), `00`: 8 (all 64 the length) — then that many bytes.
+    /// In an ASCII file: after the rest of the keyword line, one line a value (an empty line
+    /// an empty string).
+    fn skip_strings(&mut self, tuples: usize, comps: usize, what: What) -> Result<()> {
+        let n = tuples
+            .checked_mul(comps)
+            .ok_or_else(|| self.too_large(self.c.pos(), what))?;
+        if n == 0 {
+            return Ok(());
+        }
+        if !self.binary {
+            let _ = self.c.line();
+            for i in 0..n {
+                if self.c.line().is_none() {
+                    return Err(self.truncated(what, i / comps, tuples));
+                }
+            }
+            return Ok(());
+        }
+        self.c.start_binary();
+        for i in 0..n {
+            let truncated = |this: &Self| this.truncated(what, i / comps, tuples);
+            let first = self.c.byte().ok_or_else(|| truncated(self))?;
+            let (mut len, more) = match first >> 6 {
+                3 => (u64::from(first & 0x3f), 0),
+                2 => (u64::from(first & 0x3f), 1),
+                1 => (u64::from(first & 0x3f), 3),
+                _ => (u64::from(first), 7),
+            };
+            for _ in 0..more {
+                let b = self.c.byte().ok_or_else(|| truncated(self))?;
+                len = len << 8 | u64::from(b);
+            }
+            if !self.c.skip(len) {
+                return Err(truncated(self));
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads past `tuples × comps` variants: each a VTK type code (an integer) and a word, as
+    /// text in both encodings.
+    fn skip_variants(&mut self, tuples: usize, comps: usize, what: What) -> Result<()> {
+        let n = tuples
+            .checked_mul(comps)
+            .ok_or_else(|| self.too_large(self.c.pos(), what))?;
+        for i in 0..n {
+            let truncated = |this: &Self| this.truncated(what, i / comps, tuples);
+            let code = self.c.token().ok_or_else(|| truncated(self))?;
+            if parse_i64(&code.text).is_none() {
+                return Err(self.err(
+                    code.offset,
+                    format!(
+                        "'{}' in {} is not a VTK type code",
+                        code.show(),
+                        what.section
+                    ),
+                ));
+            }
+            self.c.token().ok_or_else(|| truncated(self))?;
+        }
+        Ok(())
     }
 
     /// Reads `tuples × comps` values of type `ty` as `f64`.
@@ -601,9 +739,11 @@ impl<'a> Parser<'a> {
             let array_name = decode_name(&name.text);
             let comps = self.count(&format!("the components of FIELD array '{array_name}'"))?;
             let tuples = self.count(&format!("the tuples of FIELD array '{array_name}'"))?;
-            let ty = self.value_type(&format!("FIELD array '{array_name}'"))?;
+            let ty = self.array_type(&format!("FIELD array '{array_name}'"))?;
             let section_name = format!("FIELD array '{array_name}'");
-            let array = self.data_array(array_name, ty, tuples, comps, &section_name)?;
+            let Some(array) = self.data_array(array_name, ty, tuples, comps, &section_name)? else {
+                continue; // strings and variants: not per point or cell values
+            };
             if let Some((association, expected)) = section {
                 if tuples != expected {
                     return Err(self.err(
@@ -633,7 +773,7 @@ impl<'a> Parser<'a> {
         let label = |kind: &str, name: &str| format!("{association} {kind} '{name}'");
         if t.is("SCALARS") {
             let name = decode_name(&self.expect("the SCALARS name")?.text);
-            let ty = self.value_type(&label("SCALARS", &name))?;
+            let ty = self.numeric_type(&label("SCALARS", &name))?;
             let mut comps = 1;
             let next = self.expect("LOOKUP_TABLE after SCALARS")?;
             let next = if next.is("LOOKUP_TABLE") {
@@ -664,7 +804,7 @@ impl<'a> Parser<'a> {
             }
             let _table = self.expect("the LOOKUP_TABLE name")?;
             let section = label("SCALARS", &name);
-            return self.data_array(name, ty, n, comps, &section).map(Some);
+            return self.data_array(name, ty, n, comps, &section);
         }
         let (keep, fixed_comps) = if t.is("VECTORS") || t.is("NORMALS") {
             (true, Some(3))
@@ -736,10 +876,16 @@ impl<'a> Parser<'a> {
                 c
             }
         };
-        let ty = self.value_type(&label(&kind, &name))?;
+        // Pedigree ids, which are dropped, may be strings, as VTK writes a string array set as
+        // them; every other attribute holds numbers.
+        let ty = if t.is("PEDIGREE_IDS") {
+            self.array_type(&label(&kind, &name))?
+        } else {
+            self.numeric_type(&label(&kind, &name))?
+        };
         let section = label(&kind, &name);
         let array = self.data_array(name, ty, n, comps, &section)?;
-        Ok(keep.then_some(array))
+        Ok(array.filter(|_| keep))
     }
 
     /// Checks the sections against each other and builds the mesh.
@@ -938,6 +1084,8 @@ mod tests {
         structured.extend((0..8i32).flat_map(i32::to_be_bytes));
         structured.extend(b"\n");
         files.push(structured);
+        files.push(strings_binary());
+        files.push(bits_binary());
 
         let outcome = |r: std::result::Result<Mesh, Error>| match r {
             Ok(m) => Ok(m),
@@ -979,6 +1127,77 @@ mod tests {
         file.set_len(0).unwrap();
         file.write_all_at(&ascii, 0).unwrap();
         assert!(read_file(&file, ascii.len(), 64).is_none());
+    }
+
+    /// A binary tetrahedron with strings and variants where VTK writes them — dataset field
+    /// data, a point FIELD array beside a numeric one, cell pedigree ids — their lengths in
+    /// headers of each size (1, 2, 4 and 8 bytes), an empty string among them.
+    fn strings_binary() -> Vec<u8> {
+        let mut f = b"# vtk DataFile Version 5.1\nstrings\nBINARY\nDATASET UNSTRUCTURED_GRID\n\
+            FIELD FieldData 2\ncase%20name 1 2 string\n\xcapump run 7\xc0\n\
+            var 1 2 variant\n6 3\n13 a%20b\nPOINTS 4 float\n"
+            .to_vec();
+        for p in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]] {
+            f.extend(p.iter().flat_map(|v| v.to_be_bytes()));
+        }
+        f.extend(b"\nCELLS 1 5\n");
+        f.extend([4i32, 0, 1, 2, 3].iter().flat_map(|v| v.to_be_bytes()));
+        f.extend(b"\nCELL_TYPES 1\n");
+        f.extend(10i32.to_be_bytes());
+        f.extend(b"\nPOINT_DATA 4\nFIELD FieldData 2\nlabels 1 4 string\n\x80\x46");
+        f.extend([b'y'; 70]);
+        f.extend(b"\x40\x00\x00\x03abc\x00\x00\x00\x00\x00\x00\x00\x02ab\xc1x");
+        f.extend(b"\nt 1 4 float\n");
+        f.extend([0.5f32, 1.5, 2.5, 3.5].iter().flat_map(|v| v.to_be_bytes()));
+        f.extend(b"\nCELL_DATA 1\nPEDIGREE_IDS ids string\n\xc3c 0\n");
+        f
+    }
+
+    /// Strings and variants are read past wherever VTK writes them, whatever their length
+    /// header's size; the numeric array after them is read right.
+    #[test]
+    fn strings_and_variants_are_skipped() {
+        let mesh = read(&strings_binary()).unwrap();
+        assert_eq!(mesh.point_data().len(), 1);
+        assert_eq!(mesh.point_data()[0].name, "t");
+        assert_eq!(mesh.point_data()[0].values, [0.5, 1.5, 2.5, 3.5]);
+        assert!(mesh.cell_data().is_empty());
+    }
+
+    /// A binary tetrahedron with bit arrays: dataset field data, point scalars and vectors, a
+    /// 2-component cell FIELD array.
+    fn bits_binary() -> Vec<u8> {
+        let mut f = b"# vtk DataFile Version 4.2\nbits\nBINARY\nDATASET UNSTRUCTURED_GRID\n\
+            FIELD FieldData 1\nflags 1 3 bit\n\xa0\nPOINTS 4 double\n"
+            .to_vec();
+        for p in [[0f64, 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]] {
+            f.extend(p.iter().flat_map(|v| v.to_be_bytes()));
+        }
+        f.extend(b"\nCELLS 1 5\n");
+        f.extend([4i32, 0, 1, 2, 3].iter().flat_map(|v| v.to_be_bytes()));
+        f.extend(b"\nCELL_TYPES 1\n");
+        f.extend(10i32.to_be_bytes());
+        f.extend(b"\nCELL_DATA 1\nFIELD FieldData 1\nmarks 2 1 bit\n\x40\n");
+        f.extend(b"POINT_DATA 4\nSCALARS wet bit\nLOOKUP_TABLE default\n\x90\n");
+        f.extend(b"VECTORS v bit\n\xa5\x30\n");
+        f
+    }
+
+    /// Bit arrays are read as 0 and 1, high bit first, where VTK's reader keeps them.
+    #[test]
+    fn bits_are_read_high_bit_first() {
+        let mesh = read(&bits_binary()).unwrap();
+        let [wet, v] = mesh.point_data() else {
+            panic!("{:?}", mesh.point_data());
+        };
+        assert_eq!(
+            (wet.name.as_str(), &wet.values[..]),
+            ("wet", &[1., 0., 0., 1.][..])
+        );
+        let v_bits = [1., 0., 1., 0., 0., 1., 0., 1., 0., 0., 1., 1.];
+        assert_eq!((v.components, &v.values[..]), (3, &v_bits[..]));
+        assert_eq!(mesh.cell_data()[0].values, [0., 1.]);
+        assert_eq!(mesh.cell_data()[0].components, 2);
     }
 
     #[test]

@@ -53,12 +53,14 @@ impl ValueType {
             b"vtkidtype" => ValueType::IdType,
             b"float" => ValueType::Float,
             b"double" => ValueType::Double,
-            b"bit" | b"string" | b"utf8_string" | b"variant" => {
-                return Err(format!(
-                    "'{}' arrays are not supported",
-                    super::cursor::show(word)
-                ))
+            b"bit" => {
+                return Err(
+                    "'bit' values are not allowed here (only in FIELD and attribute \
+                     arrays)"
+                        .into(),
+                )
             }
+            b"string" | b"utf8_string" | b"variant" => return Err(not_numbers(word)),
             _ => return Err(format!("unknown data type '{}'", super::cursor::show(word))),
         })
     }
@@ -88,6 +90,55 @@ impl ValueType {
     /// Whether values are integers (cell arrays must be).
     pub fn is_integer(self) -> bool {
         is_integer(self.element())
+    }
+}
+
+/// Why strings or variants (`word` names them) cannot be read where numbers must be.
+fn not_numbers(word: &[u8]) -> String {
+    format!(
+        "'{}' values are not numbers (only FIELD arrays and PEDIGREE_IDS hold them)",
+        super::cursor::show(word)
+    )
+}
+
+/// The data type of a `FIELD` or attribute array: numbers (bits among them), or values VTK
+/// keeps in arrays that are not numeric (`vtkStringArray`, `vtkVariantArray`), which no mesh
+/// array can take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum ArrayType {
+    /// Numbers of a [`ValueType`].
+    Number(ValueType),
+    /// `bit` (a `vtkBitArray`, a numeric array to VTK, which reads it as values 0 and 1): a
+    /// binary file packs eight values a byte, the first in the high bit; an ASCII file gives
+    /// one integer a value, any but 0 meaning 1.
+    Bit,
+    /// `string` (and `utf8_string`, as VTK before 9.2 wrote `vtkUnicodeStringArray`s, which
+    /// VTK 9.1 still reads): a binary file gives each value as a length header (its first
+    /// byte's two high bits say how many bytes it has) and that many bytes; an ASCII file one
+    /// line a value, `%XX`-escaped.
+    String,
+    /// `variant`: each value a VTK type code and a `%XX`-escaped word, as text in both
+    /// encodings.
+    Variant,
+}
+
+impl ArrayType {
+    /// The type a (case-insensitive) type word names, or why it cannot be read.
+    pub fn parse(word: &[u8]) -> Result<ArrayType, String> {
+        match word.to_ascii_lowercase().as_slice() {
+            b"bit" => Ok(ArrayType::Bit),
+            b"string" | b"utf8_string" => Ok(ArrayType::String),
+            b"variant" => Ok(ArrayType::Variant),
+            _ => ValueType::parse(word).map(ArrayType::Number),
+        }
+    }
+
+    /// The type of an attribute that holds numbers (`SCALARS`, `VECTORS`, …): numbers or bits.
+    pub fn parse_numeric(word: &[u8]) -> Result<ArrayType, String> {
+        match ArrayType::parse(word)? {
+            ArrayType::String | ArrayType::Variant => Err(not_numbers(word)),
+            numeric => Ok(numeric),
+        }
     }
 }
 
@@ -130,10 +181,26 @@ mod tests {
         );
         assert!(ValueType::parse(b"bit")
             .unwrap_err()
-            .contains("not supported"));
+            .contains("not allowed here"));
         assert!(ValueType::parse(b"quaternion")
             .unwrap_err()
             .contains("unknown"));
+        // Strings and variants: FIELD arrays and pedigree ids may hold them, nothing else.
+        assert!(ValueType::parse(b"string")
+            .unwrap_err()
+            .contains("not numbers"));
+        assert_eq!(ArrayType::parse(b"STRING"), Ok(ArrayType::String));
+        assert_eq!(ArrayType::parse(b"utf8_string"), Ok(ArrayType::String));
+        assert_eq!(ArrayType::parse(b"variant"), Ok(ArrayType::Variant));
+        assert_eq!(ArrayType::parse(b"Bit"), Ok(ArrayType::Bit));
+        assert_eq!(ArrayType::parse_numeric(b"bit"), Ok(ArrayType::Bit));
+        assert!(ArrayType::parse_numeric(b"string")
+            .unwrap_err()
+            .contains("not numbers"));
+        assert_eq!(
+            ArrayType::parse(b"double"),
+            Ok(ArrayType::Number(ValueType::Double))
+        );
     }
 
     /// Binary files store each type as VTK's legacy writer and reader do.

@@ -37,9 +37,9 @@ mod q;
 
 pub use detect::{ByteOrder, Layout, Precision};
 
-use detect::FileKind;
+pub(crate) use detect::FileKind;
 
-use crate::error::{Error, ReadError};
+use crate::error::{Error, MeshError, ReadError};
 use crate::io::structured::hexahedra;
 use crate::mesh::{CellKind, Mesh, MeshParts};
 
@@ -78,36 +78,30 @@ pub fn detect_q_layout(q: &[u8]) -> Result<Layout, Error> {
 /// assert!(mesh.point_data().is_empty());
 /// ```
 pub fn read(xyz: &[u8], q: Option<&[u8]>) -> Result<Mesh, Error> {
-    let layout = detect_layout(xyz)?;
+    read_blaming(xyz, q).map_err(|(_, e)| e)
+}
+
+/// [`read`], with each error paired with the file it concerns: the grid, or the Q file (its
+/// layout, its size, its dimensions against the grid's, its values).
+pub(crate) fn read_blaming(xyz: &[u8], q: Option<&[u8]>) -> Result<Mesh, (FileKind, Error)> {
+    let grid_error = |e: Error| (FileKind::Grid, e);
+    let layout = detect_layout(xyz).map_err(grid_error)?;
     let n = layout.points();
     if n > u32::MAX as usize {
-        return Err(ReadError::new(
-            FileKind::Grid.format(),
-            0,
-            format!("{n} points are more than 32-bit point indices can address"),
-        )
-        .into());
+        return Err(grid_error(
+            ReadError::new(
+                FileKind::Grid.format(),
+                0,
+                format!("{n} points are more than 32-bit point indices can address"),
+            )
+            .into(),
+        ));
     }
     let point_data = match q {
-        Some(q) => {
-            let q_layout = detect_q_layout(q)?;
-            if q_layout.dims != layout.dims {
-                let [a, b, c] = q_layout.dims;
-                let [i, j, k] = layout.dims;
-                return Err(ReadError::new(
-                    FileKind::Solution.format(),
-                    0,
-                    format!(
-                        "the Q file's dimensions {a}×{b}×{c} differ from the grid's {i}×{j}×{k}"
-                    ),
-                )
-                .into());
-            }
-            q::read_solution(q, &q_layout)?
-        }
+        Some(q) => solution(q, &layout).map_err(|e| (FileKind::Solution, e))?,
         None => Vec::new(),
     };
-    let grid::Grid { points, iblank } = grid::read_grid(xyz, &layout)?;
+    let grid::Grid { points, iblank } = grid::read_grid(xyz, &layout).map_err(grid_error)?;
     let mut cells = hexahedra(layout.dims, &points);
     if let Some(iblank) = &iblank {
         cells.retain(|cell| {
@@ -116,13 +110,38 @@ pub fn read(xyz: &[u8], q: Option<&[u8]>) -> Result<Mesh, Error> {
         });
     }
     let kinds = vec![CellKind::Hexahedron; cells.len()];
-    Ok(Mesh::from_parts(MeshParts {
+    Mesh::from_parts(MeshParts {
         points,
         cells,
         kinds,
         point_data,
         cell_data: Vec::new(),
-    })?)
+    })
+    .map_err(|e| {
+        // Point arrays come from the Q file alone; the rest is the grid's.
+        let kind = match e {
+            MeshError::NonFiniteScalar { .. } | MeshError::ArrayLength { .. } => FileKind::Solution,
+            _ => FileKind::Grid,
+        };
+        (kind, e.into())
+    })
+}
+
+/// The point arrays of a Q file for a grid of the given layout: its own layout detected, its
+/// dimensions the grid's.
+fn solution(q: &[u8], grid: &Layout) -> Result<Vec<crate::mesh::DataArray>, Error> {
+    let q_layout = detect_q_layout(q)?;
+    if q_layout.dims != grid.dims {
+        let [a, b, c] = q_layout.dims;
+        let [i, j, k] = grid.dims;
+        return Err(ReadError::new(
+            FileKind::Solution.format(),
+            0,
+            format!("the Q file's dimensions {a}×{b}×{c} differ from the grid's {i}×{j}×{k}"),
+        )
+        .into());
+    }
+    q::read_solution(q, &q_layout)
 }
 
 /// `count` floats of the layout's precision and byte order from `offset`, as `f64`.
