@@ -5,6 +5,7 @@
 
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkCellTypes.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCommand.h"
@@ -12,12 +13,15 @@
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkRayCastImageDisplayHelper.h"
 #include "vtkRenderWindow.h"
@@ -123,6 +127,25 @@ void ToRowMajor(vtkMatrix4x4* m, double out[16])
   vtkMatrix4x4::DeepCopy(out, m);
 }
 
+// The latest change of a grid's geometry: its points (object and values), cells and cell types.
+vtkMTimeType GeometryMTime(vtkUnstructuredGrid* grid)
+{
+  vtkMTimeType t = 0;
+  if (vtkPoints* points = grid->GetPoints())
+  {
+    t = std::max(points->GetMTime(), points->GetData()->GetMTime());
+  }
+  if (vtkCellArray* cells = grid->GetCells())
+  {
+    t = std::max(t, cells->GetMTime());
+  }
+  if (vtkUnsignedCharArray* types = grid->GetCellTypesArray())
+  {
+    t = std::max(t, types->GetMTime());
+  }
+  return t;
+}
+
 std::string StatusText(CylvolStatus status)
 {
   std::string text = cylvol_status_message(status);
@@ -143,10 +166,34 @@ public:
   CylvolVolume* Volume = nullptr;
 
   // The input without its ghost cells (VTK's vtkGhostType DUPLICATECELL and HIDDENCELL flags),
-  // null when it has none; for the input VisibleOf at VisibleMTime.
+  // null when it has none, and how its points and cells map to the input's; for the input,
+  // geometry and ghost array VisibleKey records.
+  struct GhostKey
+  {
+    vtkUnstructuredGrid* Grid = nullptr; // compared only
+    vtkMTimeType Geometry = 0;
+    vtkUnsignedCharArray* Ghosts = nullptr; // compared only
+    vtkMTimeType GhostsMTime = 0;
+    vtkIdType Cells = -1;
+    bool operator==(const GhostKey& o) const
+    {
+      return Grid == o.Grid && Geometry == o.Geometry && Ghosts == o.Ghosts &&
+        GhostsMTime == o.GhostsMTime && Cells == o.Cells;
+    }
+  };
+  GhostKey VisibleKey;
+  bool VisibleKnown = false;
   vtkSmartPointer<vtkUnstructuredGrid> Visible;
-  vtkUnstructuredGrid* VisibleOf = nullptr; // compared only
-  vtkMTimeType VisibleMTime = 0;
+  vtkSmartPointer<vtkIdList> VisiblePoints; // the input's id of each point of Visible
+  vtkSmartPointer<vtkIdList> VisibleCells;  // the input's id of each cell of Visible
+
+  // The input's scalars on Visible's points or cells (when Visible is used), refilled in place
+  // when the input's array or its values change, so that new values are handed over without
+  // a rebuild.
+  vtkSmartPointer<vtkDataArray> VisibleScalars;
+  vtkDataArray* VisibleScalarsOf = nullptr; // compared only
+  vtkMTimeType VisibleScalarsMTime = 0;
+  int VisibleScalarsCells = -1;
 
   // What the structure was built from.
   vtkUnstructuredGrid* BuiltInput = nullptr; // compared only, never dereferenced
@@ -200,23 +247,36 @@ public:
     this->Times.push_back({ ren, vol, seconds });
   }
 
-  // `grid`, or a copy without the cells its ghost array flags as another piece's or hidden
-  // (as VTK's readers and vtkUnstructuredGrid::RemoveGhostCells drop them): the input is
-  // left as it is. The answer (the copy, or none needed) is kept until the input changes, so
-  // an unchanged input is neither scanned nor copied again, and its structure is kept.
+  // `grid`, or a copy of its geometry without the cells its ghost array flags as another
+  // piece's or hidden (made by vtkUnstructuredGrid::RemoveGhostCells, which also drops the
+  // points only those cells use): the input is left as it is. The answer (the copy, or none
+  // needed) is kept while the input's points, cells and ghost array are unchanged, so that
+  // neither an unchanged input nor new scalars (values, another array) scan, copy or rebuild
+  // anything; Scalars gives the input's scalars on the copy.
   vtkUnstructuredGrid* WithoutGhostCells(vtkUnstructuredGrid* grid)
   {
-    if (this->VisibleOf == grid && this->VisibleMTime == grid->GetMTime())
+    GhostKey key;
+    key.Grid = grid;
+    key.Geometry = GeometryMTime(grid);
+    key.Ghosts = grid->GetCellGhostArray();
+    key.GhostsMTime = key.Ghosts ? key.Ghosts->GetMTime() : 0;
+    key.Cells = grid->GetNumberOfCells();
+    if (this->VisibleKnown && this->VisibleKey == key)
     {
       return this->Visible ? this->Visible.Get() : grid;
     }
-    this->VisibleOf = grid;
-    this->VisibleMTime = grid->GetMTime();
+    this->VisibleKnown = true;
+    this->VisibleKey = key;
     this->Visible = nullptr;
-    vtkUnsignedCharArray* ghosts = grid->GetCellGhostArray();
+    this->VisiblePoints = nullptr;
+    this->VisibleCells = nullptr;
+    this->VisibleScalars = nullptr;
+    this->VisibleScalarsOf = nullptr;
+    vtkUnsignedCharArray* ghosts = key.Ghosts;
     const unsigned char flags = vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::HIDDENCELL;
     bool any = false;
-    if (ghosts && ghosts->GetNumberOfTuples() == grid->GetNumberOfCells())
+    if (ghosts && ghosts->GetNumberOfTuples() == grid->GetNumberOfCells() && grid->GetPoints() &&
+      grid->GetCells() && grid->GetCellTypesArray())
     {
       const unsigned char* g = ghosts->GetPointer(0);
       const vtkIdType n = ghosts->GetNumberOfTuples();
@@ -229,12 +289,79 @@ public:
     {
       return grid;
     }
-    // The copy shares the points and point data; RemoveGhostCells gives it new cells and
-    // cell data of its own.
-    this->Visible = vtkSmartPointer<vtkUnstructuredGrid>::New();
-    this->Visible->ShallowCopy(grid);
-    this->Visible->RemoveGhostCells();
+    // The geometry alone (the input's points, cells and ghost flags) with each point's and
+    // cell's id, so that the copy tells where its points and cells come from.
+    auto visible = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    visible->SetPoints(grid->GetPoints());
+    visible->SetCells(grid->GetCellTypesArray(), grid->GetCells());
+    visible->GetCellData()->AddArray(ghosts);
+    vtkNew<vtkIdTypeArray> pointIds;
+    pointIds->SetName("vtkCylVolPointIds");
+    pointIds->SetNumberOfTuples(grid->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
+    {
+      pointIds->SetValue(i, i);
+    }
+    visible->GetPointData()->AddArray(pointIds);
+    vtkNew<vtkIdTypeArray> cellIds;
+    cellIds->SetName("vtkCylVolCellIds");
+    cellIds->SetNumberOfTuples(grid->GetNumberOfCells());
+    for (vtkIdType i = 0; i < grid->GetNumberOfCells(); ++i)
+    {
+      cellIds->SetValue(i, i);
+    }
+    visible->GetCellData()->AddArray(cellIds);
+    visible->RemoveGhostCells();
+    this->VisiblePoints = IdsOf(visible->GetPointData()->GetAbstractArray("vtkCylVolPointIds"));
+    this->VisibleCells = IdsOf(visible->GetCellData()->GetAbstractArray("vtkCylVolCellIds"));
+    visible->GetPointData()->Initialize();
+    visible->GetCellData()->Initialize();
+    this->Visible = visible;
     return this->Visible;
+  }
+
+  // `scalars` of the input (cell data when `cells`) as the grid WithoutGhostCells returned
+  // has them: `scalars` itself when it is the input, else their values on the copy's points
+  // or cells, gathered again only when the array or its values change.
+  vtkDataArray* Scalars(vtkDataArray* scalars, int cells)
+  {
+    if (!this->Visible)
+    {
+      return scalars;
+    }
+    if (this->VisibleScalars && this->VisibleScalarsOf == scalars &&
+      this->VisibleScalarsMTime == scalars->GetMTime() && this->VisibleScalarsCells == cells)
+    {
+      return this->VisibleScalars;
+    }
+    vtkIdList* ids = cells ? this->VisibleCells.Get() : this->VisiblePoints.Get();
+    if (!this->VisibleScalars || this->VisibleScalars->GetDataType() != scalars->GetDataType())
+    {
+      this->VisibleScalars = vtk::TakeSmartPointer(scalars->NewInstance());
+    }
+    this->VisibleScalars->SetName(scalars->GetName());
+    this->VisibleScalars->SetNumberOfComponents(scalars->GetNumberOfComponents());
+    this->VisibleScalars->SetNumberOfTuples(ids->GetNumberOfIds());
+    scalars->GetTuples(ids, this->VisibleScalars);
+    this->VisibleScalars->Modified();
+    this->VisibleScalarsOf = scalars;
+    this->VisibleScalarsMTime = scalars->GetMTime();
+    this->VisibleScalarsCells = cells;
+    return this->VisibleScalars;
+  }
+
+  // The ids RemoveGhostCells kept of an id array WithoutGhostCells attached.
+  static vtkSmartPointer<vtkIdList> IdsOf(vtkAbstractArray* array)
+  {
+    auto ids = vtkSmartPointer<vtkIdList>::New();
+    vtkIdTypeArray* kept = vtkIdTypeArray::SafeDownCast(array);
+    const vtkIdType n = kept ? kept->GetNumberOfTuples() : 0;
+    ids->SetNumberOfIds(n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      ids->SetId(i, kept->GetValue(i));
+    }
+    return ids;
   }
 
   void FreeVolume()
@@ -450,7 +577,8 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                   << (base ? base->GetClassName() : "null") << "): nothing drawn.");
     return;
   }
-  grid = this->Internals->WithoutGhostCells(grid);
+  vtkUnstructuredGrid* input = grid;
+  grid = in.WithoutGhostCells(input);
   if (grid->GetNumberOfCells() == 0 || grid->GetNumberOfPoints() == 0 || !grid->GetPoints() ||
     !grid->GetCells() || !grid->GetCellTypesArray())
   {
@@ -461,7 +589,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
   // ---- scalars -------------------------------------------------------------------------
   int cellFlag = 0;
-  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(grid, this->ScalarMode,
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(input, this->ScalarMode,
     this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
   if (!scalars)
   {
@@ -483,13 +611,15 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     }
     component = this->ScalarComponent;
   }
-  const vtkIdType expectedTuples = cellFlag ? grid->GetNumberOfCells() : grid->GetNumberOfPoints();
+  const vtkIdType expectedTuples = cellFlag ? input->GetNumberOfCells() : input->GetNumberOfPoints();
   if (scalars->GetNumberOfTuples() != expectedTuples)
   {
     vtkErrorMacro(<< "The scalar array has " << scalars->GetNumberOfTuples() << " tuples but the grid has "
                   << expectedTuples << (cellFlag ? " cells" : " points") << ": nothing drawn.");
     return;
   }
+  // Without ghost cells, the values on the points and cells drawn.
+  scalars = in.Scalars(scalars, cellFlag);
 
   // ---- cell types ------------------------------------------------------------------------
   vtkUnsignedCharArray* types = grid->GetCellTypesArray();
@@ -511,10 +641,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
 
   // ---- build (or reuse) the structure ----------------------------------------------------
-  vtkMTimeType geometryMTime = grid->GetPoints()->GetMTime();
-  geometryMTime = std::max(geometryMTime, grid->GetPoints()->GetData()->GetMTime());
-  geometryMTime = std::max(geometryMTime, grid->GetCells()->GetMTime());
-  geometryMTime = std::max(geometryMTime, types->GetMTime());
+  const vtkMTimeType geometryMTime = GeometryMTime(grid);
   const vtkMTimeType settingsMTime = in.SettingsTime.GetMTime();
 
   ValueView values;
