@@ -932,6 +932,44 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   camera.mode = CYLVOL_CAMERA_MATRICES;
   ToRowMajor(view, camera.view);
 
+  // The far clipping plane. The rays start on the near plane, but cylvol reads a window depth
+  // of 1 (the far plane, and the z-buffer where nothing is drawn) as no depth at all, and
+  // would march past it. vtkUnstructuredGridVolumeRayCastMapper bounds every ray by the
+  // window depths [0, 1], so where the far plane cuts the volume's bounds each ray stops just
+  // before it: its depth is at most the largest window depth below 1. A volume in front of
+  // the far plane is drawn as before, with the z-buffer alone.
+  {
+    double clippingRange[2];
+    cam->GetClippingRange(clippingRange);
+    double bounds[6];
+    vol->GetBounds(bounds);
+    vtkMatrix4x4* modelView = cam->GetModelViewTransformMatrix();
+    bool farCuts = false;
+    for (int k = 0; k < 8 && !farCuts; ++k)
+    {
+      double p[4] = { bounds[k & 1], bounds[2 + ((k >> 1) & 1)], bounds[4 + ((k >> 2) & 1)], 1.0 };
+      modelView->MultiplyPoint(p, p);
+      // Eye space looks down -z; the clipping range holds distances along the view direction.
+      farCuts = -p[2] / p[3] > clippingRange[1];
+    }
+    if (farCuts)
+    {
+      const float farDepth = std::nextafter(1.0f, 0.0f);
+      if (depthIn)
+      {
+        for (float& z : in.Depth)
+        {
+          z = std::min(z, farDepth);
+        }
+      }
+      else
+      {
+        in.Depth.assign(pixelCount, farDepth);
+        depthIn = in.Depth.data();
+      }
+    }
+  }
+
   // ---- render parameters -------------------------------------------------------------------
   CylvolRenderParams params;
   cylvol_render_params_default(&params);

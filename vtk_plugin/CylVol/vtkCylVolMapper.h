@@ -17,8 +17,9 @@
  * The mapper honours vtkVolumeProperty (RGB or gray colour, scalar opacity and its unit
  * distance, shading with ambient/diffuse/specular/specular power, gradient opacity when
  * one is set and enabled, nearest or linear interpolation), the mapper's scalar mode and
- * SelectScalarArray, the volume's matrix, perspective and parallel cameras, viewports,
- * the depth of opaque geometry already drawn, and up to six clipping planes
+ * SelectScalarArray, the volume's matrix, perspective and parallel cameras (the volume is
+ * drawn between the camera's near and far clipping planes), viewports, the depth of opaque
+ * geometry already drawn, and up to six clipping planes
  * (AddClippingPlane: the volume on the side each plane's normal points to is drawn, and it
  * ends exactly on the plane; more planes are an error and nothing is drawn).
  *
