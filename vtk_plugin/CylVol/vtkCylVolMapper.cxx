@@ -573,8 +573,21 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   vtkUnstructuredGrid* grid = vtkUnstructuredGrid::SafeDownCast(base);
   if (!grid)
   {
-    vtkErrorMacro(<< "The input is not a vtkUnstructuredGrid ("
-                  << (base ? base->GetClassName() : "null") << "): nothing drawn.");
+    // What the pipeline gave: VTK's executive reports another type too, but leaves it to the
+    // mapper to say what it draws.
+    vtkDataObject* given = base ? base : this->GetInputDataObject(0, 0);
+    vtkAlgorithm* producer = this->GetInputAlgorithm();
+    if (given)
+    {
+      vtkErrorMacro(<< "The input is a " << given->GetClassName()
+                    << ", but vtkCylVolMapper needs a vtkUnstructuredGrid: nothing drawn.");
+    }
+    else
+    {
+      vtkErrorMacro(<< "The input connection (" << (producer ? producer->GetClassName() : "none")
+                    << ") produced no data object; vtkCylVolMapper needs a vtkUnstructuredGrid: "
+                       "nothing drawn.");
+    }
     return;
   }
   vtkUnstructuredGrid* input = grid;
