@@ -611,15 +611,38 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                   << "): nothing drawn.");
     return;
   }
+  // Several components. VTK's unstructured mappers draw each component through its own
+  // transfer functions and mix them (the volume property's IndependentComponents, on by
+  // default), or, with IndependentComponents off, read 2 or 4 components as colour and opacity
+  // themselves. cylvol draws one scalar through one pair of tables: ScalarComponent chooses
+  // it, drawn with the property's first transfer functions (as vtkSmartVolumeMapper's
+  // component mode draws one); dependent components are refused. One component is drawn
+  // whatever IndependentComponents says: nothing depends on anything.
+  vtkVolumeProperty* property = vol->GetProperty();
   int component = 0;
-  if (scalars->GetNumberOfComponents() > 1)
+  const int components = scalars->GetNumberOfComponents();
+  if (components > 1)
   {
-    if (this->ScalarComponent < 0 || this->ScalarComponent >= scalars->GetNumberOfComponents())
+    const char* arrayName = scalars->GetName() ? scalars->GetName() : "";
+    if (!property->GetIndependentComponents())
     {
-      vtkErrorMacro(<< "The scalar array '" << (scalars->GetName() ? scalars->GetName() : "")
-                    << "' has " << scalars->GetNumberOfComponents()
+      vtkErrorMacro(<< "The scalar array '" << arrayName << "' has " << components
+                    << " components and the volume property's IndependentComponents is off, "
+                       "so they are to be read as colour and opacity (VTK's dependent "
+                       "components); vtkCylVolMapper draws one component through the transfer "
+                       "functions: turn IndependentComponents on and choose the component with "
+                       "SetScalarComponent: nothing drawn.");
+      return;
+    }
+    if (this->ScalarComponent < 0 || this->ScalarComponent >= components)
+    {
+      vtkErrorMacro(<< "The scalar array '" << arrayName << "' has " << components
                     << " components and no valid component is chosen (ScalarComponent = "
-                    << this->ScalarComponent << "): nothing drawn.");
+                    << this->ScalarComponent
+                    << "); VTK's unstructured mappers would mix all of them, each through its "
+                       "own transfer functions (IndependentComponents), vtkCylVolMapper draws one: "
+                       "choose it with SetScalarComponent(0.."
+                    << components - 1 << "): nothing drawn.");
       return;
     }
     component = this->ScalarComponent;
@@ -773,7 +796,6 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
 
   // ---- transfer functions ----------------------------------------------------------------
-  vtkVolumeProperty* property = vol->GetProperty();
   double range[2];
   scalars->GetRange(range, component);
   if (!(range[1] > range[0]))

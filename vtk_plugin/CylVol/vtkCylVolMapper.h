@@ -192,7 +192,11 @@ public:
   ///@{
   /**
    * Which component of a multi-component scalar array to render (-1, the default: none
-   * chosen, which is an error for arrays with more than one component).
+   * chosen, which is an error for arrays with more than one component). It is drawn through
+   * the volume property's first transfer functions, as vtkSmartVolumeMapper's component mode
+   * draws one; VTK's unstructured mappers would instead mix every component, each through its
+   * own functions. Several components with the property's IndependentComponents off (VTK reads
+   * them as colour and opacity) are an error, and nothing is drawn.
    */
   virtual void SetScalarComponent(int component);
   vtkGetMacro(ScalarComponent, int);
