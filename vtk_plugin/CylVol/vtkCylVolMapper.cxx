@@ -208,6 +208,10 @@ public:
 
   vtkTimeStamp SettingsTime; // structure settings' last change
 
+  // What the last render left out for cell scalars (1: shading, 2: gradient opacity), so that
+  // the warning saying so is given once per change.
+  int CellScalarsIgnored = 0;
+
   // The image (power-of-two memory like the VTK ray caster, rows bottom up).
   std::vector<unsigned char> Image;
   int ImageMemorySize[2] = { 0, 0 };
@@ -1019,6 +1023,38 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.diffuse = property->GetDiffuse(0);
   params.specular = property->GetSpecular(0);
   params.specular_power = property->GetSpecularPower(0);
+  // Cell scalars are constant in each cell, so their gradient is zero wherever it is taken:
+  // shading would have no normal to light, and a gradient opacity function would weigh every
+  // sample by its value at zero (which usually hides the volume). VTK's unstructured mappers
+  // shade nothing and apply no gradient opacity (on point data either); for cell scalars this
+  // mapper does the same, with a warning once per change of what it leaves out. Intensity
+  // projections use neither.
+  {
+    int ignored = 0;
+    if (cellFlag && blend == CYLVOL_BLEND_COMPOSITE)
+    {
+      ignored |= params.shading ? 1 : 0;
+      ignored |= transfer.gradient_opacity ? 2 : 0;
+    }
+    if (ignored && ignored != in.CellScalarsIgnored)
+    {
+      vtkWarningMacro(<< "The scalars '" << (scalarName ? scalarName : "")
+                      << "' are cell data, constant in each cell, with a zero gradient: "
+                      << ((ignored & 1) ? "shading" : "")
+                      << (ignored == 3 ? " and " : "")
+                      << ((ignored & 2) ? "the gradient opacity function" : "")
+                      << ((ignored == 3) ? " are" : " is")
+                      << " left out, as VTK's unstructured volume mappers leave them out "
+                         "(point scalars, e.g. from vtkCellDataToPointData, are shaded).");
+    }
+    in.CellScalarsIgnored = ignored;
+    if (ignored)
+    {
+      params.shading = 0;
+      transfer.gradient_opacity = nullptr;
+      transfer.n_gradient_opacity = 0;
+    }
+  }
   params.early_termination = this->EarlyTermination;
   params.rows_bottom_up = 1;
   params.blend = blend;

@@ -23,6 +23,10 @@
  * (AddClippingPlane: the volume on the side each plane's normal points to is drawn, and it
  * ends exactly on the plane; more planes are an error and nothing is drawn).
  *
+ * Shading and gradient opacity apply to point scalars. Cell scalars are constant in each cell
+ * (their gradient is zero), so for them both are left out, as VTK's unstructured mappers
+ * always leave them out, with a warning (once per change of what is left out).
+ *
  * Blend modes: compositing (the default), SetBlendModeToMaximumIntensity() and
  * SetBlendModeToMinimumIntensity() (vtkVolumeMapper's value 2). A projection shows the colour
  * of the largest (smallest) scalar sampled on each ray with the opacity of one unit distance
