@@ -5,6 +5,7 @@
 
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkCellTypes.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCommand.h"
@@ -12,12 +13,15 @@
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkRayCastImageDisplayHelper.h"
 #include "vtkRenderWindow.h"
@@ -123,6 +127,25 @@ void ToRowMajor(vtkMatrix4x4* m, double out[16])
   vtkMatrix4x4::DeepCopy(out, m);
 }
 
+// The latest change of a grid's geometry: its points (object and values), cells and cell types.
+vtkMTimeType GeometryMTime(vtkUnstructuredGrid* grid)
+{
+  vtkMTimeType t = 0;
+  if (vtkPoints* points = grid->GetPoints())
+  {
+    t = std::max(points->GetMTime(), points->GetData()->GetMTime());
+  }
+  if (vtkCellArray* cells = grid->GetCells())
+  {
+    t = std::max(t, cells->GetMTime());
+  }
+  if (vtkUnsignedCharArray* types = grid->GetCellTypesArray())
+  {
+    t = std::max(t, types->GetMTime());
+  }
+  return t;
+}
+
 std::string StatusText(CylvolStatus status)
 {
   std::string text = cylvol_status_message(status);
@@ -143,10 +166,34 @@ public:
   CylvolVolume* Volume = nullptr;
 
   // The input without its ghost cells (VTK's vtkGhostType DUPLICATECELL and HIDDENCELL flags),
-  // null when it has none; for the input VisibleOf at VisibleMTime.
+  // null when it has none, and how its points and cells map to the input's; for the input,
+  // geometry and ghost array VisibleKey records.
+  struct GhostKey
+  {
+    vtkUnstructuredGrid* Grid = nullptr; // compared only
+    vtkMTimeType Geometry = 0;
+    vtkUnsignedCharArray* Ghosts = nullptr; // compared only
+    vtkMTimeType GhostsMTime = 0;
+    vtkIdType Cells = -1;
+    bool operator==(const GhostKey& o) const
+    {
+      return Grid == o.Grid && Geometry == o.Geometry && Ghosts == o.Ghosts &&
+        GhostsMTime == o.GhostsMTime && Cells == o.Cells;
+    }
+  };
+  GhostKey VisibleKey;
+  bool VisibleKnown = false;
   vtkSmartPointer<vtkUnstructuredGrid> Visible;
-  vtkUnstructuredGrid* VisibleOf = nullptr; // compared only
-  vtkMTimeType VisibleMTime = 0;
+  vtkSmartPointer<vtkIdList> VisiblePoints; // the input's id of each point of Visible
+  vtkSmartPointer<vtkIdList> VisibleCells;  // the input's id of each cell of Visible
+
+  // The input's scalars on Visible's points or cells (when Visible is used), refilled in place
+  // when the input's array or its values change, so that new values are handed over without
+  // a rebuild.
+  vtkSmartPointer<vtkDataArray> VisibleScalars;
+  vtkDataArray* VisibleScalarsOf = nullptr; // compared only
+  vtkMTimeType VisibleScalarsMTime = 0;
+  int VisibleScalarsCells = -1;
 
   // What the structure was built from.
   vtkUnstructuredGrid* BuiltInput = nullptr; // compared only, never dereferenced
@@ -160,6 +207,10 @@ public:
   int ScalarCells = -1;
 
   vtkTimeStamp SettingsTime; // structure settings' last change
+
+  // What the last render left out for cell scalars (1: shading, 2: gradient opacity), so that
+  // the warning saying so is given once per change.
+  int CellScalarsIgnored = 0;
 
   // The image (power-of-two memory like the VTK ray caster, rows bottom up).
   std::vector<unsigned char> Image;
@@ -200,23 +251,36 @@ public:
     this->Times.push_back({ ren, vol, seconds });
   }
 
-  // `grid`, or a copy without the cells its ghost array flags as another piece's or hidden
-  // (as VTK's readers and vtkUnstructuredGrid::RemoveGhostCells drop them): the input is
-  // left as it is. The answer (the copy, or none needed) is kept until the input changes, so
-  // an unchanged input is neither scanned nor copied again, and its structure is kept.
+  // `grid`, or a copy of its geometry without the cells its ghost array flags as another
+  // piece's or hidden (made by vtkUnstructuredGrid::RemoveGhostCells, which also drops the
+  // points only those cells use): the input is left as it is. The answer (the copy, or none
+  // needed) is kept while the input's points, cells and ghost array are unchanged, so that
+  // neither an unchanged input nor new scalars (values, another array) scan, copy or rebuild
+  // anything; Scalars gives the input's scalars on the copy.
   vtkUnstructuredGrid* WithoutGhostCells(vtkUnstructuredGrid* grid)
   {
-    if (this->VisibleOf == grid && this->VisibleMTime == grid->GetMTime())
+    GhostKey key;
+    key.Grid = grid;
+    key.Geometry = GeometryMTime(grid);
+    key.Ghosts = grid->GetCellGhostArray();
+    key.GhostsMTime = key.Ghosts ? key.Ghosts->GetMTime() : 0;
+    key.Cells = grid->GetNumberOfCells();
+    if (this->VisibleKnown && this->VisibleKey == key)
     {
       return this->Visible ? this->Visible.Get() : grid;
     }
-    this->VisibleOf = grid;
-    this->VisibleMTime = grid->GetMTime();
+    this->VisibleKnown = true;
+    this->VisibleKey = key;
     this->Visible = nullptr;
-    vtkUnsignedCharArray* ghosts = grid->GetCellGhostArray();
+    this->VisiblePoints = nullptr;
+    this->VisibleCells = nullptr;
+    this->VisibleScalars = nullptr;
+    this->VisibleScalarsOf = nullptr;
+    vtkUnsignedCharArray* ghosts = key.Ghosts;
     const unsigned char flags = vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::HIDDENCELL;
     bool any = false;
-    if (ghosts && ghosts->GetNumberOfTuples() == grid->GetNumberOfCells())
+    if (ghosts && ghosts->GetNumberOfTuples() == grid->GetNumberOfCells() && grid->GetPoints() &&
+      grid->GetCells() && grid->GetCellTypesArray())
     {
       const unsigned char* g = ghosts->GetPointer(0);
       const vtkIdType n = ghosts->GetNumberOfTuples();
@@ -229,12 +293,79 @@ public:
     {
       return grid;
     }
-    // The copy shares the points and point data; RemoveGhostCells gives it new cells and
-    // cell data of its own.
-    this->Visible = vtkSmartPointer<vtkUnstructuredGrid>::New();
-    this->Visible->ShallowCopy(grid);
-    this->Visible->RemoveGhostCells();
+    // The geometry alone (the input's points, cells and ghost flags) with each point's and
+    // cell's id, so that the copy tells where its points and cells come from.
+    auto visible = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    visible->SetPoints(grid->GetPoints());
+    visible->SetCells(grid->GetCellTypesArray(), grid->GetCells());
+    visible->GetCellData()->AddArray(ghosts);
+    vtkNew<vtkIdTypeArray> pointIds;
+    pointIds->SetName("vtkCylVolPointIds");
+    pointIds->SetNumberOfTuples(grid->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
+    {
+      pointIds->SetValue(i, i);
+    }
+    visible->GetPointData()->AddArray(pointIds);
+    vtkNew<vtkIdTypeArray> cellIds;
+    cellIds->SetName("vtkCylVolCellIds");
+    cellIds->SetNumberOfTuples(grid->GetNumberOfCells());
+    for (vtkIdType i = 0; i < grid->GetNumberOfCells(); ++i)
+    {
+      cellIds->SetValue(i, i);
+    }
+    visible->GetCellData()->AddArray(cellIds);
+    visible->RemoveGhostCells();
+    this->VisiblePoints = IdsOf(visible->GetPointData()->GetAbstractArray("vtkCylVolPointIds"));
+    this->VisibleCells = IdsOf(visible->GetCellData()->GetAbstractArray("vtkCylVolCellIds"));
+    visible->GetPointData()->Initialize();
+    visible->GetCellData()->Initialize();
+    this->Visible = visible;
     return this->Visible;
+  }
+
+  // `scalars` of the input (cell data when `cells`) as the grid WithoutGhostCells returned
+  // has them: `scalars` itself when it is the input, else their values on the copy's points
+  // or cells, gathered again only when the array or its values change.
+  vtkDataArray* Scalars(vtkDataArray* scalars, int cells)
+  {
+    if (!this->Visible)
+    {
+      return scalars;
+    }
+    if (this->VisibleScalars && this->VisibleScalarsOf == scalars &&
+      this->VisibleScalarsMTime == scalars->GetMTime() && this->VisibleScalarsCells == cells)
+    {
+      return this->VisibleScalars;
+    }
+    vtkIdList* ids = cells ? this->VisibleCells.Get() : this->VisiblePoints.Get();
+    if (!this->VisibleScalars || this->VisibleScalars->GetDataType() != scalars->GetDataType())
+    {
+      this->VisibleScalars = vtk::TakeSmartPointer(scalars->NewInstance());
+    }
+    this->VisibleScalars->SetName(scalars->GetName());
+    this->VisibleScalars->SetNumberOfComponents(scalars->GetNumberOfComponents());
+    this->VisibleScalars->SetNumberOfTuples(ids->GetNumberOfIds());
+    scalars->GetTuples(ids, this->VisibleScalars);
+    this->VisibleScalars->Modified();
+    this->VisibleScalarsOf = scalars;
+    this->VisibleScalarsMTime = scalars->GetMTime();
+    this->VisibleScalarsCells = cells;
+    return this->VisibleScalars;
+  }
+
+  // The ids RemoveGhostCells kept of an id array WithoutGhostCells attached.
+  static vtkSmartPointer<vtkIdList> IdsOf(vtkAbstractArray* array)
+  {
+    auto ids = vtkSmartPointer<vtkIdList>::New();
+    vtkIdTypeArray* kept = vtkIdTypeArray::SafeDownCast(array);
+    const vtkIdType n = kept ? kept->GetNumberOfTuples() : 0;
+    ids->SetNumberOfIds(n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      ids->SetId(i, kept->GetValue(i));
+    }
+    return ids;
   }
 
   void FreeVolume()
@@ -446,11 +577,25 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   vtkUnstructuredGrid* grid = vtkUnstructuredGrid::SafeDownCast(base);
   if (!grid)
   {
-    vtkErrorMacro(<< "The input is not a vtkUnstructuredGrid ("
-                  << (base ? base->GetClassName() : "null") << "): nothing drawn.");
+    // What the pipeline gave: VTK's executive reports another type too, but leaves it to the
+    // mapper to say what it draws.
+    vtkDataObject* given = base ? base : this->GetInputDataObject(0, 0);
+    vtkAlgorithm* producer = this->GetInputAlgorithm();
+    if (given)
+    {
+      vtkErrorMacro(<< "The input is a " << given->GetClassName()
+                    << ", but vtkCylVolMapper needs a vtkUnstructuredGrid: nothing drawn.");
+    }
+    else
+    {
+      vtkErrorMacro(<< "The input connection (" << (producer ? producer->GetClassName() : "none")
+                    << ") produced no data object; vtkCylVolMapper needs a vtkUnstructuredGrid: "
+                       "nothing drawn.");
+    }
     return;
   }
-  grid = this->Internals->WithoutGhostCells(grid);
+  vtkUnstructuredGrid* input = grid;
+  grid = in.WithoutGhostCells(input);
   if (grid->GetNumberOfCells() == 0 || grid->GetNumberOfPoints() == 0 || !grid->GetPoints() ||
     !grid->GetCells() || !grid->GetCellTypesArray())
   {
@@ -461,7 +606,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
   // ---- scalars -------------------------------------------------------------------------
   int cellFlag = 0;
-  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(grid, this->ScalarMode,
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(input, this->ScalarMode,
     this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
   if (!scalars)
   {
@@ -470,26 +615,51 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                   << "): nothing drawn.");
     return;
   }
+  // Several components. VTK's unstructured mappers draw each component through its own
+  // transfer functions and mix them (the volume property's IndependentComponents, on by
+  // default), or, with IndependentComponents off, read 2 or 4 components as colour and opacity
+  // themselves. cylvol draws one scalar through one pair of tables: ScalarComponent chooses
+  // it, drawn with the property's first transfer functions (as vtkSmartVolumeMapper's
+  // component mode draws one); dependent components are refused. One component is drawn
+  // whatever IndependentComponents says: nothing depends on anything.
+  vtkVolumeProperty* property = vol->GetProperty();
   int component = 0;
-  if (scalars->GetNumberOfComponents() > 1)
+  const int components = scalars->GetNumberOfComponents();
+  if (components > 1)
   {
-    if (this->ScalarComponent < 0 || this->ScalarComponent >= scalars->GetNumberOfComponents())
+    const char* arrayName = scalars->GetName() ? scalars->GetName() : "";
+    if (!property->GetIndependentComponents())
     {
-      vtkErrorMacro(<< "The scalar array '" << (scalars->GetName() ? scalars->GetName() : "")
-                    << "' has " << scalars->GetNumberOfComponents()
+      vtkErrorMacro(<< "The scalar array '" << arrayName << "' has " << components
+                    << " components and the volume property's IndependentComponents is off, "
+                       "so they are to be read as colour and opacity (VTK's dependent "
+                       "components); vtkCylVolMapper draws one component through the transfer "
+                       "functions: turn IndependentComponents on and choose the component with "
+                       "SetScalarComponent: nothing drawn.");
+      return;
+    }
+    if (this->ScalarComponent < 0 || this->ScalarComponent >= components)
+    {
+      vtkErrorMacro(<< "The scalar array '" << arrayName << "' has " << components
                     << " components and no valid component is chosen (ScalarComponent = "
-                    << this->ScalarComponent << "): nothing drawn.");
+                    << this->ScalarComponent
+                    << "); VTK's unstructured mappers would mix all of them, each through its "
+                       "own transfer functions (IndependentComponents), vtkCylVolMapper draws one: "
+                       "choose it with SetScalarComponent(0.."
+                    << components - 1 << "): nothing drawn.");
       return;
     }
     component = this->ScalarComponent;
   }
-  const vtkIdType expectedTuples = cellFlag ? grid->GetNumberOfCells() : grid->GetNumberOfPoints();
+  const vtkIdType expectedTuples = cellFlag ? input->GetNumberOfCells() : input->GetNumberOfPoints();
   if (scalars->GetNumberOfTuples() != expectedTuples)
   {
     vtkErrorMacro(<< "The scalar array has " << scalars->GetNumberOfTuples() << " tuples but the grid has "
                   << expectedTuples << (cellFlag ? " cells" : " points") << ": nothing drawn.");
     return;
   }
+  // Without ghost cells, the values on the points and cells drawn.
+  scalars = in.Scalars(scalars, cellFlag);
 
   // ---- cell types ------------------------------------------------------------------------
   vtkUnsignedCharArray* types = grid->GetCellTypesArray();
@@ -511,10 +681,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
 
   // ---- build (or reuse) the structure ----------------------------------------------------
-  vtkMTimeType geometryMTime = grid->GetPoints()->GetMTime();
-  geometryMTime = std::max(geometryMTime, grid->GetPoints()->GetData()->GetMTime());
-  geometryMTime = std::max(geometryMTime, grid->GetCells()->GetMTime());
-  geometryMTime = std::max(geometryMTime, types->GetMTime());
+  const vtkMTimeType geometryMTime = GeometryMTime(grid);
   const vtkMTimeType settingsMTime = in.SettingsTime.GetMTime();
 
   ValueView values;
@@ -633,7 +800,6 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
 
   // ---- transfer functions ----------------------------------------------------------------
-  vtkVolumeProperty* property = vol->GetProperty();
   double range[2];
   scalars->GetRange(range, component);
   if (!(range[1] > range[0]))
@@ -805,6 +971,44 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   camera.mode = CYLVOL_CAMERA_MATRICES;
   ToRowMajor(view, camera.view);
 
+  // The far clipping plane. The rays start on the near plane, but cylvol reads a window depth
+  // of 1 (the far plane, and the z-buffer where nothing is drawn) as no depth at all, and
+  // would march past it. vtkUnstructuredGridVolumeRayCastMapper bounds every ray by the
+  // window depths [0, 1], so where the far plane cuts the volume's bounds each ray stops just
+  // before it: its depth is at most the largest window depth below 1. A volume in front of
+  // the far plane is drawn as before, with the z-buffer alone.
+  {
+    double clippingRange[2];
+    cam->GetClippingRange(clippingRange);
+    double bounds[6];
+    vol->GetBounds(bounds);
+    vtkMatrix4x4* modelView = cam->GetModelViewTransformMatrix();
+    bool farCuts = false;
+    for (int k = 0; k < 8 && !farCuts; ++k)
+    {
+      double p[4] = { bounds[k & 1], bounds[2 + ((k >> 1) & 1)], bounds[4 + ((k >> 2) & 1)], 1.0 };
+      modelView->MultiplyPoint(p, p);
+      // Eye space looks down -z; the clipping range holds distances along the view direction.
+      farCuts = -p[2] / p[3] > clippingRange[1];
+    }
+    if (farCuts)
+    {
+      const float farDepth = std::nextafter(1.0f, 0.0f);
+      if (depthIn)
+      {
+        for (float& z : in.Depth)
+        {
+          z = std::min(z, farDepth);
+        }
+      }
+      else
+      {
+        in.Depth.assign(pixelCount, farDepth);
+        depthIn = in.Depth.data();
+      }
+    }
+  }
+
   // ---- render parameters -------------------------------------------------------------------
   CylvolRenderParams params;
   cylvol_render_params_default(&params);
@@ -819,6 +1023,38 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.diffuse = property->GetDiffuse(0);
   params.specular = property->GetSpecular(0);
   params.specular_power = property->GetSpecularPower(0);
+  // Cell scalars are constant in each cell, so their gradient is zero wherever it is taken:
+  // shading would have no normal to light, and a gradient opacity function would weigh every
+  // sample by its value at zero (which usually hides the volume). VTK's unstructured mappers
+  // shade nothing and apply no gradient opacity (on point data either); for cell scalars this
+  // mapper does the same, with a warning once per change of what it leaves out. Intensity
+  // projections use neither.
+  {
+    int ignored = 0;
+    if (cellFlag && blend == CYLVOL_BLEND_COMPOSITE)
+    {
+      ignored |= params.shading ? 1 : 0;
+      ignored |= transfer.gradient_opacity ? 2 : 0;
+    }
+    if (ignored && ignored != in.CellScalarsIgnored)
+    {
+      vtkWarningMacro(<< "The scalars '" << (scalarName ? scalarName : "")
+                      << "' are cell data, constant in each cell, with a zero gradient: "
+                      << ((ignored & 1) ? "shading" : "")
+                      << (ignored == 3 ? " and " : "")
+                      << ((ignored & 2) ? "the gradient opacity function" : "")
+                      << ((ignored == 3) ? " are" : " is")
+                      << " left out, as VTK's unstructured volume mappers leave them out "
+                         "(point scalars, e.g. from vtkCellDataToPointData, are shaded).");
+    }
+    in.CellScalarsIgnored = ignored;
+    if (ignored)
+    {
+      params.shading = 0;
+      transfer.gradient_opacity = nullptr;
+      transfer.n_gradient_opacity = 0;
+    }
+  }
   params.early_termination = this->EarlyTermination;
   params.rows_bottom_up = 1;
   params.blend = blend;

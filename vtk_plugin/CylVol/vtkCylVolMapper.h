@@ -17,10 +17,15 @@
  * The mapper honours vtkVolumeProperty (RGB or gray colour, scalar opacity and its unit
  * distance, shading with ambient/diffuse/specular/specular power, gradient opacity when
  * one is set and enabled, nearest or linear interpolation), the mapper's scalar mode and
- * SelectScalarArray, the volume's matrix, perspective and parallel cameras, viewports,
- * the depth of opaque geometry already drawn, and up to six clipping planes
+ * SelectScalarArray, the volume's matrix, perspective and parallel cameras (the volume is
+ * drawn between the camera's near and far clipping planes), viewports, the depth of opaque
+ * geometry already drawn, and up to six clipping planes
  * (AddClippingPlane: the volume on the side each plane's normal points to is drawn, and it
  * ends exactly on the plane; more planes are an error and nothing is drawn).
+ *
+ * Shading and gradient opacity apply to point scalars. Cell scalars are constant in each cell
+ * (their gradient is zero), so for them both are left out, as VTK's unstructured mappers
+ * always leave them out, with a warning (once per change of what is left out).
  *
  * Blend modes: compositing (the default), SetBlendModeToMaximumIntensity() and
  * SetBlendModeToMinimumIntensity() (vtkVolumeMapper's value 2). A projection shows the colour
@@ -191,7 +196,11 @@ public:
   ///@{
   /**
    * Which component of a multi-component scalar array to render (-1, the default: none
-   * chosen, which is an error for arrays with more than one component).
+   * chosen, which is an error for arrays with more than one component). It is drawn through
+   * the volume property's first transfer functions, as vtkSmartVolumeMapper's component mode
+   * draws one; VTK's unstructured mappers would instead mix every component, each through its
+   * own functions. Several components with the property's IndependentComponents off (VTK reads
+   * them as colour and opacity) are an error, and nothing is drawn.
    */
   virtual void SetScalarComponent(int component);
   vtkGetMacro(ScalarComponent, int);

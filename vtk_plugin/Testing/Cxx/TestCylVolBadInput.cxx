@@ -1,6 +1,7 @@
 // Every bad input through vtkCylVolMapper: an unsupported cell type, missing scalars,
 // multi-component scalars without a chosen component, an empty grid, scalars of the wrong
-// length, NaN coordinates, an input that is no vtkUnstructuredGrid... Each must raise a
+// length, NaN coordinates, an input that is no vtkUnstructuredGrid (given as data or from a
+// pipeline, where the error names the type given)... Each must raise a
 // vtkErrorMacro naming the problem (caught by an error observer), draw nothing (the window
 // stays at its background) and not crash; a good input drawn afterwards by the same mapper
 // must still work.
@@ -8,11 +9,14 @@
 
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
 #include "vtkFloatArray.h"
 #include "vtkIdList.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
+#include "vtkSphereSource.h"
 #include "vtkTestErrorObserver.h"
+#include "vtkTrivialProducer.h"
 #include "vtkVolume.h"
 
 #include "CylVolTestUtilities.h"
@@ -65,6 +69,9 @@ struct Scene
   vtkNew<vtkRenderer> Ren;
   vtkSmartPointer<vtkRenderWindow> Win;
   vtkNew<vtkTest::ErrorObserver> Errors;
+  // The executive's own complaints about an input of the wrong type (it names the type too,
+  // but they are not the mapper's report).
+  vtkNew<vtkTest::ErrorObserver> PipelineErrors;
 
   Scene()
   {
@@ -77,6 +84,7 @@ struct Scene
     this->Ren->AddVolume(this->Volume);
     this->Win = cylvoltest::MakeWindow(100, 100, this->Ren);
     this->Mapper->AddObserver(vtkCommand::ErrorEvent, this->Errors);
+    this->Mapper->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, this->PipelineErrors);
   }
 
   // Renders `grid`; returns true when the expectation holds: an error containing `needle`
@@ -87,6 +95,22 @@ struct Scene
     this->Mapper->RemoveAllInputConnections(0);
     this->Errors->Clear();
     this->Mapper->SetInputData(grid);
+    return this->Draw(label, needle);
+  }
+
+  // The same with the output of `source` connected to the mapper.
+  bool CheckConnection(const char* label, vtkAlgorithm* source, const std::string& needle)
+  {
+    this->Mapper->RemoveAllInputConnections(0);
+    this->Errors->Clear();
+    this->Mapper->SetInputConnection(source->GetOutputPort());
+    const bool ok = this->Draw(label, needle);
+    this->Mapper->RemoveAllInputConnections(0);
+    return ok;
+  }
+
+  bool Draw(const char* label, const std::string& needle)
+  {
     this->Ren->ResetCamera(-0.5, 2.5, -0.5, 2.5, -0.5, 2.5);
     this->Win->Render();
     auto image = cylvoltest::Grab(this->Win);
@@ -189,6 +213,18 @@ int TestCylVolBadInput(int, char*[])
     image->SetDimensions(3, 3, 3);
     image->AllocateScalars(VTK_FLOAT, 1);
     ok &= scene.Check("image data input", image, "requires vtkUnstructuredGridBase");
+  }
+  {
+    vtkNew<vtkImageData> image;
+    image->SetDimensions(3, 3, 3);
+    image->AllocateScalars(VTK_FLOAT, 1);
+    vtkNew<vtkTrivialProducer> producer;
+    producer->SetOutput(image);
+    ok &= scene.CheckConnection("image data from a pipeline", producer,
+      "The input is a vtkImageData, but vtkCylVolMapper needs a vtkUnstructuredGrid");
+    vtkNew<vtkSphereSource> sphere;
+    ok &= scene.CheckConnection("polygons from a pipeline", sphere,
+      "The input is a vtkPolyData, but vtkCylVolMapper needs a vtkUnstructuredGrid");
   }
   {
     auto grid = Block();

@@ -15,9 +15,13 @@
 // cylvol holds each hexahedron's value; the tetrahedra keep their hexahedron's value, so the
 // two describe the same field.
 //
-// Usage: TestCylVolCompare <hexa|mixer|mixer-cells|comb|post|pump> [azimuth elevation zoom [geometry]]
+// Usage: TestCylVolCompare <hexa|mixer|mixer-cells|comb|post|pump> [azimuth elevation zoom [geometry] [far]]
 // With "geometry", opaque polygons (a sphere cutting through the volume, a cylinder behind
 // and through it) are drawn first in both windows, so the z-buffer path is compared too.
+// With "far", the camera's far clipping plane is moved to the focal point (the middle of the
+// data), so that both mappers draw only the near part. The test then also checks that the cut
+// shows (the image differs from the whole volume's) and that a far plane well behind the data
+// draws the same image as the one ResetCameraClippingRange sets.
 #include "vtkCylVolMapper.h"
 
 #include "vtkActor.h"
@@ -37,8 +41,17 @@
 
 namespace
 {
+// How far the camera's far clipping plane lies: where ResetCameraClippingRange puts it, at
+// the focal point, or ten times further than the first.
+enum class Far
+{
+  Reset,
+  FocalPoint,
+  Distant
+};
+
 vtkSmartPointer<vtkImageData> RenderWith(vtkAbstractVolumeMapper* mapper, vtkVolumeProperty* property,
-  const cylvoltest::Dataset& d, double az, double el, double zoom, bool geometry,
+  const cylvoltest::Dataset& d, double az, double el, double zoom, bool geometry, Far far,
   double* seconds = nullptr)
 {
   if (d.Cells)
@@ -82,6 +95,13 @@ vtkSmartPointer<vtkImageData> RenderWith(vtkAbstractVolumeMapper* mapper, vtkVol
   }
   auto win = cylvoltest::MakeWindow(200, 200, ren);
   cylvoltest::SetCamera(ren, az, el, zoom);
+  if (far != Far::Reset)
+  {
+    vtkCamera* cam = ren->GetActiveCamera();
+    double range[2];
+    cam->GetClippingRange(range);
+    cam->SetClippingRange(range[0], far == Far::FocalPoint ? cam->GetDistance() : 10.0 * range[1]);
+  }
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
   win->Render();
@@ -105,8 +125,14 @@ int TestCylVolCompare(int argc, char* argv[])
   const double az = argc > 2 ? std::atof(argv[2]) : 30.0;
   const double el = argc > 3 ? std::atof(argv[3]) : 20.0;
   const double zoom = argc > 4 ? std::atof(argv[4]) : 1.0;
-  const bool geometry = argc > 5 && std::string(argv[5]) == "geometry";
-  const std::string label = name + (geometry ? "-geometry" : "");
+  bool geometry = false, far = false;
+  for (int i = 5; i < argc; ++i)
+  {
+    geometry = geometry || std::string(argv[i]) == "geometry";
+    far = far || std::string(argv[i]) == "far";
+  }
+  const std::string label = name + (geometry ? "-geometry" : "") + (far ? "-far" : "");
+  const Far cut = far ? Far::FocalPoint : Far::Reset;
 
   cylvoltest::Dataset d = cylvoltest::Load(name);
   if (!d.Grid)
@@ -119,7 +145,7 @@ int TestCylVolCompare(int argc, char* argv[])
   vtkNew<vtkCylVolMapper> ours;
   ours->SetInputData(d.Grid);
   double oursSeconds = 0.0;
-  auto imageOurs = RenderWith(ours, property, d, az, el, zoom, geometry, &oursSeconds);
+  auto imageOurs = RenderWith(ours, property, d, az, el, zoom, geometry, cut, &oursSeconds);
   const double step = ours->GetLastSampleDistance();
 
   // VTK's ray caster on tetrahedra.
@@ -129,13 +155,13 @@ int TestCylVolCompare(int argc, char* argv[])
   vtkNew<vtkUnstructuredGridVolumeRayCastMapper> theirs;
   theirs->SetInputConnection(tets->GetOutputPort());
   double theirsSeconds = 0.0;
-  auto imageVtk = RenderWith(theirs, property, d, az, el, zoom, geometry, &theirsSeconds);
+  auto imageVtk = RenderWith(theirs, property, d, az, el, zoom, geometry, cut, &theirsSeconds);
 
   // The converged reference: ours at an eighth of the step.
   vtkNew<vtkCylVolMapper> fine;
   fine->SetInputData(d.Grid);
   fine->SetSampleDistance(step / 8.0);
-  auto imageFine = RenderWith(fine, property, d, az, el, zoom, geometry);
+  auto imageFine = RenderWith(fine, property, d, az, el, zoom, geometry, cut);
 
   const int tol = 8;
   auto all = cylvoltest::Compare(imageOurs, imageVtk, tol);
@@ -191,6 +217,37 @@ int TestCylVolCompare(int argc, char* argv[])
   else if (!strict)
   {
     std::printf("  the bound holds once VTK's own faults are set aside\n");
+  }
+  if (far)
+  {
+    // The cut shows: the whole volume (the far plane where ResetCameraClippingRange puts it)
+    // looks different. And a far plane well behind the data changes nothing.
+    vtkNew<vtkCylVolMapper> whole;
+    whole->SetInputData(d.Grid);
+    auto imageWhole = RenderWith(whole, property, d, az, el, zoom, geometry, Far::Reset);
+    auto cutVsWhole = cylvoltest::Compare(imageOurs, imageWhole, tol);
+    const double changed = (1.0 - cutVsWhole.Within) * static_cast<double>(n);
+    std::printf("  cut at the focal point vs the whole volume: %.0f pixels beyond %d/255 (of %lld "
+                "non-empty)\n",
+      changed, tol, static_cast<long long>(nonEmpty));
+    if (!(changed >= 0.2 * static_cast<double>(nonEmpty)))
+    {
+      std::printf("  FAIL: the far plane does not cut the volume\n");
+      ok = false;
+    }
+    vtkNew<vtkCylVolMapper> distant;
+    distant->SetInputData(d.Grid);
+    auto imageDistant = RenderWith(distant, property, d, az, el, zoom, geometry, Far::Distant);
+    auto distantVsWhole = cylvoltest::Compare(imageDistant, imageWhole, 0);
+    std::printf("  far plane 10x further vs where ResetCameraClippingRange puts it: %.3f %% equal, "
+                "samples %llu / %llu\n",
+      100.0 * distantVsWhole.Within, static_cast<unsigned long long>(distant->GetLastSamples()),
+      static_cast<unsigned long long>(whole->GetLastSamples()));
+    if (distantVsWhole.Within != 1.0)
+    {
+      std::printf("  FAIL: a far plane behind the volume changes the image\n");
+      ok = false;
+    }
   }
   const bool write = !ok || std::getenv("CYLVOL_WRITE_IMAGES");
   if (write)
