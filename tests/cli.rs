@@ -110,7 +110,8 @@ fn scalar_option_selects_an_array_and_rejects_unknown_names() {
     ]);
     assert!(out.status.success());
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(v["active_scalar"], "k");
+    // The mixer has a point array k too, which a bare `k` would select.
+    assert_eq!(v["active_scalar"], "cell:k");
     assert_eq!(v["active_association"], "cell");
     let out = cylvol(&[
         "info",
@@ -120,6 +121,57 @@ fn scalar_option_selects_an_array_and_rejects_unknown_names() {
     ]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("no scalar array named 'nope'"));
+}
+
+/// `active_scalar` is what was selected, as `--scalar` takes it (a component `U[2]`, a cell
+/// array whose name a point array shares `cell:p`), so that it selects the same scalar when
+/// given back; the error for an unknown name lists the arrays the same way, each once.
+#[test]
+fn the_active_scalar_and_the_arrays_are_named_as_scalar_takes_them() {
+    let mixer = data("mixer.vtk");
+    let mixer = mixer.to_str().unwrap();
+    let selected = |scalar: &str| -> Value {
+        let out = cylvol(&["info", mixer, "--json", "--scalar", scalar]);
+        assert!(
+            out.status.success(),
+            "{scalar}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    for (given, reported, association) in [
+        ("U[2]", "U[2]", "point"),
+        ("point:U[0]", "U[0]", "point"),
+        ("U", "U", "point"),
+        ("cell:U[1]", "cell:U[1]", "cell"),
+        ("cell:p", "cell:p", "cell"),
+        ("p", "p", "point"),
+    ] {
+        let v = selected(given);
+        assert_eq!(v["active_scalar"], reported, "{given}");
+        assert_eq!(v["active_association"], association, "{given}");
+        // Given back, it selects the same scalar.
+        let again = selected(reported);
+        assert_eq!(again["active_scalar"], reported, "{given}");
+        assert_eq!(again["scalar_range"], v["scalar_range"], "{given}");
+        assert_eq!(again["active_association"], association, "{given}");
+    }
+    let text = cylvol(&["info", mixer, "--scalar", "cell:U[1]"]);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("active scalar  cell:U[1] (cell) range ["),
+        "{text}"
+    );
+    let out = cylvol(&["info", mixer, "--scalar", "nope"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(
+            "no scalar array named 'nope' (the mesh has: point:k, point:nut, point:omega, \
+             point:p, point:U, point:Urel, cell:k, cell:nut, cell:omega, cell:p, cell:U, \
+             cell:Urel)"
+        ),
+        "{err}"
+    );
 }
 
 #[test]

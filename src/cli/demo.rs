@@ -126,9 +126,9 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         DEMO_DATASET.name(),
         info_field(&info, "cells"),
         info_field(&info, "points"),
-        mesh.active_array()
-            .map(|a| a.name.as_str())
-            .unwrap_or("none"),
+        mesh.active_scalar()
+            .map(|a| a.selector(mesh.point_data(), mesh.cell_data()))
+            .unwrap_or_else(|| "none".into()),
         detection.axis.direction.to_array()
     );
     outln!();

@@ -68,7 +68,9 @@ pub fn describe(mesh: &Mesh, axis: Axis, clear: Option<bool>) -> Info {
         scalars,
         point_scalars,
         cell_scalars,
-        active_scalar: mesh.active_array().map(|a| a.name.clone()),
+        active_scalar: mesh
+            .active_scalar()
+            .map(|a| a.selector(mesh.point_data(), mesh.cell_data())),
         active_association: mesh.active_scalar().map(|a| a.association.to_string()),
         scalar_range: mesh.scalar_range(),
         bounds: mesh.bounds(),
