@@ -249,7 +249,15 @@ fn gen_refines_a_mesh_file() {
     }
     let bad = cylvol(&["gen", "pump-rotor:2000", "--refine", "0", "-o", "x.vtu"]);
     assert!(!bad.status.success());
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("refinement 0 is not in 1..=16"));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("refinement '0' must be a whole number from 1 to 16"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("generated"),
+        "generated before refusing: {err}"
+    );
 }
 
 #[test]

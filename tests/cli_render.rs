@@ -317,6 +317,138 @@ fn bad_arguments_fail_with_a_message() {
     fails_with(&["bench"], "INPUT");
 }
 
+/// `fails_with`, and the refusal comes before the input is loaded.
+fn fails_early_with(args: &[&str], message: &str) {
+    fails_with(args, message);
+    let stderr = String::from_utf8_lossy(&cylvol(args).stderr).into_owned();
+    assert!(
+        !stderr.contains("loaded"),
+        "cylvol {args:?} loaded the input first: {stderr}"
+    );
+}
+
+/// A negative number given to a numeric option, space-separated, reaches the option's own
+/// check and its message (clap took `-1` for a flag: "unexpected argument '-1'"), before the
+/// input is loaded; a list that starts with a minus is taken when it is valid.
+#[test]
+fn negative_numbers_reach_each_options_own_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("never.png");
+    let png = png.to_str().unwrap();
+    let input = "pump-rotor:2000";
+    let render = |extra: &[&'static str]| {
+        let mut args = vec!["render", input, "-o", png];
+        if !extra.contains(&"--size") {
+            args.extend_from_slice(&["--size", "8x8"]);
+        }
+        args.extend_from_slice(extra);
+        args
+    };
+    for (extra, message) in [
+        (
+            &["--step", "-1"][..],
+            "step '-1' must be positive and finite",
+        ),
+        (
+            &["--step", "-inf"],
+            "step '-inf' must be positive and finite",
+        ),
+        (&["--size", "-4x4"], "size '-4x4' must be WxH"),
+        (&["--view", "-30,20,-1"], "view '-30,20,-1' must be"),
+        (&["--view-angle", "-5"], "view angle '-5' must be"),
+        (
+            &["--parallel", "--parallel-scale", "-2"],
+            "parallel scale '-2' must be",
+        ),
+        (
+            &["--depth", "d.vti", "--depth-opacity", "-0.5"],
+            "depth opacity '-0.5' must be",
+        ),
+        (&["--march-reach", "-1"], "march reach '-1' is not"),
+        (
+            &["--gradient-opacity", "-1:-0.5"],
+            "opacity factors must lie in [0, 1]",
+        ),
+        (&["--clip-plane", "-1,0,0:-0,0,0"], "zero normal"),
+        (&["--opacity", "-5%:-0.1"], "'-0.1' in '-5%:-0.1'"),
+        (
+            &["--axis", "-1,0,0:0,0,0"],
+            "invalid axis '-1,0,0:0,0,0': the direction has zero length",
+        ),
+    ] {
+        let args = render(extra);
+        let out = cylvol(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !stderr.contains("unexpected argument"),
+            "{args:?}: {stderr}"
+        );
+        fails_early_with(&args, message);
+    }
+    for (args, message) in [
+        (
+            &["bench", input, "--frames", "-1"][..],
+            "frames '-1' must be a whole number from 1 to 100",
+        ),
+        (
+            &["bench", input, "--step", "-0.5"],
+            "step '-0.5' must be positive and finite",
+        ),
+        (&["bench", input, "--size", "-8"], "size '-8'"),
+        (&["accuracy", input, "--size", "-4"], "size '-4'"),
+        (
+            &["stats", input, "--lookups", "-5"],
+            "lookups '-5' must be a whole number, 0 or more",
+        ),
+        (
+            &["stats", input, "--grid", "-1,2"],
+            "--grid '-1,2': the densities TOP,LEAF must be positive and finite",
+        ),
+        (
+            &["gen", input, "-o", "x.vtu", "--refine", "-1"],
+            "refinement '-1' must be a whole number from 1 to 16",
+        ),
+        (
+            &["demo", "--out", png, "--cells", "-5"],
+            "cells '-5' must be a whole number from 1000 to 200000000",
+        ),
+    ] {
+        fails_early_with(args, message);
+    }
+    assert!(!Path::new(png).exists(), "demo made its folder");
+    // Valid values that start with a minus are taken.
+    let ok = render(&[
+        "--view",
+        "-30,20,1",
+        "--clip-plane",
+        "-1,-1,-1:1,0,0",
+        "--opacity",
+        "-1e9:0.1,1e9:0.2",
+    ]);
+    let out = cylvol(&ok);
+    assert!(
+        out.status.success(),
+        "{ok:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let camera = cylvol(&render(&["--camera", "-1,-2,-3:0,0,0:0,1,0"]));
+    assert!(
+        camera.status.success(),
+        "{}",
+        String::from_utf8_lossy(&camera.stderr)
+    );
+    let info = json_of(&["info", input, "--json", "--axis", "-1,0,0:0,0,-1"]);
+    assert_eq!(info["axis"]["origin"], serde_json::json!([-1.0, 0.0, 0.0]));
+    // The direction is reported with its sign made canonical: the line is the same.
+    let direction: Vec<f64> = info["axis"]["direction"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap().abs())
+        .collect();
+    assert_eq!(direction, [0.0, 0.0, 1.0]);
+}
+
 /// The price of boundary segments is visible: with them (the default) samples next to a
 /// boundary crossing are cut at the crossing, found exactly through the boundary surface
 /// (`surface_visits`) and, where that cannot tell, by containment tests

@@ -46,7 +46,7 @@ pub struct AccuracyArgs {
     #[arg(long, value_name = "OUT.svg")]
     plot: Option<PathBuf>,
     /// Image side N (an N×N image).
-    #[arg(long, default_value = "128", value_parser = scene::parse_side)]
+    #[arg(long, default_value = "128", value_parser = scene::parse_side, allow_hyphen_values = true)]
     size: u32,
     /// cart-grid, cyl-grid, cart-bvh, cyl-bvh or auto.
     #[arg(long, default_value = "auto")]

@@ -29,7 +29,7 @@ pub struct CameraArgs {
     pub camera: Option<[DVec3; 3]>,
     /// The perspective camera's full vertical view angle in degrees, in (0, 180) (VTK's
     /// `ViewAngle`; default 30, which `--view`'s zoom divides).
-    #[arg(long, value_name = "DEGREES", value_parser = parse_view_angle, conflicts_with = "parallel")]
+    #[arg(long, value_name = "DEGREES", value_parser = parse_view_angle, conflicts_with = "parallel", allow_hyphen_values = true)]
     pub view_angle: Option<f64>,
     /// Parallel projection (VTK's `ParallelProjection`) instead of perspective.
     #[arg(long)]
@@ -37,7 +37,7 @@ pub struct CameraArgs {
     /// With `--parallel`: half the viewport height in world units (VTK's `ParallelScale`;
     /// default as `ResetCamera` sets it, the bounding sphere's radius, over the aspect ratio
     /// when the image is taller than wide; `--view`'s zoom divides it).
-    #[arg(long, value_name = "S", value_parser = parse_parallel_scale, requires = "parallel")]
+    #[arg(long, value_name = "S", value_parser = parse_parallel_scale, requires = "parallel", allow_hyphen_values = true)]
     pub parallel_scale: Option<f64>,
 }
 

@@ -75,8 +75,15 @@ pub struct DemoArgs {
     #[arg(long, value_name = "DIR", default_value = "cylvol-demo")]
     out: PathBuf,
     /// Cells of the demo dataset (for a quicker look; the default is the demo size).
-    #[arg(long, default_value_t = DEMO_CELLS)]
+    #[arg(long, default_value_t = DEMO_CELLS, value_parser = parse_cells, allow_hyphen_values = true)]
     cells: usize,
+}
+
+/// Parses `--cells N`, within what the datasets make ([`cylvol::datasets::MIN_CELLS`] to
+/// [`cylvol::datasets::MAX_CELLS`]).
+fn parse_cells(s: &str) -> Result<usize, String> {
+    use cylvol::datasets::{MAX_CELLS, MIN_CELLS};
+    super::number::whole_in(s, "cells", MIN_CELLS as u64, MAX_CELLS as u64).map(|n| n as usize)
 }
 
 fn io_error(path: &std::path::Path) -> impl FnOnce(std::io::Error) -> Error + '_ {

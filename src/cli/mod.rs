@@ -17,6 +17,7 @@ mod camera;
 mod demo;
 mod gen;
 mod info;
+mod number;
 mod render;
 mod scene;
 mod stats;
@@ -65,7 +66,7 @@ pub struct InputArgs {
     #[arg(long)]
     pub scalar: Option<String>,
     /// Machine axis instead of the detected one: `x`, `y`, `z`, or `ox,oy,oz:dx,dy,dz`.
-    #[arg(long, value_name = "AXIS")]
+    #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
     pub axis: Option<cylvol::axis::Axis>,
 }
 

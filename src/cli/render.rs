@@ -47,10 +47,10 @@ pub struct RenderArgs {
     #[arg(long, default_value = "auto")]
     structure: String,
     /// Image size WxH.
-    #[arg(long, default_value = "512x512", value_parser = parse_size)]
+    #[arg(long, default_value = "512x512", value_parser = parse_size, allow_hyphen_values = true)]
     size: (u32, u32),
     /// Sample spacing in world units (default: half the mean cell size).
-    #[arg(long)]
+    #[arg(long, value_parser = super::number::parse_step, allow_hyphen_values = true)]
     step: Option<f64>,
     #[command(flatten)]
     camera: CameraArgs,
@@ -69,7 +69,7 @@ pub struct RenderArgs {
     interpolation: String,
     /// Gradient opacity as `vtkVolumeProperty` holds it: `M:G` points of a piecewise-linear
     /// factor G in [0, 1] of the gradient magnitude M, in increasing M, e.g. `0:0,0.5:1`.
-    #[arg(long, value_name = "M:G,M:G,...", value_parser = parse_gradient_opacity)]
+    #[arg(long, value_name = "M:G,M:G,...", value_parser = parse_gradient_opacity, allow_hyphen_values = true)]
     gradient_opacity: Option<Box<GradientOpacity>>,
     /// composite (front-to-back compositing), max or min (maximum- or minimum-intensity
     /// projection: the extreme scalar's colour and opacity; no shading).
@@ -84,7 +84,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "OUT.vti")]
     depth: Option<PathBuf>,
     /// The accumulated opacity, in (0, 1], at which a pixel's depth is taken [default: 0.5].
-    #[arg(long, value_name = "A", value_parser = parse_depth_opacity, requires = "depth")]
+    #[arg(long, value_name = "A", value_parser = parse_depth_opacity, requires = "depth", allow_hyphen_values = true)]
     depth_opacity: Option<f64>,
     /// Opaque geometry's depth image, where rays stop: VTK image data (`.vti`) of WxH points,
     /// rows bottom to top, its active (or only) point array per pixel the distance along the
@@ -101,7 +101,7 @@ pub struct RenderArgs {
     /// cells a look-up through the structure tests on average (`cylvol stats`, `hex/lk`); a
     /// sample further ahead, where the ray provably stays in the mesh, is located through the
     /// structure (`stats.far_locates`); `inf` always marches. The image is the same either way.
-    #[arg(long, value_name = "CELLS", default_value_t = cylvol::render::DEFAULT_MARCH_REACH, value_parser = parse_march_reach)]
+    #[arg(long, value_name = "CELLS", default_value_t = cylvol::render::DEFAULT_MARCH_REACH, value_parser = parse_march_reach, allow_hyphen_values = true)]
     march_reach: f64,
     /// Print the figures as JSON on standard output.
     #[arg(long)]
@@ -158,22 +158,18 @@ fn parse_gradient_opacity(s: &str) -> Result<Box<GradientOpacity>, String> {
         .map_err(|e| e.to_string())
 }
 
+/// Parses `--size WxH`, each side a whole number of pixels from 1 to 16384.
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("size '{s}' is not WxH"))?;
-    let w: u32 = w
-        .trim()
-        .parse()
-        .map_err(|_| format!("bad width in '{s}'"))?;
-    let h: u32 = h
-        .trim()
-        .parse()
-        .map_err(|_| format!("bad height in '{s}'"))?;
-    if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(format!("size '{s}' must be between 1x1 and 16384x16384"));
-    }
-    Ok((w, h))
+    let bad = || format!("size '{s}' must be WxH, each a whole number of pixels from 1 to 16384");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let side = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=16384).contains(n))
+            .ok_or_else(bad)
+    };
+    Ok((side(w)?, side(h)?))
 }
 
 /// `--depth-in`'s image, rows top to bottom, checked to be `width × height`.
