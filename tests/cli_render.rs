@@ -449,6 +449,47 @@ fn negative_numbers_reach_each_options_own_check() {
     assert_eq!(direction, [0.0, 0.0, 1.0]);
 }
 
+/// Numbers in errors read as the user wrote them, or as short as they read back (`1e-300`),
+/// never as the hundreds of digits Rust's `{}` writes for them; what they say is in the
+/// option's terms.
+#[test]
+fn numbers_in_errors_are_readable() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("never.png");
+    let png = png.to_str().unwrap();
+    for (extra, message) in [
+        (
+            &["--step", "1e-300"][..],
+            "--step 1e-300 is too small for this mesh: a ray across its diagonal",
+        ),
+        (
+            &["--unit-distance=-1e-300"],
+            "--unit-distance must be positive and finite, not -1e-300",
+        ),
+        (
+            &["--opacity", "1e-300:0,-1e-300:1"],
+            "point 2 (scalar -1e-300) is below the point before it (1e-300)",
+        ),
+        (
+            &["--color", "1e300:0:0:0,-2.5e-200:1:1:1"],
+            "point 2 (scalar -2.5e-200) is below the point before it (1e300)",
+        ),
+        (
+            &["--clip-plane", "1e200,0,0:1e200,0,0"],
+            "clip plane '1e200,0,0:1e200,0,0': its point and normal are too large",
+        ),
+    ] {
+        let mut args = vec!["render", "pump-rotor:2000", "-o", png, "--size", "8x8"];
+        args.extend_from_slice(extra);
+        fails_with(&args, message);
+        let stderr = String::from_utf8_lossy(&cylvol(&args).stderr).into_owned();
+        assert!(
+            !stderr.contains("0000000000"),
+            "{args:?}: a long number in {stderr}"
+        );
+    }
+}
+
 /// The price of boundary segments is visible: with them (the default) samples next to a
 /// boundary crossing are cut at the crossing, found exactly through the boundary surface
 /// (`surface_visits`) and, where that cannot tell, by containment tests

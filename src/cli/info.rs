@@ -2,6 +2,7 @@
 
 use serde::Serialize;
 
+use super::number::show;
 use super::InputArgs;
 use cylvol::axis::Axis;
 use cylvol::{Error, Mesh};
@@ -106,12 +107,14 @@ pub fn run(args: &InfoArgs) -> Result<(), Error> {
     outln!("  cell scalars   {}", info.cell_scalars.join(", "));
     match (&info.active_scalar, info.scalar_range) {
         (Some(name), Some([lo, hi])) => outln!(
-            "  active scalar  {name} ({}) range [{lo}, {hi}]",
-            info.active_association.as_deref().unwrap_or("?")
+            "  active scalar  {name} ({}) range [{}, {}]",
+            info.active_association.as_deref().unwrap_or("?"),
+            show(lo),
+            show(hi)
         ),
         _ => outln!("  active scalar  none"),
     }
-    let b = info.bounds;
+    let b = info.bounds.map(show);
     outln!(
         "  bounds         x [{}, {}]  y [{}, {}]  z [{}, {}]",
         b[0],

@@ -125,7 +125,14 @@ fn parse_clip_plane(s: &str) -> Result<[f64; 4], String> {
     if normal == DVec3::ZERO {
         return Err(format!("clip plane '{s}' has a zero normal"));
     }
-    Ok(ClipPlanes::equation(point, normal))
+    let equation = ClipPlanes::equation(point, normal);
+    if !equation[3].is_finite() {
+        return Err(format!(
+            "clip plane '{s}': its point and normal are too large for the plane's equation \
+             (their dot product overflows)"
+        ));
+    }
+    Ok(equation)
 }
 
 fn parse_depth_opacity(s: &str) -> Result<f64, String> {

@@ -6,11 +6,12 @@
 use std::time::Instant;
 
 use super::log;
+use super::number::show;
 use cylvol::accel::Accel;
 use cylvol::accel::StructureKind;
 use cylvol::axis::Axis;
 use cylvol::render::Topology;
-use cylvol::render::{Camera, TransferFunction};
+use cylvol::render::{Camera, TransferFunction, MAX_SAMPLES_PER_RAY};
 use cylvol::{Error, Mesh};
 
 /// The default `--view`: VTK's reset camera (looking down `−z` at the bounds' centre).
@@ -100,14 +101,32 @@ pub fn neighbours(mesh: &Mesh, accel: &Accel) -> Topology {
     n
 }
 
-/// The sample spacing: `--step` when given (it must be positive and finite), else
+/// The sample spacing: `--step` when given (it must be positive and finite, and not so small
+/// that a ray across the mesh would take more than
+/// [`cylvol::render::MAX_SAMPLES_PER_RAY`] samples), else
 /// [`cylvol::render::default_step`] (half the mean cell size).
 pub fn step(mesh: &Mesh, given: Option<f64>) -> Result<f64, Error> {
-    match given {
-        Some(s) if s > 0.0 && s.is_finite() => Ok(s),
-        Some(s) => Err(Error::Invalid(format!(
-            "--step {s} must be positive and finite"
-        ))),
-        None => Ok(cylvol::render::default_step(mesh)),
+    let Some(s) = given else {
+        return Ok(cylvol::render::default_step(mesh));
+    };
+    if !(s > 0.0 && s.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "--step {} must be positive and finite",
+            show(s)
+        )));
     }
+    let diagonal = diagonal(mesh);
+    let samples = diagonal / s;
+    if samples > MAX_SAMPLES_PER_RAY {
+        return Err(Error::Invalid(format!(
+            "--step {} is too small for this mesh: a ray across its diagonal ({}) would take {} \
+             samples (at most {}); give a step of at least {}",
+            show(s),
+            show(diagonal),
+            show(samples),
+            show(MAX_SAMPLES_PER_RAY),
+            show(diagonal / MAX_SAMPLES_PER_RAY)
+        )));
+    }
+    Ok(s)
 }
