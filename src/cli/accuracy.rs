@@ -248,6 +248,7 @@ pub fn print_table(report: &Value, study: &StepStudy) -> Result<(), Error> {
 }
 
 pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
+    super::camera::check_zoom(args.view.unwrap_or(DEFAULT_VIEW))?;
     if args.structure != "auto" {
         // An unknown name fails before the mesh is loaded.
         args.structure.parse::<StructureKind>()?;

@@ -341,6 +341,7 @@ pub fn print_table(report: &Value) -> Result<(), Error> {
 }
 
 pub fn run(args: &BenchArgs) -> Result<(), Error> {
+    super::camera::check_zoom(args.view.unwrap_or(scene::DEFAULT_VIEW))?;
     // Refuse a missing file before spending minutes on the inputs before it.
     for spec in &args.inputs {
         if let cylvol::input::Input::File(p) = cylvol::input::Input::parse(spec)? {

@@ -196,6 +196,7 @@ fn depth_image(path: &Path, width: u32, height: u32) -> Result<Vec<f32>, Error> 
 
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     // Checked before any work (clap has checked each plane; this, their number).
+    args.camera.check()?;
     let clip_planes = ClipPlanes::new(&args.clip_planes)
         .map_err(|e| Error::Invalid(format!("--clip-plane: {e}")))?;
     let (width, height) = args.size;
