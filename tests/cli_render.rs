@@ -490,6 +490,58 @@ fn numbers_in_errors_are_readable() {
     }
 }
 
+/// `--structure` names `auto` among what it takes, and it, `--path`, `--interpolation` and
+/// `--blend` are refused before the input is loaded.
+#[test]
+fn named_choices_are_refused_early_with_what_is_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("never.png");
+    let png = png.to_str().unwrap();
+    let input = "pump-rotor:2000";
+    for (args, message) in [
+        (
+            &["render", input, "-o", png, "--structure", "foo"][..],
+            "unknown structure 'foo' (expected cart-grid, cyl-grid, cart-bvh, cyl-bvh or auto)",
+        ),
+        (
+            &["accuracy", input, "--structure", "kd-tree"],
+            "unknown structure 'kd-tree' (expected cart-grid, cyl-grid, cart-bvh, cyl-bvh or auto)",
+        ),
+        (
+            &["render", input, "-o", png, "--path", "slow"],
+            "unknown path 'slow' (expected paper or fast)",
+        ),
+        (
+            &["accuracy", input, "--path", "slow"],
+            "unknown path 'slow' (expected paper or fast)",
+        ),
+        (
+            &["render", input, "-o", png, "--interpolation", "cubic"],
+            "unknown interpolation 'cubic'",
+        ),
+        (
+            &["render", input, "-o", png, "--blend", "average"],
+            "unknown blend mode 'average'",
+        ),
+    ] {
+        fails_early_with(args, message);
+    }
+    // And every name is taken.
+    for structure in STRUCTURES.iter().chain(&["auto"]) {
+        let out = cylvol(&render_args(
+            input,
+            png,
+            "8x8",
+            &[&["--structure", structure]],
+        ));
+        assert!(
+            out.status.success(),
+            "{structure}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
 /// The price of boundary segments is visible: with them (the default) samples next to a
 /// boundary crossing are cut at the crossing, found exactly through the boundary surface
 /// (`surface_visits`) and, where that cannot tell, by containment tests

@@ -23,8 +23,9 @@ use std::path::PathBuf;
 
 use serde_json::{json, Value};
 
+use super::scene::StructureChoice;
 use super::{log, scene, InputArgs};
-use cylvol::accel::{Accel, AccelParams, StructureKind};
+use cylvol::accel::{Accel, AccelParams};
 use cylvol::render::accuracy::{
     compare, factor_label, mean_cell_size, step_study, Scene, StepStudy, REFERENCE_FACTOR,
     STEP_FACTORS,
@@ -50,13 +51,13 @@ pub struct AccuracyArgs {
     size: u32,
     /// cart-grid, cyl-grid, cart-bvh, cyl-bvh or auto.
     #[arg(long, default_value = "auto")]
-    structure: String,
+    structure: StructureChoice,
     /// Camera preset AZIMUTH,ELEVATION,ZOOM in degrees, degrees and a factor.
     #[arg(long, value_name = "AZIMUTH,ELEVATION,ZOOM", value_parser = scene::parse_view, allow_hyphen_values = true)]
     view: Option<[f64; 3]>,
     /// paper or fast sampling path.
     #[arg(long, default_value = "fast")]
-    path: String,
+    path: RenderPath,
     /// Every sample stands for a whole step, even where the ray crosses the mesh boundary
     /// (faster, first order in the step); by default boundary samples are cut at the crossing.
     #[arg(long)]
@@ -249,14 +250,10 @@ pub fn print_table(report: &Value, study: &StepStudy) -> Result<(), Error> {
 
 pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
     super::camera::check_zoom(args.view.unwrap_or(DEFAULT_VIEW))?;
-    if args.structure != "auto" {
-        // An unknown name fails before the mesh is loaded.
-        args.structure.parse::<StructureKind>()?;
-    }
-    let path: RenderPath = args.path.parse()?;
+    let path = args.path;
     let mesh = args.input.load()?;
     let (axis, _) = args.input.axis(&mesh);
-    let kind = scene::structure(&args.structure, &mesh, &axis)?;
+    let kind = scene::structure(args.structure, &mesh, &axis);
     let label = cylvol::input::Input::parse(&args.input.input)?.label();
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let neighbours = scene::neighbours(&mesh, &accel);

@@ -25,6 +25,7 @@ use glam::DVec3;
 use serde_json::json;
 
 use super::camera::CameraArgs;
+use super::scene::StructureChoice;
 use super::transfer::TransferArgs;
 use super::{log, scene, InputArgs};
 use cylvol::accel::AccelParams;
@@ -45,7 +46,7 @@ pub struct RenderArgs {
     output: PathBuf,
     /// cart-grid, cyl-grid, cart-bvh, cyl-bvh or auto.
     #[arg(long, default_value = "auto")]
-    structure: String,
+    structure: StructureChoice,
     /// Image size WxH.
     #[arg(long, default_value = "512x512", value_parser = parse_size, allow_hyphen_values = true)]
     size: (u32, u32),
@@ -56,7 +57,7 @@ pub struct RenderArgs {
     camera: CameraArgs,
     /// paper (locate every sample through the structure) or fast.
     #[arg(long, default_value = "fast")]
-    path: String,
+    path: RenderPath,
     /// Shade with a headlight (gradients from the trilinear interpolant).
     #[arg(long)]
     shade: bool,
@@ -66,7 +67,7 @@ pub struct RenderArgs {
     whole_steps: bool,
     /// linear (trilinear) or nearest (the value of the nearest cell corner).
     #[arg(long, default_value = "linear")]
-    interpolation: String,
+    interpolation: Interpolation,
     /// Gradient opacity as `vtkVolumeProperty` holds it: `M:G` points of a piecewise-linear
     /// factor G in [0, 1] of the gradient magnitude M, in increasing M, e.g. `0:0,0.5:1`.
     #[arg(long, value_name = "M:G,M:G,...", value_parser = parse_gradient_opacity, allow_hyphen_values = true)]
@@ -74,7 +75,7 @@ pub struct RenderArgs {
     /// composite (front-to-back compositing), max or min (maximum- or minimum-intensity
     /// projection: the extreme scalar's colour and opacity; no shading).
     #[arg(long, default_value = "composite")]
-    blend: String,
+    blend: Blend,
     #[command(flatten)]
     transfer: TransferArgs,
     /// Also write the depth image as VTK image data (`.vti`, a `depth` point array over a
@@ -207,10 +208,8 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         .transpose()?;
     let mesh = args.input.load()?;
     let (axis, _) = args.input.axis(&mesh);
-    let kind = scene::structure(&args.structure, &mesh, &axis)?;
-    let path: RenderPath = args.path.parse()?;
-    let interpolation: Interpolation = args.interpolation.parse()?;
-    let blend: Blend = args.blend.parse()?;
+    let kind = scene::structure(args.structure, &mesh, &axis);
+    let (path, interpolation, blend) = (args.path, args.interpolation, args.blend);
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
     let step = scene::step(&mesh, args.step)?;

@@ -47,13 +47,40 @@ pub fn parse_side(s: &str) -> Result<u32, String> {
     Ok(n)
 }
 
+/// A `--structure` argument: one of the four structures, or `auto`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StructureChoice {
+    /// Chosen for the mesh ([`structure`]).
+    Auto,
+    /// This one.
+    Kind(StructureKind),
+}
+
+impl std::str::FromStr for StructureChoice {
+    type Err = String;
+
+    /// `auto` or a structure's name; an error lists all five.
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s == "auto" {
+            return Ok(StructureChoice::Auto);
+        }
+        s.parse().map(StructureChoice::Kind).map_err(|_| {
+            let names: Vec<&str> = StructureKind::ALL.iter().map(|k| k.name()).collect();
+            format!(
+                "unknown structure '{s}' (expected {} or auto)",
+                names.join(", ")
+            )
+        })
+    }
+}
+
 /// The structure a `--structure` argument names. `auto` predicts the cost of each family from
 /// the surface area of a sample of cells' bounds about the axis and takes the cheaper BVH
 /// ([`cylvol::accel::choose::auto_structure`]): cylindrical for turbomachinery meshes,
 /// Cartesian for a Cartesian block.
-pub fn structure(name: &str, mesh: &Mesh, axis: &Axis) -> Result<StructureKind, Error> {
-    match name {
-        "auto" => {
+pub fn structure(choice: StructureChoice, mesh: &Mesh, axis: &Axis) -> StructureKind {
+    match choice {
+        StructureChoice::Auto => {
             let ratio = cylvol::accel::choose::cylindrical_area_ratio(mesh, axis);
             let kind = cylvol::accel::choose::structure_for_ratio(ratio);
             if let Some(r) = ratio {
@@ -61,9 +88,9 @@ pub fn structure(name: &str, mesh: &Mesh, axis: &Axis) -> Result<StructureKind, 
                     "auto: cylindrical ÷ Cartesian bound area {r:.3} over sampled cells → {kind}"
                 ));
             }
-            Ok(kind)
+            kind
         }
-        s => s.parse(),
+        StructureChoice::Kind(kind) => kind,
     }
 }
 
