@@ -337,6 +337,39 @@ fn gen_to_another_extension_leaves_the_file_alone() {
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
 }
 
+/// `gen` to a folder that does not exist, or that takes no file, says so before generating
+/// anything (it said so only once the mesh was made).
+#[test]
+fn gen_to_a_folder_it_cannot_write_says_so_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing/x.vtu");
+    let mut cases = vec![(
+        missing.to_str().unwrap().to_string(),
+        format!(
+            "-o {}: the folder {} does not exist",
+            missing.display(),
+            dir.path().join("missing").display()
+        ),
+    )];
+    if cfg!(target_os = "linux") {
+        cases.push((
+            "/proc/x.vtu".into(),
+            "-o /proc/x.vtu: cannot write in /proc".into(),
+        ));
+    }
+    for (output, message) in cases {
+        let out = cylvol(&["gen", "pump-rotor:20000", "-o", &output]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(err.contains(&message), "{err}");
+        assert!(
+            !err.contains("generated"),
+            "generated before refusing: {err}"
+        );
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
 #[test]
 fn a_truncated_file_is_reported_with_its_name_and_where() {
     let dir = tempfile::tempdir().unwrap();

@@ -542,6 +542,101 @@ fn named_choices_are_refused_early_with_what_is_accepted() {
     }
 }
 
+/// Every output is checked before any work: its extension (`-o` takes `.png` only, in any
+/// case), and its folder (it exists and takes a file); a refused command creates nothing and
+/// leaves an existing file as it was, and a successful one leaves no partial file behind.
+#[test]
+fn outputs_are_checked_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let kept = d.join("kept.png");
+    std::fs::write(&kept, "keep me").unwrap();
+    let kept = kept.to_str().unwrap();
+    let path = |name: &str| d.join(name).to_str().unwrap().to_string();
+    let (jpg, missing_png, missing_vti, missing_svg, depth_png) = (
+        path("out.jpg"),
+        path("missing/out.png"),
+        path("missing/d.vti"),
+        path("missing/p.svg"),
+        path("d.png"),
+    );
+    let input = "pump-rotor:2000";
+    let folder = d.join("missing");
+    let folder = folder.display();
+    for (args, message) in [
+        (
+            &["render", input, "-o", &jpg][..],
+            format!("-o {jpg}: writes a PNG image, so the name must end in .png"),
+        ),
+        (
+            &["render", input, "-o", &missing_png],
+            format!("-o {missing_png}: the folder {folder} does not exist"),
+        ),
+        (
+            &["render", input, "-o", kept, "--depth", &missing_vti],
+            format!("--depth {missing_vti}: the folder {folder} does not exist"),
+        ),
+        (
+            &["render", input, "-o", kept, "--depth", &depth_png],
+            format!("--depth {depth_png}: writes VTK image data, so the name must end in .vti"),
+        ),
+        (
+            &["render", input, "-o", d.to_str().unwrap()],
+            "writes a PNG image".to_string(),
+        ),
+        (
+            &["accuracy", input, "--plot", &missing_svg],
+            format!("--plot {missing_svg}: the folder {folder} does not exist"),
+        ),
+        (
+            &["accuracy", input, "--plot", kept],
+            format!("--plot {kept}: writes an SVG plot, so the name must end in .svg"),
+        ),
+        (
+            &["demo", "--out", kept, "--cells", "2000"],
+            format!("--out {kept}: is a file; give a folder"),
+        ),
+    ] {
+        fails_early_with(args, &message);
+        let stderr = String::from_utf8_lossy(&cylvol(args).stderr).into_owned();
+        assert!(
+            !stderr.contains("generated"),
+            "{args:?} worked first: {stderr}"
+        );
+    }
+    #[cfg(target_os = "linux")]
+    fails_early_with(
+        &["render", input, "-o", "/proc/x.png"],
+        "-o /proc/x.png: cannot write in /proc",
+    );
+    assert_eq!(std::fs::read_to_string(kept).unwrap(), "keep me");
+    let names = |d: &Path| -> Vec<String> {
+        let mut n: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        n.sort();
+        n
+    };
+    assert_eq!(names(d), ["kept.png"]);
+    // Upper case is fine; the image replaces what was there, with nothing left beside it.
+    let upper = path("OUT.PNG");
+    std::fs::write(&upper, "old").unwrap();
+    let out = cylvol(&render_args(
+        input,
+        &upper,
+        "8x8",
+        &[&["--depth", &path("d.VTI")]],
+    ));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(png_size(Path::new(&upper)), (8, 8));
+    assert_eq!(names(d), ["OUT.PNG", "d.VTI", "kept.png"]);
+}
+
 /// The price of boundary segments is visible: with them (the default) samples next to a
 /// boundary crossing are cut at the crossing, found exactly through the boundary surface
 /// (`surface_visits`) and, where that cannot tell, by containment tests

@@ -249,6 +249,10 @@ pub fn print_table(report: &Value, study: &StepStudy) -> Result<(), Error> {
 }
 
 pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
+    // Checked before any work.
+    if let Some(plot) = &args.plot {
+        super::output::check("--plot", plot, "an SVG plot", &["svg"])?;
+    }
     super::camera::check_zoom(args.view.unwrap_or(DEFAULT_VIEW))?;
     let path = args.path;
     let mesh = args.input.load()?;

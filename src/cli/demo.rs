@@ -94,7 +94,15 @@ fn io_error(path: &std::path::Path) -> impl FnOnce(std::io::Error) -> Error + '_
 }
 
 pub fn run(args: &DemoArgs) -> Result<(), Error> {
+    if args.out.exists() && !args.out.is_dir() {
+        return Err(Error::Invalid(format!(
+            "--out {}: is a file; give a folder",
+            args.out.display()
+        )));
+    }
     std::fs::create_dir_all(&args.out).map_err(io_error(&args.out))?;
+    // A folder that takes no file is refused before the work.
+    super::output::check_folder("--out", &args.out.join("demo.json"))?;
     let started = Instant::now();
     let mesh = cylvol::datasets::generate(DEMO_DATASET, args.cells)?;
     log(format_args!(

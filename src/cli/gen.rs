@@ -34,6 +34,7 @@ fn parse_refinement(s: &str) -> Result<u32, String> {
 pub fn run(args: &GenArgs) -> Result<(), Error> {
     // An output we cannot write is refused before anything is generated.
     cylvol::io::writer_for(&args.output)?;
+    super::output::check_folder("-o", &args.output)?;
     let input = Input::parse(&args.spec)?;
     let started = Instant::now();
     let mesh = input.load(&Default::default())?;

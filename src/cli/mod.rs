@@ -18,6 +18,7 @@ mod demo;
 mod gen;
 mod info;
 mod number;
+mod output;
 mod render;
 mod scene;
 mod stats;

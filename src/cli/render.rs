@@ -27,7 +27,7 @@ use serde_json::json;
 use super::camera::CameraArgs;
 use super::scene::StructureChoice;
 use super::transfer::TransferArgs;
-use super::{log, scene, InputArgs};
+use super::{log, output, scene, InputArgs};
 use cylvol::accel::AccelParams;
 use cylvol::io::vti;
 use cylvol::render::{
@@ -197,6 +197,10 @@ fn depth_image(path: &Path, width: u32, height: u32) -> Result<Vec<f32>, Error> 
 
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     // Checked before any work (clap has checked each plane; this, their number).
+    output::check("-o", &args.output, "a PNG image", &["png"])?;
+    if let Some(depth) = &args.depth {
+        output::check("--depth", depth, "VTK image data", &["vti"])?;
+    }
     args.camera.check()?;
     let clip_planes = ClipPlanes::new(&args.clip_planes)
         .map_err(|e| Error::Invalid(format!("--clip-plane: {e}")))?;
