@@ -275,14 +275,12 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
         },
     )?;
     if let Some(path) = &args.plot {
-        plot(
-            &result.study,
-            &format!(
-                "{label} ({} cells): error against time as the step shrinks",
-                mesh.cell_count()
-            ),
-        )
-        .write(path)?;
+        let title = format!(
+            "{label} ({} cells): error against time as the step shrinks",
+            mesh.cell_count()
+        );
+        let svg = plot(&result.study, &title);
+        super::output::write_replacing(path, |partial| svg.write(partial))?;
         log(format_args!("wrote {}", path.display()));
     }
     if args.json {

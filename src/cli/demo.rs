@@ -189,7 +189,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
     let mut images = Vec::new();
     for (kind, image) in &bench.images {
         let path = args.out.join(format!("{}.png", kind.name()));
-        image.write_png(&path, Some([0.0; 3]))?;
+        super::output::write_replacing(&path, |p| image.write_png(p, Some([0.0; 3])))?;
         images.push(path.display().to_string());
     }
     outln!();
@@ -248,15 +248,15 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         },
     )?;
     let plot_path = args.out.join("accuracy.svg");
-    super::accuracy::plot(
+    let svg = super::accuracy::plot(
         &accuracy.study,
         &format!(
             "{} ({} cells): error against time as the step shrinks",
             DEMO_DATASET.name(),
             mesh.cell_count()
         ),
-    )
-    .write(&plot_path)?;
+    );
+    super::output::write_replacing(&plot_path, |p| svg.write(p))?;
     outln!();
     super::accuracy::print_table(&accuracy.report, &accuracy.study)?;
 
@@ -274,7 +274,9 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
     });
     let report_path = args.out.join("demo.json");
     let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Invalid(e.to_string()))?;
-    std::fs::write(&report_path, text).map_err(io_error(&report_path))?;
+    super::output::write_replacing(&report_path, |p| {
+        std::fs::write(p, &text).map_err(io_error(p))
+    })?;
     log(format_args!(
         "wrote {}, {}, {} and the images ({:.2} s in all)",
         mesh_path.display(),

@@ -1,17 +1,19 @@
-//! The files the commands write, checked before any work.
+//! The files the commands write: checked before any work, written whole or not at all.
 //!
 //! [`check`] runs before a command loads or computes anything: the file name must end in an
 //! extension the command writes (any case), the path must not be a folder, and its folder
 //! must exist and take a new file. It neither creates nor truncates the output: the folder is
-//! tried with a sibling partial file, named as [`cylvol::io::write_file`] names its own, made
-//! and removed at once.
+//! tried with the very partial file [`write_replacing`] will write, made and removed at once.
+//! [`write_replacing`] writes to that sibling partial file and renames it over the target
+//! once complete, as [`cylvol::io::write_file`] writes meshes, so that a command that fails
+//! leaves what was at the path as it was.
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 use cylvol::Error;
 
-/// The sibling partial file of `path` (`.NAME.cylvol-PID.partial`, as
+/// The sibling file a write to `path` goes through (`.NAME.cylvol-PID.partial`, as
 /// [`cylvol::io::write_file`] names its own), or an error when `path` names no file.
 fn partial_path(option: &str, path: &Path) -> Result<PathBuf, Error> {
     let name = path
@@ -77,6 +79,35 @@ pub fn check_folder(option: &str, path: &Path) -> Result<(), Error> {
         .map_err(|e| refuse(format!("cannot write in {}: {e}", folder.display())))
 }
 
+/// Writes `path` through its partial sibling: `write` writes the partial file, which then
+/// replaces `path`; on failure the partial file is removed and `path` left as it was. Errors
+/// name `path`.
+pub fn write_replacing(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let partial = partial_path("", path)?;
+    let written = write(&partial).and_then(|()| {
+        std::fs::rename(&partial, path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    });
+    if written.is_err() {
+        let _ = std::fs::remove_file(&partial);
+    }
+    written.map_err(|e| match e {
+        Error::Io { path: p, source } if p == partial => Error::Io {
+            path: path.to_path_buf(),
+            source,
+        },
+        Error::Invalid(m) => {
+            Error::Invalid(m.replace(&partial.display().to_string(), &path.display().to_string()))
+        }
+        e => e,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -129,5 +160,33 @@ mod tests {
         assert!(refused(&folder, &["svg"]).ends_with("is a folder; give a file name"));
         assert_eq!(files_in(dir.path()), ["folder.svg", "kept.png"]);
         assert!(!jpg.exists() && !missing.exists());
+    }
+
+    #[test]
+    fn a_failed_write_leaves_the_old_file_and_no_partial() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out.svg");
+        std::fs::write(&out, "old").unwrap();
+        let err = write_replacing(&out, |partial| {
+            std::fs::write(partial, "half").unwrap();
+            Err(Error::Io {
+                path: partial.to_path_buf(),
+                source: std::io::Error::other("disk full"),
+            })
+        })
+        .unwrap_err();
+        assert_eq!(err.to_string(), format!("{}: disk full", out.display()));
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "old");
+        assert_eq!(files_in(dir.path()), ["out.svg"]);
+        write_replacing(&out, |partial| {
+            assert_ne!(partial, out);
+            std::fs::write(partial, "new").map_err(|source| Error::Io {
+                path: partial.to_path_buf(),
+                source,
+            })
+        })
+        .unwrap();
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "new");
+        assert_eq!(files_in(dir.path()), ["out.svg"]);
     }
 }

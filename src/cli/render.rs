@@ -244,9 +244,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let started = Instant::now();
     let (image, stats) = renderer.render(&camera, depth_in.as_deref())?;
     let frame_s = started.elapsed().as_secs_f64();
-    image.write_png(&args.output, Some([0.0; 3]))?;
+    output::write_replacing(&args.output, |path| image.write_png(path, Some([0.0; 3])))?;
     if let Some(depth) = &args.depth {
-        image.write_depth_vti(depth)?;
+        output::write_replacing(depth, |path| image.write_depth_vti(path))?;
         log(format_args!("wrote the depth image {}", depth.display()));
     }
     log(format_args!(
