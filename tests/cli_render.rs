@@ -542,6 +542,73 @@ fn named_choices_are_refused_early_with_what_is_accepted() {
     }
 }
 
+/// `--shade` and `--gradient-opacity` with a cell scalar (constant in each cell: no gradient)
+/// or with a projection (`--blend max`/`min`) change nothing useful, and the command says so
+/// on standard error; with a point scalar and compositing it says nothing.
+#[test]
+fn effects_that_cannot_apply_are_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("x.png");
+    let png = png.to_str().unwrap();
+    let mixer = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mixer.vtk");
+    let mixer = mixer.to_str().unwrap();
+    let warnings = |extra: &[&str]| -> Vec<String> {
+        let args = render_args(mixer, png, "8x8", &[extra]);
+        let out = cylvol(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{args:?}: {stderr}");
+        stderr
+            .lines()
+            .filter(|l| l.starts_with("cylvol: warning:"))
+            .map(str::to_string)
+            .collect()
+    };
+    let shade = warnings(&["--scalar", "cell:k", "--shade"]);
+    assert_eq!(shade.len(), 1, "{shade:?}");
+    assert!(
+        shade[0].starts_with(
+            "cylvol: warning: --shade: the scalar cell:k is a cell array, constant in each \
+             cell, so it has no gradient"
+        ),
+        "{shade:?}"
+    );
+    let hidden = warnings(&["--scalar", "cell:k", "--gradient-opacity", "0:0,1:1"]);
+    assert_eq!(hidden.len(), 1, "{hidden:?}");
+    assert!(
+        hidden[0].starts_with("cylvol: warning: --gradient-opacity: the scalar cell:k")
+            && hidden[0].contains("the factor of a zero gradient, 0, so nothing is visible"),
+        "{hidden:?}"
+    );
+    let scaled = warnings(&[
+        "--scalar",
+        "cell:k",
+        "--shade",
+        "--gradient-opacity",
+        "0:0.25,1:1",
+    ]);
+    assert_eq!(scaled.len(), 2, "{scaled:?}");
+    assert!(
+        scaled[1].contains("every opacity is scaled by 0.25"),
+        "{scaled:?}"
+    );
+    let projection = warnings(&["--blend", "max", "--shade"]);
+    assert_eq!(projection.len(), 1, "{projection:?}");
+    assert!(
+        projection[0].contains(
+            "--blend max takes the extreme scalar's colour and opacity as they are: --shade is \
+             ignored"
+        ),
+        "{projection:?}"
+    );
+    for quiet in [
+        &["--scalar", "p", "--shade", "--gradient-opacity", "0:0,1:1"][..],
+        &["--scalar", "cell:k"],
+        &["--blend", "min"],
+    ] {
+        assert_eq!(warnings(quiet), Vec::<String>::new(), "{quiet:?}");
+    }
+}
+
 /// Every output is checked before any work: its extension (`-o` takes `.png` only, in any
 /// case), and its folder (it exists and takes a file); a refused command creates nothing and
 /// leaves an existing file as it was, and a successful one leaves no partial file behind.

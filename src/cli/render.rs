@@ -25,6 +25,7 @@ use glam::DVec3;
 use serde_json::json;
 
 use super::camera::CameraArgs;
+use super::number::show;
 use super::scene::StructureChoice;
 use super::transfer::TransferArgs;
 use super::{log, output, scene, InputArgs};
@@ -180,6 +181,71 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((side(w)?, side(h)?))
 }
 
+/// What `--shade` and `--gradient-opacity` cannot do in this render, said before it: with
+/// `--blend max` or `min` neither is applied (a projection takes the extreme scalar's colour
+/// and opacity); a cell scalar is constant in each cell, so the renderer has no gradient for
+/// it: shading lights every sample alike, as if it faced the light, and gradient opacity
+/// gives every sample the factor of a zero gradient.
+fn ignored_effects(
+    mesh: &cylvol::Mesh,
+    shade: bool,
+    gradient_opacity: Option<&GradientOpacity>,
+    blend: Blend,
+) -> Vec<String> {
+    let mut warnings = Vec::new();
+    let options = match (shade, gradient_opacity.is_some()) {
+        (true, true) => "--shade and --gradient-opacity",
+        (true, false) => "--shade",
+        (false, true) => "--gradient-opacity",
+        (false, false) => return warnings,
+    };
+    if blend != Blend::Composite {
+        let verb = if shade && gradient_opacity.is_some() {
+            "are"
+        } else {
+            "is"
+        };
+        warnings.push(format!(
+            "--blend {} takes the extreme scalar's colour and opacity as they are: {options} \
+             {verb} ignored",
+            blend.name()
+        ));
+        return warnings;
+    }
+    let Some(active) = mesh.active_scalar() else {
+        return warnings;
+    };
+    if active.association != cylvol::Association::Cell {
+        return warnings;
+    }
+    let scalar = active.selector(mesh.point_data(), mesh.cell_data());
+    let why = format!(
+        "the scalar {scalar} is a cell array, constant in each cell, so it has no gradient"
+    );
+    if shade {
+        warnings.push(format!(
+            "--shade: {why}: every sample is lit alike, as if it faced the light, and no \
+             shape shows; shade a point array (--scalar)"
+        ));
+    }
+    if let Some(g) = gradient_opacity {
+        let factor = g.at(0.0);
+        let effect = if factor == 0.0 {
+            ", so nothing is visible".to_string()
+        } else if factor == 1.0 {
+            ", so it changes nothing".to_string()
+        } else {
+            format!(": every opacity is scaled by {}", show(factor))
+        };
+        warnings.push(format!(
+            "--gradient-opacity: {why}: every sample takes the factor of a zero gradient, \
+             {}{effect}; use a point array (--scalar)",
+            show(factor)
+        ));
+    }
+    warnings
+}
+
 /// `--depth-in`'s image, rows top to bottom, checked to be `width × height`.
 fn depth_image(path: &Path, width: u32, height: u32) -> Result<Vec<f32>, Error> {
     let image = vti::read_point_scalars_file(path)
@@ -214,6 +280,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let (axis, _) = args.input.axis(&mesh);
     let kind = scene::structure(args.structure, &mesh, &axis);
     let (path, interpolation, blend) = (args.path, args.interpolation, args.blend);
+    for warning in ignored_effects(&mesh, args.shade, args.gradient_opacity.as_deref(), blend) {
+        log(format_args!("warning: {warning}"));
+    }
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
     let step = scene::step(&mesh, args.step)?;
