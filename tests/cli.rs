@@ -110,7 +110,8 @@ fn scalar_option_selects_an_array_and_rejects_unknown_names() {
     ]);
     assert!(out.status.success());
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(v["active_scalar"], "k");
+    // The mixer has a point array k too, which a bare `k` would select.
+    assert_eq!(v["active_scalar"], "cell:k");
     assert_eq!(v["active_association"], "cell");
     let out = cylvol(&[
         "info",
@@ -120,6 +121,57 @@ fn scalar_option_selects_an_array_and_rejects_unknown_names() {
     ]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("no scalar array named 'nope'"));
+}
+
+/// `active_scalar` is what was selected, as `--scalar` takes it (a component `U[2]`, a cell
+/// array whose name a point array shares `cell:p`), so that it selects the same scalar when
+/// given back; the error for an unknown name lists the arrays the same way, each once.
+#[test]
+fn the_active_scalar_and_the_arrays_are_named_as_scalar_takes_them() {
+    let mixer = data("mixer.vtk");
+    let mixer = mixer.to_str().unwrap();
+    let selected = |scalar: &str| -> Value {
+        let out = cylvol(&["info", mixer, "--json", "--scalar", scalar]);
+        assert!(
+            out.status.success(),
+            "{scalar}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    for (given, reported, association) in [
+        ("U[2]", "U[2]", "point"),
+        ("point:U[0]", "U[0]", "point"),
+        ("U", "U", "point"),
+        ("cell:U[1]", "cell:U[1]", "cell"),
+        ("cell:p", "cell:p", "cell"),
+        ("p", "p", "point"),
+    ] {
+        let v = selected(given);
+        assert_eq!(v["active_scalar"], reported, "{given}");
+        assert_eq!(v["active_association"], association, "{given}");
+        // Given back, it selects the same scalar.
+        let again = selected(reported);
+        assert_eq!(again["active_scalar"], reported, "{given}");
+        assert_eq!(again["scalar_range"], v["scalar_range"], "{given}");
+        assert_eq!(again["active_association"], association, "{given}");
+    }
+    let text = cylvol(&["info", mixer, "--scalar", "cell:U[1]"]);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("active scalar  cell:U[1] (cell) range ["),
+        "{text}"
+    );
+    let out = cylvol(&["info", mixer, "--scalar", "nope"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(
+            "no scalar array named 'nope' (the mesh has: point:k, point:nut, point:omega, \
+             point:p, point:U, point:Urel, cell:k, cell:nut, cell:omega, cell:p, cell:U, \
+             cell:Urel)"
+        ),
+        "{err}"
+    );
 }
 
 #[test]
@@ -197,7 +249,15 @@ fn gen_refines_a_mesh_file() {
     }
     let bad = cylvol(&["gen", "pump-rotor:2000", "--refine", "0", "-o", "x.vtu"]);
     assert!(!bad.status.success());
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("refinement 0 is not in 1..=16"));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("refinement '0' must be a whole number from 1 to 16"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("generated"),
+        "generated before refusing: {err}"
+    );
 }
 
 #[test]
@@ -219,6 +279,37 @@ fn errors_go_to_standard_error_with_a_non_zero_exit() {
         assert!(err.contains("error"), "{args:?}: {err}");
         assert!(err.contains(expected), "{args:?}: {err}");
     }
+}
+
+/// `--q` goes with a PLOT3D grid; given with anything else it would be ignored, so it is
+/// refused, before the input is read.
+#[test]
+fn a_q_file_for_an_input_that_is_not_plot3d_is_refused() {
+    let q = data("combq.bin");
+    let q = q.to_str().unwrap();
+    for input in [
+        "pump-rotor:2000".to_string(),
+        data("mixer.vtk").display().to_string(),
+    ] {
+        let out = cylvol(&["info", &input, "--q", q]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{input}: {err}");
+        assert!(
+            err.contains(&format!(
+                "--q {q}: a Q file goes with a PLOT3D grid (*xyz.bin, .xyz, .x, .g, .p3d), and \
+                 {input} is not one"
+            )),
+            "{err}"
+        );
+        assert!(!err.contains("loaded"), "{err}");
+    }
+    let grid = data("combxyz.bin");
+    let out = cylvol(&["info", grid.to_str().unwrap(), "--q", q, "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// Standard output that cannot be written is an error, not a panic: a full device is
@@ -275,6 +366,39 @@ fn gen_to_another_extension_leaves_the_file_alone() {
     );
     assert_eq!(std::fs::read_to_string(&notes).unwrap(), "keep me");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+/// `gen` to a folder that does not exist, or that takes no file, says so before generating
+/// anything (it said so only once the mesh was made).
+#[test]
+fn gen_to_a_folder_it_cannot_write_says_so_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing/x.vtu");
+    let mut cases = vec![(
+        missing.to_str().unwrap().to_string(),
+        format!(
+            "-o {}: the folder {} does not exist",
+            missing.display(),
+            dir.path().join("missing").display()
+        ),
+    )];
+    if cfg!(target_os = "linux") {
+        cases.push((
+            "/proc/x.vtu".into(),
+            "-o /proc/x.vtu: cannot write in /proc".into(),
+        ));
+    }
+    for (output, message) in cases {
+        let out = cylvol(&["gen", "pump-rotor:20000", "-o", &output]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(err.contains(&message), "{err}");
+        assert!(
+            !err.contains("generated"),
+            "generated before refusing: {err}"
+        );
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 
 #[test]

@@ -316,15 +316,70 @@ fn fails_with(args: &[&str], message: &str) {
         "cylvol {all:?}: '{message}' not in {stderr}"
     );
     assert!(out.stdout.is_empty());
-    if !message.contains("No such file") {
-        assert!(!png.exists(), "cylvol {all:?} wrote an image");
+    assert!(!png.exists(), "cylvol {all:?} wrote an image");
+}
+
+/// A `--view` zoom is refused in the user's terms: a perspective camera's zoom divides the
+/// 30° view angle, which must stay below 180° (checked before the mesh is loaded, for
+/// `render`, `bench` and `accuracy` alike); in parallel projection it divides the parallel
+/// scale, so a small zoom is fine there and only one that leaves no finite scale is refused.
+#[test]
+fn a_zoom_is_refused_in_the_options_terms() {
+    let zoom_message = "--view 0,0,1e-9: a zoom of 1e-9 would widen the 30° view angle to \
+                        30000000000°; the zoom divides the view angle, which must stay below \
+                        180°, so the zoom must be more than 30/180 (about 0.1667)";
+    fails_with(&["--view", "0,0,1e-9"], zoom_message);
+    fails_with(&["--view", "0,0,0.1666"], "a zoom of 0.1666 would widen");
+    for command in ["bench", "accuracy"] {
+        let out = cylvol(&[command, INPUT, "--view", "0,0,1e-9"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(stderr.contains(zoom_message), "{command}: {stderr}");
+        assert!(!stderr.contains("loaded"), "{command}: {stderr}");
     }
+    fails_with(
+        &["--parallel", "--view", "10,0,1e-320"],
+        "--view 10,0,1e-320: a zoom of 1e-320 makes the parallel scale (half the image's \
+         height) inf, not a positive, finite length",
+    );
+    // The same zooms are fine where they make a camera.
+    let dir = tempfile::tempdir().unwrap();
+    render(dir.path(), "wide", &["--view", "0,0,0.1667"]);
+    render(
+        dir.path(),
+        "parallel",
+        &["--parallel", "--view", "0,0,1e-3"],
+    );
+    render(
+        dir.path(),
+        "angle",
+        &["--view-angle", "170", "--view", "0,0,0.01"],
+    );
 }
 
 #[test]
 fn bad_camera_and_depth_options_fail_with_a_message() {
-    fails_with(&["--camera", "1,1,1:1,1,1:0,1,0"], "degenerate camera");
-    fails_with(&["--camera", "0,0,5:0,0,0:0,0,1"], "degenerate camera");
+    fails_with(
+        &["--camera", "1,1,1:1,1,1:0,1,0"],
+        "degenerate camera '1,1,1:1,1,1:0,1,0': the position is the focal point",
+    );
+    fails_with(
+        &["--camera", "0,0,5:0,0,0:0,0,1"],
+        "degenerate camera '0,0,5:0,0,0:0,0,1': the view-up is along the line of sight",
+    );
+    fails_with(
+        &["--camera", "0,0,5:0,0,0:0,0,0"],
+        "degenerate camera '0,0,5:0,0,0:0,0,0': the view-up is zero",
+    );
+    fails_with(
+        &["--camera", "1e-300,0,0:1e-300,0,0:0,1,0"],
+        "degenerate camera '1e-300,0,0:1e-300,0,0:0,1,0': the position is the focal point",
+    );
+    fails_with(
+        &["--camera", "-1e308,0,0:1e308,0,0:0,1,0"],
+        "degenerate camera '-1e308,0,0:1e308,0,0:0,1,0': the position and the focal point are \
+         too far apart to give a direction of view",
+    );
     fails_with(&["--camera", "0,0,5:0,0,0"], "POSITION:FOCAL_POINT:VIEW_UP");
     fails_with(
         &["--camera", "0,0,5:0,0,0:0,1"],
@@ -347,7 +402,10 @@ fn bad_camera_and_depth_options_fail_with_a_message() {
     fails_with(&["--depth-opacity", "0.5"], "--depth");
     fails_with(&["--depth", "d.vti", "--depth-opacity", "0"], "(0, 1]");
     fails_with(&["--depth", "d.vti", "--depth-opacity", "1.5"], "(0, 1]");
-    fails_with(&["--depth", "/no/such/folder/d.vti"], "No such file");
+    fails_with(
+        &["--depth", "/no/such/folder/d.vti"],
+        "--depth /no/such/folder/d.vti: the folder /no/such/folder does not exist",
+    );
     fails_with(&["--depth-in", "/no/such/folder/d.vti"], "No such file");
     // A depth image of another size, or not an image at all.
     let dir = tempfile::tempdir().unwrap();

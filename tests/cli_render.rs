@@ -317,6 +317,393 @@ fn bad_arguments_fail_with_a_message() {
     fails_with(&["bench"], "INPUT");
 }
 
+/// `fails_with`, and the refusal comes before the input is loaded.
+fn fails_early_with(args: &[&str], message: &str) {
+    fails_with(args, message);
+    let stderr = String::from_utf8_lossy(&cylvol(args).stderr).into_owned();
+    assert!(
+        !stderr.contains("loaded"),
+        "cylvol {args:?} loaded the input first: {stderr}"
+    );
+}
+
+/// A negative number given to a numeric option, space-separated, reaches the option's own
+/// check and its message (clap took `-1` for a flag: "unexpected argument '-1'"), before the
+/// input is loaded; a list that starts with a minus is taken when it is valid.
+#[test]
+fn negative_numbers_reach_each_options_own_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("never.png");
+    let png = png.to_str().unwrap();
+    let input = "pump-rotor:2000";
+    let render = |extra: &[&'static str]| {
+        let mut args = vec!["render", input, "-o", png];
+        if !extra.contains(&"--size") {
+            args.extend_from_slice(&["--size", "8x8"]);
+        }
+        args.extend_from_slice(extra);
+        args
+    };
+    for (extra, message) in [
+        (
+            &["--step", "-1"][..],
+            "step '-1' must be positive and finite",
+        ),
+        (
+            &["--step", "-inf"],
+            "step '-inf' must be positive and finite",
+        ),
+        (&["--size", "-4x4"], "size '-4x4' must be WxH"),
+        (&["--view", "-30,20,-1"], "view '-30,20,-1' must be"),
+        (&["--view-angle", "-5"], "view angle '-5' must be"),
+        (
+            &["--parallel", "--parallel-scale", "-2"],
+            "parallel scale '-2' must be",
+        ),
+        (
+            &["--depth", "d.vti", "--depth-opacity", "-0.5"],
+            "depth opacity '-0.5' must be",
+        ),
+        (&["--march-reach", "-1"], "march reach '-1' is not"),
+        (
+            &["--gradient-opacity", "-1:-0.5"],
+            "opacity factors must lie in [0, 1]",
+        ),
+        (&["--clip-plane", "-1,0,0:-0,0,0"], "zero normal"),
+        (&["--opacity", "-5%:-0.1"], "'-0.1' in '-5%:-0.1'"),
+        (
+            &["--axis", "-1,0,0:0,0,0"],
+            "invalid axis '-1,0,0:0,0,0': the direction has zero length",
+        ),
+    ] {
+        let args = render(extra);
+        let out = cylvol(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !stderr.contains("unexpected argument"),
+            "{args:?}: {stderr}"
+        );
+        fails_early_with(&args, message);
+    }
+    for (args, message) in [
+        (
+            &["bench", input, "--frames", "-1"][..],
+            "frames '-1' must be a whole number from 1 to 100",
+        ),
+        (
+            &["bench", input, "--step", "-0.5"],
+            "step '-0.5' must be positive and finite",
+        ),
+        (&["bench", input, "--size", "-8"], "size '-8'"),
+        (&["accuracy", input, "--size", "-4"], "size '-4'"),
+        (
+            &["stats", input, "--lookups", "-5"],
+            "lookups '-5' must be a whole number, 0 or more",
+        ),
+        (
+            &["stats", input, "--grid", "-1,2"],
+            "--grid '-1,2': the densities TOP,LEAF must be positive and finite",
+        ),
+        (
+            &["gen", input, "-o", "x.vtu", "--refine", "-1"],
+            "refinement '-1' must be a whole number from 1 to 16",
+        ),
+        (
+            &["demo", "--out", png, "--cells", "-5"],
+            "cells '-5' must be a whole number from 1000 to 200000000",
+        ),
+    ] {
+        fails_early_with(args, message);
+    }
+    assert!(!Path::new(png).exists(), "demo made its folder");
+    // Valid values that start with a minus are taken.
+    let ok = render(&[
+        "--view",
+        "-30,20,1",
+        "--clip-plane",
+        "-1,-1,-1:1,0,0",
+        "--opacity",
+        "-1e9:0.1,1e9:0.2",
+    ]);
+    let out = cylvol(&ok);
+    assert!(
+        out.status.success(),
+        "{ok:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let camera = cylvol(&render(&["--camera", "-1,-2,-3:0,0,0:0,1,0"]));
+    assert!(
+        camera.status.success(),
+        "{}",
+        String::from_utf8_lossy(&camera.stderr)
+    );
+    let info = json_of(&["info", input, "--json", "--axis", "-1,0,0:0,0,-1"]);
+    assert_eq!(info["axis"]["origin"], serde_json::json!([-1.0, 0.0, 0.0]));
+    // The direction is reported with its sign made canonical: the line is the same.
+    let direction: Vec<f64> = info["axis"]["direction"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap().abs())
+        .collect();
+    assert_eq!(direction, [0.0, 0.0, 1.0]);
+}
+
+/// Numbers in errors read as the user wrote them, or as short as they read back (`1e-300`),
+/// never as the hundreds of digits Rust's `{}` writes for them; what they say is in the
+/// option's terms.
+#[test]
+fn numbers_in_errors_are_readable() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("never.png");
+    let png = png.to_str().unwrap();
+    for (extra, message) in [
+        (
+            &["--step", "1e-300"][..],
+            "--step 1e-300 is too small for this mesh: a ray across its diagonal",
+        ),
+        (
+            &["--unit-distance=-1e-300"],
+            "--unit-distance must be positive and finite, not -1e-300",
+        ),
+        (
+            &["--opacity", "1e-300:0,-1e-300:1"],
+            "point 2 (scalar -1e-300) is below the point before it (1e-300)",
+        ),
+        (
+            &["--color", "1e300:0:0:0,-2.5e-200:1:1:1"],
+            "point 2 (scalar -2.5e-200) is below the point before it (1e300)",
+        ),
+        (
+            &["--clip-plane", "1e200,0,0:1e200,0,0"],
+            "clip plane '1e200,0,0:1e200,0,0': its point and normal are too large",
+        ),
+    ] {
+        let mut args = vec!["render", "pump-rotor:2000", "-o", png, "--size", "8x8"];
+        args.extend_from_slice(extra);
+        fails_with(&args, message);
+        let stderr = String::from_utf8_lossy(&cylvol(&args).stderr).into_owned();
+        assert!(
+            !stderr.contains("0000000000"),
+            "{args:?}: a long number in {stderr}"
+        );
+    }
+}
+
+/// `--structure` names `auto` among what it takes, and it, `--path`, `--interpolation` and
+/// `--blend` are refused before the input is loaded.
+#[test]
+fn named_choices_are_refused_early_with_what_is_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("never.png");
+    let png = png.to_str().unwrap();
+    let input = "pump-rotor:2000";
+    for (args, message) in [
+        (
+            &["render", input, "-o", png, "--structure", "foo"][..],
+            "unknown structure 'foo' (expected cart-grid, cyl-grid, cart-bvh, cyl-bvh or auto)",
+        ),
+        (
+            &["accuracy", input, "--structure", "kd-tree"],
+            "unknown structure 'kd-tree' (expected cart-grid, cyl-grid, cart-bvh, cyl-bvh or auto)",
+        ),
+        (
+            &["render", input, "-o", png, "--path", "slow"],
+            "unknown path 'slow' (expected paper or fast)",
+        ),
+        (
+            &["accuracy", input, "--path", "slow"],
+            "unknown path 'slow' (expected paper or fast)",
+        ),
+        (
+            &["render", input, "-o", png, "--interpolation", "cubic"],
+            "unknown interpolation 'cubic'",
+        ),
+        (
+            &["render", input, "-o", png, "--blend", "average"],
+            "unknown blend mode 'average'",
+        ),
+    ] {
+        fails_early_with(args, message);
+    }
+    // And every name is taken.
+    for structure in STRUCTURES.iter().chain(&["auto"]) {
+        let out = cylvol(&render_args(
+            input,
+            png,
+            "8x8",
+            &[&["--structure", structure]],
+        ));
+        assert!(
+            out.status.success(),
+            "{structure}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+/// `--shade` and `--gradient-opacity` with a cell scalar (constant in each cell: no gradient)
+/// or with a projection (`--blend max`/`min`) change nothing useful, and the command says so
+/// on standard error; with a point scalar and compositing it says nothing.
+#[test]
+fn effects_that_cannot_apply_are_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("x.png");
+    let png = png.to_str().unwrap();
+    let mixer = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mixer.vtk");
+    let mixer = mixer.to_str().unwrap();
+    let warnings = |extra: &[&str]| -> Vec<String> {
+        let args = render_args(mixer, png, "8x8", &[extra]);
+        let out = cylvol(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{args:?}: {stderr}");
+        stderr
+            .lines()
+            .filter(|l| l.starts_with("cylvol: warning:"))
+            .map(str::to_string)
+            .collect()
+    };
+    let shade = warnings(&["--scalar", "cell:k", "--shade"]);
+    assert_eq!(shade.len(), 1, "{shade:?}");
+    assert!(
+        shade[0].starts_with(
+            "cylvol: warning: --shade: the scalar cell:k is a cell array, constant in each \
+             cell, so it has no gradient"
+        ),
+        "{shade:?}"
+    );
+    let hidden = warnings(&["--scalar", "cell:k", "--gradient-opacity", "0:0,1:1"]);
+    assert_eq!(hidden.len(), 1, "{hidden:?}");
+    assert!(
+        hidden[0].starts_with("cylvol: warning: --gradient-opacity: the scalar cell:k")
+            && hidden[0].contains("the factor of a zero gradient, 0, so nothing is visible"),
+        "{hidden:?}"
+    );
+    let scaled = warnings(&[
+        "--scalar",
+        "cell:k",
+        "--shade",
+        "--gradient-opacity",
+        "0:0.25,1:1",
+    ]);
+    assert_eq!(scaled.len(), 2, "{scaled:?}");
+    assert!(
+        scaled[1].contains("every opacity is scaled by 0.25"),
+        "{scaled:?}"
+    );
+    let projection = warnings(&["--blend", "max", "--shade"]);
+    assert_eq!(projection.len(), 1, "{projection:?}");
+    assert!(
+        projection[0].contains(
+            "--blend max takes the extreme scalar's colour and opacity as they are: --shade is \
+             ignored"
+        ),
+        "{projection:?}"
+    );
+    for quiet in [
+        &["--scalar", "p", "--shade", "--gradient-opacity", "0:0,1:1"][..],
+        &["--scalar", "cell:k"],
+        &["--blend", "min"],
+    ] {
+        assert_eq!(warnings(quiet), Vec::<String>::new(), "{quiet:?}");
+    }
+}
+
+/// Every output is checked before any work: its extension (`-o` takes `.png` only, in any
+/// case), and its folder (it exists and takes a file); a refused command creates nothing and
+/// leaves an existing file as it was, and a successful one leaves no partial file behind.
+#[test]
+fn outputs_are_checked_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let kept = d.join("kept.png");
+    std::fs::write(&kept, "keep me").unwrap();
+    let kept = kept.to_str().unwrap();
+    let path = |name: &str| d.join(name).to_str().unwrap().to_string();
+    let (jpg, missing_png, missing_vti, missing_svg, depth_png) = (
+        path("out.jpg"),
+        path("missing/out.png"),
+        path("missing/d.vti"),
+        path("missing/p.svg"),
+        path("d.png"),
+    );
+    let input = "pump-rotor:2000";
+    let folder = d.join("missing");
+    let folder = folder.display();
+    for (args, message) in [
+        (
+            &["render", input, "-o", &jpg][..],
+            format!("-o {jpg}: writes a PNG image, so the name must end in .png"),
+        ),
+        (
+            &["render", input, "-o", &missing_png],
+            format!("-o {missing_png}: the folder {folder} does not exist"),
+        ),
+        (
+            &["render", input, "-o", kept, "--depth", &missing_vti],
+            format!("--depth {missing_vti}: the folder {folder} does not exist"),
+        ),
+        (
+            &["render", input, "-o", kept, "--depth", &depth_png],
+            format!("--depth {depth_png}: writes VTK image data, so the name must end in .vti"),
+        ),
+        (
+            &["render", input, "-o", d.to_str().unwrap()],
+            "writes a PNG image".to_string(),
+        ),
+        (
+            &["accuracy", input, "--plot", &missing_svg],
+            format!("--plot {missing_svg}: the folder {folder} does not exist"),
+        ),
+        (
+            &["accuracy", input, "--plot", kept],
+            format!("--plot {kept}: writes an SVG plot, so the name must end in .svg"),
+        ),
+        (
+            &["demo", "--out", kept, "--cells", "2000"],
+            format!("--out {kept}: is a file; give a folder"),
+        ),
+    ] {
+        fails_early_with(args, &message);
+        let stderr = String::from_utf8_lossy(&cylvol(args).stderr).into_owned();
+        assert!(
+            !stderr.contains("generated"),
+            "{args:?} worked first: {stderr}"
+        );
+    }
+    #[cfg(target_os = "linux")]
+    fails_early_with(
+        &["render", input, "-o", "/proc/x.png"],
+        "-o /proc/x.png: cannot write in /proc",
+    );
+    assert_eq!(std::fs::read_to_string(kept).unwrap(), "keep me");
+    let names = |d: &Path| -> Vec<String> {
+        let mut n: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        n.sort();
+        n
+    };
+    assert_eq!(names(d), ["kept.png"]);
+    // Upper case is fine; the image replaces what was there, with nothing left beside it.
+    let upper = path("OUT.PNG");
+    std::fs::write(&upper, "old").unwrap();
+    let out = cylvol(&render_args(
+        input,
+        &upper,
+        "8x8",
+        &[&["--depth", &path("d.VTI")]],
+    ));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(png_size(Path::new(&upper)), (8, 8));
+    assert_eq!(names(d), ["OUT.PNG", "d.VTI", "kept.png"]);
+}
+
 /// The price of boundary segments is visible: with them (the default) samples next to a
 /// boundary crossing are cut at the crossing, found exactly through the boundary surface
 /// (`surface_visits`) and, where that cannot tell, by containment tests

@@ -23,8 +23,9 @@ use std::path::PathBuf;
 
 use serde_json::{json, Value};
 
+use super::scene::StructureChoice;
 use super::{log, scene, InputArgs};
-use cylvol::accel::{Accel, AccelParams, StructureKind};
+use cylvol::accel::{Accel, AccelParams};
 use cylvol::render::accuracy::{
     compare, factor_label, mean_cell_size, step_study, Scene, StepStudy, REFERENCE_FACTOR,
     STEP_FACTORS,
@@ -46,17 +47,17 @@ pub struct AccuracyArgs {
     #[arg(long, value_name = "OUT.svg")]
     plot: Option<PathBuf>,
     /// Image side N (an N×N image).
-    #[arg(long, default_value = "128", value_parser = scene::parse_side)]
+    #[arg(long, default_value = "128", value_parser = scene::parse_side, allow_hyphen_values = true)]
     size: u32,
     /// cart-grid, cyl-grid, cart-bvh, cyl-bvh or auto.
     #[arg(long, default_value = "auto")]
-    structure: String,
+    structure: StructureChoice,
     /// Camera preset AZIMUTH,ELEVATION,ZOOM in degrees, degrees and a factor.
     #[arg(long, value_name = "AZIMUTH,ELEVATION,ZOOM", value_parser = scene::parse_view, allow_hyphen_values = true)]
     view: Option<[f64; 3]>,
     /// paper or fast sampling path.
     #[arg(long, default_value = "fast")]
-    path: String,
+    path: RenderPath,
     /// Every sample stands for a whole step, even where the ray crosses the mesh boundary
     /// (faster, first order in the step); by default boundary samples are cut at the crossing.
     #[arg(long)]
@@ -248,14 +249,15 @@ pub fn print_table(report: &Value, study: &StepStudy) -> Result<(), Error> {
 }
 
 pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
-    if args.structure != "auto" {
-        // An unknown name fails before the mesh is loaded.
-        args.structure.parse::<StructureKind>()?;
+    // Checked before any work.
+    if let Some(plot) = &args.plot {
+        super::output::check("--plot", plot, "an SVG plot", &["svg"])?;
     }
-    let path: RenderPath = args.path.parse()?;
+    super::camera::check_zoom(args.view.unwrap_or(DEFAULT_VIEW))?;
+    let path = args.path;
     let mesh = args.input.load()?;
     let (axis, _) = args.input.axis(&mesh);
-    let kind = scene::structure(&args.structure, &mesh, &axis)?;
+    let kind = scene::structure(args.structure, &mesh, &axis);
     let label = cylvol::input::Input::parse(&args.input.input)?.label();
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let neighbours = scene::neighbours(&mesh, &accel);
@@ -273,14 +275,12 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
         },
     )?;
     if let Some(path) = &args.plot {
-        plot(
-            &result.study,
-            &format!(
-                "{label} ({} cells): error against time as the step shrinks",
-                mesh.cell_count()
-            ),
-        )
-        .write(path)?;
+        let title = format!(
+            "{label} ({} cells): error against time as the step shrinks",
+            mesh.cell_count()
+        );
+        let svg = plot(&result.study, &title);
+        super::output::write_replacing(path, |partial| svg.write(partial))?;
         log(format_args!("wrote {}", path.display()));
     }
     if args.json {

@@ -51,23 +51,23 @@ pub struct BenchArgs {
     #[arg(long)]
     json: bool,
     /// Image side N (an N×N image).
-    #[arg(long, default_value = "512", value_parser = scene::parse_side)]
+    #[arg(long, default_value = "512", value_parser = scene::parse_side, allow_hyphen_values = true)]
     size: u32,
     /// Renders per structure and path, in rounds of one each; `frame_s` is the fastest (less
     /// noise from other work on the machine).
-    #[arg(long, default_value = "1", value_parser = clap::value_parser!(u32).range(1..=100))]
+    #[arg(long, default_value = "1", value_parser = parse_frames, allow_hyphen_values = true)]
     frames: u32,
     /// Camera preset AZIMUTH,ELEVATION,ZOOM in degrees, degrees and a factor.
     #[arg(long, value_name = "AZIMUTH,ELEVATION,ZOOM", value_parser = scene::parse_view, allow_hyphen_values = true)]
     view: Option<[f64; 3]>,
     /// Sample spacing in world units (default: half the mean cell size).
-    #[arg(long)]
+    #[arg(long, value_parser = super::number::parse_step, allow_hyphen_values = true)]
     step: Option<f64>,
     /// Scalar array to render (for every input).
     #[arg(long)]
     scalar: Option<String>,
     /// Machine axis instead of the detected one (for every input).
-    #[arg(long, value_name = "AXIS")]
+    #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
     axis: Option<Axis>,
     /// The grids' candidate order: `cells` (cell ids, the talk's grids; the default) or
     /// `share` (the cells covering most of the grid cell first).
@@ -75,6 +75,11 @@ pub struct BenchArgs {
     grid_order: CandidateOrder,
     #[command(flatten)]
     transfer: TransferArgs,
+}
+
+/// Parses `--frames F`, 1 to 100.
+fn parse_frames(s: &str) -> Result<u32, String> {
+    super::number::whole_in(s, "frames", 1, 100).map(|n| n as u32)
 }
 
 /// The four structures' figures on one mesh, and the fast path's images.
@@ -336,6 +341,7 @@ pub fn print_table(report: &Value) -> Result<(), Error> {
 }
 
 pub fn run(args: &BenchArgs) -> Result<(), Error> {
+    super::camera::check_zoom(args.view.unwrap_or(scene::DEFAULT_VIEW))?;
     // Refuse a missing file before spending minutes on the inputs before it.
     for spec in &args.inputs {
         if let cylvol::input::Input::File(p) = cylvol::input::Input::parse(spec)? {

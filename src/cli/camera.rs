@@ -13,8 +13,9 @@
 
 use glam::DVec3;
 
+use super::number::show;
 use super::scene;
-use cylvol::render::{Camera, Projection};
+use cylvol::render::{Camera, Projection, DEFAULT_VIEW_ANGLE};
 use cylvol::{Error, Mesh};
 
 /// The camera options.
@@ -29,7 +30,7 @@ pub struct CameraArgs {
     pub camera: Option<[DVec3; 3]>,
     /// The perspective camera's full vertical view angle in degrees, in (0, 180) (VTK's
     /// `ViewAngle`; default 30, which `--view`'s zoom divides).
-    #[arg(long, value_name = "DEGREES", value_parser = parse_view_angle, conflicts_with = "parallel")]
+    #[arg(long, value_name = "DEGREES", value_parser = parse_view_angle, conflicts_with = "parallel", allow_hyphen_values = true)]
     pub view_angle: Option<f64>,
     /// Parallel projection (VTK's `ParallelProjection`) instead of perspective.
     #[arg(long)]
@@ -37,14 +38,29 @@ pub struct CameraArgs {
     /// With `--parallel`: half the viewport height in world units (VTK's `ParallelScale`;
     /// default as `ResetCamera` sets it, the bounding sphere's radius, over the aspect ratio
     /// when the image is taller than wide; `--view`'s zoom divides it).
-    #[arg(long, value_name = "S", value_parser = parse_parallel_scale, requires = "parallel")]
+    #[arg(long, value_name = "S", value_parser = parse_parallel_scale, requires = "parallel", allow_hyphen_values = true)]
     pub parallel_scale: Option<f64>,
 }
 
-/// Parses `--camera X,Y,Z:X,Y,Z:X,Y,Z` (position, focal point, view-up; finite numbers).
+/// Parses `--camera X,Y,Z:X,Y,Z:X,Y,Z` (position, focal point, view-up; finite numbers),
+/// refusing, in the option's terms, a camera that sets no direction: the position on the focal
+/// point, or the view-up along the line of sight (or zero).
 pub fn parse_camera(s: &str) -> Result<[DVec3; 3], String> {
-    parse_vectors(s)
-        .ok_or_else(|| format!("camera '{s}' is not POSITION:FOCAL_POINT:VIEW_UP, each X,Y,Z"))
+    let [eye, focal, up] = parse_vectors(s)
+        .ok_or_else(|| format!("camera '{s}' is not POSITION:FOCAL_POINT:VIEW_UP, each X,Y,Z"))?;
+    let sight = focal - eye;
+    let why = if sight == DVec3::ZERO {
+        "the position is the focal point, so there is no direction of view"
+    } else if !sight.is_finite() || !sight.normalize_or_zero().is_finite() {
+        "the position and the focal point are too far apart to give a direction of view"
+    } else if up == DVec3::ZERO {
+        "the view-up is zero"
+    } else if sight.normalize().cross(up).normalize_or_zero() == DVec3::ZERO {
+        "the view-up is along the line of sight, so it sets no up in the image"
+    } else {
+        return Ok([eye, focal, up]);
+    };
+    Err(format!("degenerate camera '{s}': {why}"))
 }
 
 /// `N` vectors `X,Y,Z` of finite numbers separated by `:`, if `s` is that.
@@ -115,6 +131,25 @@ impl CameraArgs {
         if let Some(scale) = self.parallel_scale {
             camera.projection = Projection::Parallel(scale);
         }
+        // Only a zoom can make the projection unusable here: the view angle and the parallel
+        // scale given were checked when parsed.
+        if let (None, Some([_, _, zoom])) = (self.camera, self.view) {
+            let given = self.view_text();
+            match camera.projection {
+                Projection::Perspective(a) if !(a > 0.0 && a < 180.0) => {
+                    return Err(zoom_error(&given, zoom));
+                }
+                Projection::Parallel(s) if !(s > 0.0 && s.is_finite()) => {
+                    return Err(Error::Invalid(format!(
+                        "--view {given}: a zoom of {} makes the parallel scale (half the \
+                         image's height) {}, not a positive, finite length",
+                        show(zoom),
+                        show(s)
+                    )));
+                }
+                _ => {}
+            }
+        }
         let checked = match camera.projection {
             Projection::Perspective(a) => {
                 Camera::perspective(camera.eye, camera.focal, camera.up, a)
@@ -128,4 +163,43 @@ impl CameraArgs {
         };
         checked.map_err(|e| Error::Invalid(format!("{option}: {e}")))
     }
+
+    /// Refuses, before any work, a `--view` whose zoom widens the perspective camera's view
+    /// angle to 180° or more (the zoom divides VTK's 30°); [`CameraArgs::camera`] checks the
+    /// rest, which needs the mesh.
+    pub fn check(&self) -> Result<(), Error> {
+        match self.view {
+            Some(view) if self.camera.is_none() && !self.parallel && self.view_angle.is_none() => {
+                check_zoom(view)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// `--view` as given, its numbers shown readably.
+    fn view_text(&self) -> String {
+        self.view.map(|v| v.map(show).join(",")).unwrap_or_default()
+    }
+}
+
+/// Refuses a `--view AZIMUTH,ELEVATION,ZOOM` whose zoom would widen a perspective camera's
+/// default view angle ([`DEFAULT_VIEW_ANGLE`]) to 180° or more.
+pub fn check_zoom(view: [f64; 3]) -> Result<(), Error> {
+    let zoom = view[2];
+    if DEFAULT_VIEW_ANGLE / zoom < 180.0 {
+        return Ok(());
+    }
+    Err(zoom_error(&view.map(show).join(","), zoom))
+}
+
+/// The error of a zoom that leaves no perspective view angle below 180°.
+fn zoom_error(given: &str, zoom: f64) -> Error {
+    Error::Invalid(format!(
+        "--view {given}: a zoom of {} would widen the {DEFAULT_VIEW_ANGLE}° view angle to {}°; \
+         the zoom divides the view angle, which must stay below 180°, so the zoom must be more \
+         than {DEFAULT_VIEW_ANGLE}/180 (about {:.4}) (or use --parallel)",
+        show(zoom),
+        show(DEFAULT_VIEW_ANGLE / zoom),
+        DEFAULT_VIEW_ANGLE / 180.0,
+    ))
 }

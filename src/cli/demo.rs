@@ -75,8 +75,15 @@ pub struct DemoArgs {
     #[arg(long, value_name = "DIR", default_value = "cylvol-demo")]
     out: PathBuf,
     /// Cells of the demo dataset (for a quicker look; the default is the demo size).
-    #[arg(long, default_value_t = DEMO_CELLS)]
+    #[arg(long, default_value_t = DEMO_CELLS, value_parser = parse_cells, allow_hyphen_values = true)]
     cells: usize,
+}
+
+/// Parses `--cells N`, within what the datasets make ([`cylvol::datasets::MIN_CELLS`] to
+/// [`cylvol::datasets::MAX_CELLS`]).
+fn parse_cells(s: &str) -> Result<usize, String> {
+    use cylvol::datasets::{MAX_CELLS, MIN_CELLS};
+    super::number::whole_in(s, "cells", MIN_CELLS as u64, MAX_CELLS as u64).map(|n| n as usize)
 }
 
 fn io_error(path: &std::path::Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
@@ -87,7 +94,15 @@ fn io_error(path: &std::path::Path) -> impl FnOnce(std::io::Error) -> Error + '_
 }
 
 pub fn run(args: &DemoArgs) -> Result<(), Error> {
+    if args.out.exists() && !args.out.is_dir() {
+        return Err(Error::Invalid(format!(
+            "--out {}: is a file; give a folder",
+            args.out.display()
+        )));
+    }
     std::fs::create_dir_all(&args.out).map_err(io_error(&args.out))?;
+    // A folder that takes no file is refused before the work.
+    super::output::check_folder("--out", &args.out.join("demo.json"))?;
     let started = Instant::now();
     let mesh = cylvol::datasets::generate(DEMO_DATASET, args.cells)?;
     log(format_args!(
@@ -126,9 +141,9 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         DEMO_DATASET.name(),
         info_field(&info, "cells"),
         info_field(&info, "points"),
-        mesh.active_array()
-            .map(|a| a.name.as_str())
-            .unwrap_or("none"),
+        mesh.active_scalar()
+            .map(|a| a.selector(mesh.point_data(), mesh.cell_data()))
+            .unwrap_or_else(|| "none".into()),
         detection.axis.direction.to_array()
     );
     outln!();
@@ -174,7 +189,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
     let mut images = Vec::new();
     for (kind, image) in &bench.images {
         let path = args.out.join(format!("{}.png", kind.name()));
-        image.write_png(&path, Some([0.0; 3]))?;
+        super::output::write_replacing(&path, |p| image.write_png(p, Some([0.0; 3])))?;
         images.push(path.display().to_string());
     }
     outln!();
@@ -233,15 +248,15 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         },
     )?;
     let plot_path = args.out.join("accuracy.svg");
-    super::accuracy::plot(
+    let svg = super::accuracy::plot(
         &accuracy.study,
         &format!(
             "{} ({} cells): error against time as the step shrinks",
             DEMO_DATASET.name(),
             mesh.cell_count()
         ),
-    )
-    .write(&plot_path)?;
+    );
+    super::output::write_replacing(&plot_path, |p| svg.write(p))?;
     outln!();
     super::accuracy::print_table(&accuracy.report, &accuracy.study)?;
 
@@ -259,7 +274,9 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
     });
     let report_path = args.out.join("demo.json");
     let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Invalid(e.to_string()))?;
-    std::fs::write(&report_path, text).map_err(io_error(&report_path))?;
+    super::output::write_replacing(&report_path, |p| {
+        std::fs::write(p, &text).map_err(io_error(p))
+    })?;
     log(format_args!(
         "wrote {}, {}, {} and the images ({:.2} s in all)",
         mesh_path.display(),

@@ -21,13 +21,20 @@ pub struct GenArgs {
     output: PathBuf,
     /// Cut every hexahedron into N × N × N (1 to 16; hexahedral meshes only): the same
     /// geometry and fields with N³ times the cells.
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = parse_refinement, allow_hyphen_values = true)]
     refine: u32,
+}
+
+/// Parses `--refine N`, 1 to [`cylvol::mesh::MAX_REFINEMENT`].
+fn parse_refinement(s: &str) -> Result<u32, String> {
+    let max = cylvol::mesh::MAX_REFINEMENT;
+    super::number::whole_in(s, "refinement", 1, max.into()).map(|n| n as u32)
 }
 
 pub fn run(args: &GenArgs) -> Result<(), Error> {
     // An output we cannot write is refused before anything is generated.
     cylvol::io::writer_for(&args.output)?;
+    super::output::check_folder("-o", &args.output)?;
     let input = Input::parse(&args.spec)?;
     let started = Instant::now();
     let mesh = input.load(&Default::default())?;

@@ -2,6 +2,7 @@
 
 use serde::Serialize;
 
+use super::number::show;
 use super::InputArgs;
 use cylvol::axis::Axis;
 use cylvol::{Error, Mesh};
@@ -68,7 +69,9 @@ pub fn describe(mesh: &Mesh, axis: Axis, clear: Option<bool>) -> Info {
         scalars,
         point_scalars,
         cell_scalars,
-        active_scalar: mesh.active_array().map(|a| a.name.clone()),
+        active_scalar: mesh
+            .active_scalar()
+            .map(|a| a.selector(mesh.point_data(), mesh.cell_data())),
         active_association: mesh.active_scalar().map(|a| a.association.to_string()),
         scalar_range: mesh.scalar_range(),
         bounds: mesh.bounds(),
@@ -104,12 +107,14 @@ pub fn run(args: &InfoArgs) -> Result<(), Error> {
     outln!("  cell scalars   {}", info.cell_scalars.join(", "));
     match (&info.active_scalar, info.scalar_range) {
         (Some(name), Some([lo, hi])) => outln!(
-            "  active scalar  {name} ({}) range [{lo}, {hi}]",
-            info.active_association.as_deref().unwrap_or("?")
+            "  active scalar  {name} ({}) range [{}, {}]",
+            info.active_association.as_deref().unwrap_or("?"),
+            show(lo),
+            show(hi)
         ),
         _ => outln!("  active scalar  none"),
     }
-    let b = info.bounds;
+    let b = info.bounds.map(show);
     outln!(
         "  bounds         x [{}, {}]  y [{}, {}]  z [{}, {}]",
         b[0],

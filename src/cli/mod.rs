@@ -17,6 +17,8 @@ mod camera;
 mod demo;
 mod gen;
 mod info;
+mod number;
+mod output;
 mod render;
 mod scene;
 mod stats;
@@ -65,13 +67,30 @@ pub struct InputArgs {
     #[arg(long)]
     pub scalar: Option<String>,
     /// Machine axis instead of the detected one: `x`, `y`, `z`, or `ox,oy,oz:dx,dy,dz`.
-    #[arg(long, value_name = "AXIS")]
+    #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
     pub axis: Option<cylvol::axis::Axis>,
 }
 
 impl InputArgs {
-    /// Loads the mesh and selects the requested scalar.
+    /// Loads the mesh and selects the requested scalar. A `--q` file for an input that is not
+    /// a PLOT3D grid is refused first (it would be ignored).
     pub fn load(&self) -> Result<cylvol::Mesh, cylvol::Error> {
+        if let Some(q) = &self.q_file {
+            let plot3d = match cylvol::input::Input::parse(&self.input)? {
+                cylvol::input::Input::File(p) => {
+                    cylvol::io::Format::from_path(&p) == Some(cylvol::io::Format::Plot3d)
+                }
+                cylvol::input::Input::Synthetic(..) => false,
+            };
+            if !plot3d {
+                return Err(cylvol::Error::Invalid(format!(
+                    "--q {}: a Q file goes with a PLOT3D grid (*xyz.bin, .xyz, .x, .g, .p3d), \
+                     and {} is not one",
+                    q.display(),
+                    self.input
+                )));
+            }
+        }
         let options = cylvol::io::ReadOptions {
             q_file: self.q_file.clone(),
         };

@@ -25,8 +25,10 @@ use glam::DVec3;
 use serde_json::json;
 
 use super::camera::CameraArgs;
+use super::number::show;
+use super::scene::StructureChoice;
 use super::transfer::TransferArgs;
-use super::{log, scene, InputArgs};
+use super::{log, output, scene, InputArgs};
 use cylvol::accel::AccelParams;
 use cylvol::io::vti;
 use cylvol::render::{
@@ -45,18 +47,18 @@ pub struct RenderArgs {
     output: PathBuf,
     /// cart-grid, cyl-grid, cart-bvh, cyl-bvh or auto.
     #[arg(long, default_value = "auto")]
-    structure: String,
+    structure: StructureChoice,
     /// Image size WxH.
-    #[arg(long, default_value = "512x512", value_parser = parse_size)]
+    #[arg(long, default_value = "512x512", value_parser = parse_size, allow_hyphen_values = true)]
     size: (u32, u32),
     /// Sample spacing in world units (default: half the mean cell size).
-    #[arg(long)]
+    #[arg(long, value_parser = super::number::parse_step, allow_hyphen_values = true)]
     step: Option<f64>,
     #[command(flatten)]
     camera: CameraArgs,
     /// paper (locate every sample through the structure) or fast.
     #[arg(long, default_value = "fast")]
-    path: String,
+    path: RenderPath,
     /// Shade with a headlight (gradients from the trilinear interpolant).
     #[arg(long)]
     shade: bool,
@@ -66,15 +68,15 @@ pub struct RenderArgs {
     whole_steps: bool,
     /// linear (trilinear) or nearest (the value of the nearest cell corner).
     #[arg(long, default_value = "linear")]
-    interpolation: String,
+    interpolation: Interpolation,
     /// Gradient opacity as `vtkVolumeProperty` holds it: `M:G` points of a piecewise-linear
     /// factor G in [0, 1] of the gradient magnitude M, in increasing M, e.g. `0:0,0.5:1`.
-    #[arg(long, value_name = "M:G,M:G,...", value_parser = parse_gradient_opacity)]
+    #[arg(long, value_name = "M:G,M:G,...", value_parser = parse_gradient_opacity, allow_hyphen_values = true)]
     gradient_opacity: Option<Box<GradientOpacity>>,
     /// composite (front-to-back compositing), max or min (maximum- or minimum-intensity
     /// projection: the extreme scalar's colour and opacity; no shading).
     #[arg(long, default_value = "composite")]
-    blend: String,
+    blend: Blend,
     #[command(flatten)]
     transfer: TransferArgs,
     /// Also write the depth image as VTK image data (`.vti`, a `depth` point array over a
@@ -84,7 +86,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "OUT.vti")]
     depth: Option<PathBuf>,
     /// The accumulated opacity, in (0, 1], at which a pixel's depth is taken [default: 0.5].
-    #[arg(long, value_name = "A", value_parser = parse_depth_opacity, requires = "depth")]
+    #[arg(long, value_name = "A", value_parser = parse_depth_opacity, requires = "depth", allow_hyphen_values = true)]
     depth_opacity: Option<f64>,
     /// Opaque geometry's depth image, where rays stop: VTK image data (`.vti`) of WxH points,
     /// rows bottom to top, its active (or only) point array per pixel the distance along the
@@ -101,7 +103,7 @@ pub struct RenderArgs {
     /// cells a look-up through the structure tests on average (`cylvol stats`, `hex/lk`); a
     /// sample further ahead, where the ray provably stays in the mesh, is located through the
     /// structure (`stats.far_locates`); `inf` always marches. The image is the same either way.
-    #[arg(long, value_name = "CELLS", default_value_t = cylvol::render::DEFAULT_MARCH_REACH, value_parser = parse_march_reach)]
+    #[arg(long, value_name = "CELLS", default_value_t = cylvol::render::DEFAULT_MARCH_REACH, value_parser = parse_march_reach, allow_hyphen_values = true)]
     march_reach: f64,
     /// Print the figures as JSON on standard output.
     #[arg(long)]
@@ -125,7 +127,14 @@ fn parse_clip_plane(s: &str) -> Result<[f64; 4], String> {
     if normal == DVec3::ZERO {
         return Err(format!("clip plane '{s}' has a zero normal"));
     }
-    Ok(ClipPlanes::equation(point, normal))
+    let equation = ClipPlanes::equation(point, normal);
+    if !equation[3].is_finite() {
+        return Err(format!(
+            "clip plane '{s}': its point and normal are too large for the plane's equation \
+             (their dot product overflows)"
+        ));
+    }
+    Ok(equation)
 }
 
 fn parse_depth_opacity(s: &str) -> Result<f64, String> {
@@ -158,22 +167,83 @@ fn parse_gradient_opacity(s: &str) -> Result<Box<GradientOpacity>, String> {
         .map_err(|e| e.to_string())
 }
 
+/// Parses `--size WxH`, each side a whole number of pixels from 1 to 16384.
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("size '{s}' is not WxH"))?;
-    let w: u32 = w
-        .trim()
-        .parse()
-        .map_err(|_| format!("bad width in '{s}'"))?;
-    let h: u32 = h
-        .trim()
-        .parse()
-        .map_err(|_| format!("bad height in '{s}'"))?;
-    if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(format!("size '{s}' must be between 1x1 and 16384x16384"));
+    let bad = || format!("size '{s}' must be WxH, each a whole number of pixels from 1 to 16384");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let side = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=16384).contains(n))
+            .ok_or_else(bad)
+    };
+    Ok((side(w)?, side(h)?))
+}
+
+/// What `--shade` and `--gradient-opacity` cannot do in this render, said before it: with
+/// `--blend max` or `min` neither is applied (a projection takes the extreme scalar's colour
+/// and opacity); a cell scalar is constant in each cell, so the renderer has no gradient for
+/// it: shading lights every sample alike, as if it faced the light, and gradient opacity
+/// gives every sample the factor of a zero gradient.
+fn ignored_effects(
+    mesh: &cylvol::Mesh,
+    shade: bool,
+    gradient_opacity: Option<&GradientOpacity>,
+    blend: Blend,
+) -> Vec<String> {
+    let mut warnings = Vec::new();
+    let options = match (shade, gradient_opacity.is_some()) {
+        (true, true) => "--shade and --gradient-opacity",
+        (true, false) => "--shade",
+        (false, true) => "--gradient-opacity",
+        (false, false) => return warnings,
+    };
+    if blend != Blend::Composite {
+        let verb = if shade && gradient_opacity.is_some() {
+            "are"
+        } else {
+            "is"
+        };
+        warnings.push(format!(
+            "--blend {} takes the extreme scalar's colour and opacity as they are: {options} \
+             {verb} ignored",
+            blend.name()
+        ));
+        return warnings;
     }
-    Ok((w, h))
+    let Some(active) = mesh.active_scalar() else {
+        return warnings;
+    };
+    if active.association != cylvol::Association::Cell {
+        return warnings;
+    }
+    let scalar = active.selector(mesh.point_data(), mesh.cell_data());
+    let why = format!(
+        "the scalar {scalar} is a cell array, constant in each cell, so it has no gradient"
+    );
+    if shade {
+        warnings.push(format!(
+            "--shade: {why}: every sample is lit alike, as if it faced the light, and no \
+             shape shows; shade a point array (--scalar)"
+        ));
+    }
+    if let Some(g) = gradient_opacity {
+        let factor = g.at(0.0);
+        let effect = if factor == 0.0 {
+            ", so nothing is visible".to_string()
+        } else if factor == 1.0 {
+            ", so it changes nothing".to_string()
+        } else {
+            format!(": every opacity is scaled by {}", show(factor))
+        };
+        warnings.push(format!(
+            "--gradient-opacity: {why}: every sample takes the factor of a zero gradient, \
+             {}{effect}; use a point array (--scalar)",
+            show(factor)
+        ));
+    }
+    warnings
 }
 
 /// `--depth-in`'s image, rows top to bottom, checked to be `width × height`.
@@ -193,6 +263,11 @@ fn depth_image(path: &Path, width: u32, height: u32) -> Result<Vec<f32>, Error> 
 
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     // Checked before any work (clap has checked each plane; this, their number).
+    output::check("-o", &args.output, "a PNG image", &["png"])?;
+    if let Some(depth) = &args.depth {
+        output::check("--depth", depth, "VTK image data", &["vti"])?;
+    }
+    args.camera.check()?;
     let clip_planes = ClipPlanes::new(&args.clip_planes)
         .map_err(|e| Error::Invalid(format!("--clip-plane: {e}")))?;
     let (width, height) = args.size;
@@ -203,10 +278,11 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         .transpose()?;
     let mesh = args.input.load()?;
     let (axis, _) = args.input.axis(&mesh);
-    let kind = scene::structure(&args.structure, &mesh, &axis)?;
-    let path: RenderPath = args.path.parse()?;
-    let interpolation: Interpolation = args.interpolation.parse()?;
-    let blend: Blend = args.blend.parse()?;
+    let kind = scene::structure(args.structure, &mesh, &axis);
+    let (path, interpolation, blend) = (args.path, args.interpolation, args.blend);
+    for warning in ignored_effects(&mesh, args.shade, args.gradient_opacity.as_deref(), blend) {
+        log(format_args!("warning: {warning}"));
+    }
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
     let step = scene::step(&mesh, args.step)?;
@@ -237,9 +313,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let started = Instant::now();
     let (image, stats) = renderer.render(&camera, depth_in.as_deref())?;
     let frame_s = started.elapsed().as_secs_f64();
-    image.write_png(&args.output, Some([0.0; 3]))?;
+    output::write_replacing(&args.output, |path| image.write_png(path, Some([0.0; 3])))?;
     if let Some(depth) = &args.depth {
-        image.write_depth_vti(depth)?;
+        output::write_replacing(depth, |path| image.write_depth_vti(path))?;
         log(format_args!("wrote the depth image {}", depth.display()));
     }
     log(format_args!(

@@ -6,11 +6,12 @@
 use std::time::Instant;
 
 use super::log;
+use super::number::show;
 use cylvol::accel::Accel;
 use cylvol::accel::StructureKind;
 use cylvol::axis::Axis;
 use cylvol::render::Topology;
-use cylvol::render::{Camera, TransferFunction};
+use cylvol::render::{Camera, TransferFunction, MAX_SAMPLES_PER_RAY};
 use cylvol::{Error, Mesh};
 
 /// The default `--view`: VTK's reset camera (looking down `−z` at the bounds' centre).
@@ -46,13 +47,40 @@ pub fn parse_side(s: &str) -> Result<u32, String> {
     Ok(n)
 }
 
+/// A `--structure` argument: one of the four structures, or `auto`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StructureChoice {
+    /// Chosen for the mesh ([`structure`]).
+    Auto,
+    /// This one.
+    Kind(StructureKind),
+}
+
+impl std::str::FromStr for StructureChoice {
+    type Err = String;
+
+    /// `auto` or a structure's name; an error lists all five.
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s == "auto" {
+            return Ok(StructureChoice::Auto);
+        }
+        s.parse().map(StructureChoice::Kind).map_err(|_| {
+            let names: Vec<&str> = StructureKind::ALL.iter().map(|k| k.name()).collect();
+            format!(
+                "unknown structure '{s}' (expected {} or auto)",
+                names.join(", ")
+            )
+        })
+    }
+}
+
 /// The structure a `--structure` argument names. `auto` predicts the cost of each family from
 /// the surface area of a sample of cells' bounds about the axis and takes the cheaper BVH
 /// ([`cylvol::accel::choose::auto_structure`]): cylindrical for turbomachinery meshes,
 /// Cartesian for a Cartesian block.
-pub fn structure(name: &str, mesh: &Mesh, axis: &Axis) -> Result<StructureKind, Error> {
-    match name {
-        "auto" => {
+pub fn structure(choice: StructureChoice, mesh: &Mesh, axis: &Axis) -> StructureKind {
+    match choice {
+        StructureChoice::Auto => {
             let ratio = cylvol::accel::choose::cylindrical_area_ratio(mesh, axis);
             let kind = cylvol::accel::choose::structure_for_ratio(ratio);
             if let Some(r) = ratio {
@@ -60,9 +88,9 @@ pub fn structure(name: &str, mesh: &Mesh, axis: &Axis) -> Result<StructureKind, 
                     "auto: cylindrical ÷ Cartesian bound area {r:.3} over sampled cells → {kind}"
                 ));
             }
-            Ok(kind)
+            kind
         }
-        s => s.parse(),
+        StructureChoice::Kind(kind) => kind,
     }
 }
 
@@ -100,14 +128,32 @@ pub fn neighbours(mesh: &Mesh, accel: &Accel) -> Topology {
     n
 }
 
-/// The sample spacing: `--step` when given (it must be positive and finite), else
+/// The sample spacing: `--step` when given (it must be positive and finite, and not so small
+/// that a ray across the mesh would take more than
+/// [`cylvol::render::MAX_SAMPLES_PER_RAY`] samples), else
 /// [`cylvol::render::default_step`] (half the mean cell size).
 pub fn step(mesh: &Mesh, given: Option<f64>) -> Result<f64, Error> {
-    match given {
-        Some(s) if s > 0.0 && s.is_finite() => Ok(s),
-        Some(s) => Err(Error::Invalid(format!(
-            "--step {s} must be positive and finite"
-        ))),
-        None => Ok(cylvol::render::default_step(mesh)),
+    let Some(s) = given else {
+        return Ok(cylvol::render::default_step(mesh));
+    };
+    if !(s > 0.0 && s.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "--step {} must be positive and finite",
+            show(s)
+        )));
     }
+    let diagonal = diagonal(mesh);
+    let samples = diagonal / s;
+    if samples > MAX_SAMPLES_PER_RAY {
+        return Err(Error::Invalid(format!(
+            "--step {} is too small for this mesh: a ray across its diagonal ({}) would take {} \
+             samples (at most {}); give a step of at least {}",
+            show(s),
+            show(diagonal),
+            show(samples),
+            show(MAX_SAMPLES_PER_RAY),
+            show(diagonal / MAX_SAMPLES_PER_RAY)
+        )));
+    }
+    Ok(s)
 }

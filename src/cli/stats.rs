@@ -21,10 +21,15 @@ pub struct StatsArgs {
     json: bool,
     /// Points (inside random cells, seeded) to locate through each structure to measure the
     /// work per lookup; 0 skips it.
-    #[arg(long, default_value_t = 100_000)]
+    #[arg(long, default_value_t = 100_000, value_parser = parse_lookups, allow_hyphen_values = true)]
     lookups: usize,
     /// Grid densities: a preset (default, fast, compact, paper) or `TOP,LEAF` densities.
-    #[arg(long, value_name = "PRESET|λ1,λ2", default_value = "default")]
+    #[arg(
+        long,
+        value_name = "PRESET|λ1,λ2",
+        default_value = "default",
+        allow_hyphen_values = true
+    )]
     grid: String,
     /// BVH parameters: a preset (balanced, fast-build, fine).
     #[arg(long, value_name = "PRESET", default_value = "balanced")]
@@ -34,6 +39,11 @@ pub struct StatsArgs {
     /// first).
     #[arg(long, value_name = "cells|share")]
     grid_order: Option<CandidateOrder>,
+}
+
+/// Parses `--lookups N`, 0 or more.
+fn parse_lookups(s: &str) -> Result<usize, String> {
+    super::number::whole_in(s, "lookups", 0, usize::MAX as u64).map(|n| n as usize)
 }
 
 /// The structure parameters `--grid` and `--bvh` name.
@@ -50,7 +60,9 @@ pub fn params_from(grid: &str, bvh: &str) -> Result<AccelParams, Error> {
             let top: f64 = a.trim().parse().map_err(|_| bad())?;
             let leaf: f64 = b.trim().parse().map_err(|_| bad())?;
             if !(top > 0.0 && leaf > 0.0 && top.is_finite() && leaf.is_finite()) {
-                return Err(bad());
+                return Err(Error::Invalid(format!(
+                    "--grid '{grid}': the densities TOP,LEAF must be positive and finite"
+                )));
             }
             GridParams {
                 top_density: top,
@@ -122,9 +134,10 @@ fn ratios(cart: &Value, cyl: &Value, keys: &[&str]) -> Value {
 }
 
 pub fn run(args: &StatsArgs) -> Result<(), Error> {
+    // Checked before the mesh is loaded.
+    let mut params = params_from(&args.grid, &args.bvh)?;
     let mesh = args.input.load()?;
     let (axis, _) = args.input.axis(&mesh);
-    let mut params = params_from(&args.grid, &args.bvh)?;
     if let Some(order) = args.grid_order {
         params.grid.order = order;
     }

@@ -7,6 +7,7 @@
 //! increasing scalar order, or the command says which one is out of place. What the options
 //! leave out comes from the default transfer function ([`super::scene::transfer`]).
 
+use super::number::show;
 use cylvol::render::transfer::VTK_MAPPER_TABLE_ENTRIES;
 use cylvol::render::TransferFunction;
 use cylvol::Error;
@@ -95,7 +96,8 @@ impl TransferArgs {
             let d = d.resolve([0.0, diagonal]);
             if !(d > 0.0 && d.is_finite()) {
                 return Err(Error::Invalid(format!(
-                    "--unit-distance must be positive and finite, not {d}"
+                    "--unit-distance must be positive and finite, not {}",
+                    show(d)
                 )));
             }
             tf.unit_distance = d;
@@ -121,9 +123,11 @@ fn in_order(option: &str, scalars: impl Iterator<Item = f64>) -> Result<(), Erro
         }
         if s < last {
             return Err(Error::Invalid(format!(
-                "{option}: point {} (scalar {s}) is below the point before it ({last}); \
+                "{option}: point {} (scalar {}) is below the point before it ({}); \
                  points go in increasing scalar order",
-                k + 1
+                k + 1,
+                show(s),
+                show(last)
             )));
         }
         last = s;

@@ -110,3 +110,79 @@ pub struct ActiveScalar {
     /// Which component (or the magnitude).
     pub component: Component,
 }
+
+/// Whether points and cells both hold an array named `name`.
+fn shared(name: &str, point: &[DataArray], cell: &[DataArray]) -> bool {
+    let has = |arrays: &[DataArray]| arrays.iter().any(|a| a.name == name);
+    has(point) && has(cell)
+}
+
+/// The names of all arrays, point arrays first, each as [`super::Mesh::set_active_scalar`]
+/// takes it: a name that points and cells share comes as `point:NAME` and `cell:NAME`.
+pub(crate) fn selectors(point: &[DataArray], cell: &[DataArray]) -> Vec<String> {
+    let tagged = point
+        .iter()
+        .map(|a| (Association::Point, a))
+        .chain(cell.iter().map(|a| (Association::Cell, a)));
+    tagged
+        .map(|(association, a)| {
+            if shared(&a.name, point, cell) {
+                format!("{association}:{}", a.name)
+            } else {
+                a.name.clone()
+            }
+        })
+        .collect()
+}
+
+impl ActiveScalar {
+    /// This selection as [`super::Mesh::set_active_scalar`] (and `cylvol --scalar`) takes it,
+    /// given the mesh's point and cell arrays: the array's name (`p`), with `cell:` before it
+    /// where a point array has the same name (the bare name picks the point array:
+    /// `cell:p`), and `[k]` after it for component `k` of an array of several (`U[2]`; `U`
+    /// is its magnitude).
+    ///
+    /// ```
+    /// use cylvol::{CellKind, DataArray, Mesh, MeshParts};
+    /// let corner = |i: i32| glam::DVec3::new((i & 1).into(), (i >> 1 & 1).into(), (i >> 2).into());
+    /// let mut mesh = Mesh::from_parts(MeshParts {
+    ///     points: (0..8).map(corner).collect(),
+    ///     cells: vec![[0, 1, 3, 2, 4, 5, 7, 6]],
+    ///     kinds: vec![CellKind::Hexahedron],
+    ///     point_data: vec![
+    ///         DataArray::scalar("p", vec![0.0; 8]),
+    ///         DataArray::vector("U", vec![0.0; 24]),
+    ///     ],
+    ///     cell_data: vec![DataArray::scalar("p", vec![1.0]), DataArray::scalar("k", vec![2.0])],
+    /// })
+    /// .unwrap();
+    /// for name in ["U[2]", "U", "p", "cell:p", "k"] {
+    ///     mesh.set_active_scalar(name).unwrap();
+    ///     let active = mesh.active_scalar().unwrap();
+    ///     assert_eq!(active.selector(mesh.point_data(), mesh.cell_data()), name);
+    /// }
+    /// // As --scalar is told: `point:` is never needed, since points are searched first.
+    /// mesh.set_active_scalar("point:p").unwrap();
+    /// let active = mesh.active_scalar().unwrap();
+    /// assert_eq!(active.selector(mesh.point_data(), mesh.cell_data()), "p");
+    /// ```
+    pub fn selector(&self, point: &[DataArray], cell: &[DataArray]) -> String {
+        let arrays = match self.association {
+            Association::Point => point,
+            Association::Cell => cell,
+        };
+        let Some(array) = arrays.get(self.array) else {
+            return String::new();
+        };
+        let name = match self.association {
+            Association::Cell if shared(&array.name, point, cell) => {
+                format!("cell:{}", array.name)
+            }
+            _ => array.name.clone(),
+        };
+        match self.component {
+            Component::Index(k) if array.components > 1 => format!("{name}[{k}]"),
+            _ => name,
+        }
+    }
+}

@@ -318,12 +318,7 @@ impl Mesh {
                 return Ok(());
             }
         }
-        let names: Vec<&str> = self
-            .point_data
-            .iter()
-            .chain(&self.cell_data)
-            .map(|a| a.name.as_str())
-            .collect();
+        let names = data::selectors(&self.point_data, &self.cell_data);
         Err(Error::Invalid(format!(
             "no scalar array named '{name}' (the mesh has: {})",
             if names.is_empty() {
