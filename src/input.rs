@@ -39,14 +39,15 @@ impl Input {
     }
 
     /// Loads the mesh: generates the dataset or reads the file. A Q file in `options` is an
-    /// error for anything but a PLOT3D grid. What a user should know of the load goes to
-    /// standard error, where the program's logs go: a PLOT3D grid with no Q file given and
-    /// none beside it (so no arrays to render) says so, and which names were looked for.
+    /// error for anything but a PLOT3D grid. Says nothing; [`Input::load_logged`] gives the
+    /// notes a user should see.
     pub fn load(&self, options: &ReadOptions) -> Result<Mesh, Error> {
-        self.load_logged(options, &mut |note| eprintln!("cylvol: {note}"))
+        self.load_logged(options, &mut |_| {})
     }
 
-    /// [`Input::load`], giving what it would write to standard error to `log` instead.
+    /// [`Input::load`], giving `log` what a user should know of the load (the `cylvol`
+    /// program writes it to standard error): a PLOT3D grid with no Q file given and none
+    /// beside it (so no arrays to render) says so, and which names were looked for.
     ///
     /// ```
     /// use cylvol::input::Input;

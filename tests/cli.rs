@@ -281,37 +281,6 @@ fn errors_go_to_standard_error_with_a_non_zero_exit() {
     }
 }
 
-/// `--q` goes with a PLOT3D grid; given with anything else it would be ignored, so it is
-/// refused, before the input is read.
-#[test]
-fn a_q_file_for_an_input_that_is_not_plot3d_is_refused() {
-    let q = data("combq.bin");
-    let q = q.to_str().unwrap();
-    for input in [
-        "pump-rotor:2000".to_string(),
-        data("mixer.vtk").display().to_string(),
-    ] {
-        let out = cylvol(&["info", &input, "--q", q]);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success(), "{input}: {err}");
-        assert!(
-            err.contains(&format!(
-                "--q {q}: a Q file goes with a PLOT3D grid (*xyz.bin, .xyz, .x, .g, .p3d), and \
-                 {input} is not one"
-            )),
-            "{err}"
-        );
-        assert!(!err.contains("loaded"), "{err}");
-    }
-    let grid = data("combxyz.bin");
-    let out = cylvol(&["info", grid.to_str().unwrap(), "--q", q, "--json"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
 /// Standard output that cannot be written is an error, not a panic: a full device is
 /// reported on standard error; a reader that closed the pipe ends the program quietly with
 /// the status a shell gives a program SIGPIPE ended (141).

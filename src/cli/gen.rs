@@ -37,7 +37,7 @@ pub fn run(args: &GenArgs) -> Result<(), Error> {
     super::output::check_folder("-o", &args.output)?;
     let input = Input::parse(&args.spec)?;
     let started = Instant::now();
-    let mesh = input.load(&Default::default())?;
+    let mesh = input.load_logged(&Default::default(), &mut |note| log(format_args!("{note}")))?;
     let verb = match input {
         Input::Synthetic(..) => "generated",
         Input::File(_) => "read",

@@ -72,30 +72,15 @@ pub struct InputArgs {
 }
 
 impl InputArgs {
-    /// Loads the mesh and selects the requested scalar. A `--q` file for an input that is not
-    /// a PLOT3D grid is refused first (it would be ignored).
+    /// Loads the mesh and selects the requested scalar (a `--q` file for an input that is not
+    /// a PLOT3D grid is refused by the reader, [`cylvol::io::read_file`]).
     pub fn load(&self) -> Result<cylvol::Mesh, cylvol::Error> {
-        if let Some(q) = &self.q_file {
-            let plot3d = match cylvol::input::Input::parse(&self.input)? {
-                cylvol::input::Input::File(p) => {
-                    cylvol::io::Format::from_path(&p) == Some(cylvol::io::Format::Plot3d)
-                }
-                cylvol::input::Input::Synthetic(..) => false,
-            };
-            if !plot3d {
-                return Err(cylvol::Error::Invalid(format!(
-                    "--q {}: a Q file goes with a PLOT3D grid (*xyz.bin, .xyz, .x, .g, .p3d), \
-                     and {} is not one",
-                    q.display(),
-                    self.input
-                )));
-            }
-        }
         let options = cylvol::io::ReadOptions {
             q_file: self.q_file.clone(),
         };
         let started = std::time::Instant::now();
-        let mut mesh = cylvol::input::load(&self.input, &options)?;
+        let mut mesh = cylvol::input::Input::parse(&self.input)?
+            .load_logged(&options, &mut |note| log(format_args!("{note}")))?;
         if let Some(name) = &self.scalar {
             mesh.set_active_scalar(name)?;
         }
