@@ -1076,3 +1076,28 @@ fn render_takes_a_march_reach_with_the_same_image() {
     }
     assert!(!Path::new(&out).exists(), "nothing written");
 }
+
+/// A mesh with no point or cell array (a PLOT3D grid without its Q file) is refused by every
+/// rendering command as soon as it is loaded, before any structure is built for it.
+#[test]
+fn a_mesh_with_nothing_to_render_is_refused_before_any_build() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = dir.path().join("combxyz.bin");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/combxyz.bin"),
+        &grid,
+    )
+    .unwrap();
+    let grid = grid.to_str().unwrap();
+    let png = dir.path().join("x.png");
+    for args in [
+        vec!["render", grid, "-o", png.to_str().unwrap()],
+        vec!["accuracy", grid],
+        vec!["bench", grid],
+    ] {
+        fails_with(&args, "the mesh has no point or cell array to render");
+        let stderr = String::from_utf8_lossy(&cylvol(&args).stderr).into_owned();
+        assert!(stderr.contains("loaded"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("built"), "{args:?} built first: {stderr}");
+    }
+}

@@ -255,7 +255,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
     }
     super::camera::check_zoom(args.view.unwrap_or(DEFAULT_VIEW))?;
     let path = args.path;
-    let mesh = args.input.load()?;
+    let mesh = scene::renderable(args.input.load()?)?;
     let (axis, _) = args.input.axis(&mesh);
     let kind = scene::structure(args.structure, &mesh, &axis);
     let label = cylvol::input::Input::parse(&args.input.input)?.label();

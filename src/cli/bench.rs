@@ -374,7 +374,7 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
             scalar: args.scalar.clone(),
             axis: args.axis,
         };
-        let mesh = input.load()?;
+        let mesh = scene::renderable(input.load()?)?;
         let (axis, _) = input.axis(&mesh);
         let label = cylvol::input::Input::parse(spec)?.label();
         let mut params = AccelParams::default();

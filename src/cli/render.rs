@@ -276,7 +276,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         .as_deref()
         .map(|path| depth_image(path, width, height))
         .transpose()?;
-    let mesh = args.input.load()?;
+    let mesh = scene::renderable(args.input.load()?)?;
     let (axis, _) = args.input.axis(&mesh);
     let kind = scene::structure(args.structure, &mesh, &axis);
     let (path, interpolation, blend) = (args.path, args.interpolation, args.blend);

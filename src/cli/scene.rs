@@ -94,6 +94,17 @@ pub fn structure(choice: StructureChoice, mesh: &Mesh, axis: &Axis) -> Structure
     }
 }
 
+/// The mesh to render, refused before anything is built for it where it holds no point or
+/// cell array (the renderer's own refusal comes only after the structure's build).
+pub fn renderable(mesh: Mesh) -> Result<Mesh, Error> {
+    match mesh.active_scalars() {
+        Some(_) => Ok(mesh),
+        None => Err(Error::Invalid(
+            "the mesh has no point or cell array to render".into(),
+        )),
+    }
+}
+
 /// The length of the mesh's bounding-box diagonal.
 pub fn diagonal(mesh: &Mesh) -> f64 {
     let b = mesh.bounds();
