@@ -565,6 +565,16 @@ typedef struct CylvolRenderStats {
    * march's reach ahead, the ray proved in the mesh up to them (fast path).
    */
   uint64_t far_locates;
+  /**
+   * Pieces of rays in the mesh too short to hold a sample (a grazing ray, a thin part),
+   * each sampled once at its middle (with the boundary surface, which the volume builds).
+   */
+  uint64_t chord_samples;
+  /**
+   * Stretches of rays outside the mesh between two samples in it (a thin blade crossed),
+   * left out of the samples' segments.
+   */
+  uint64_t gaps;
 } CylvolRenderStats;
 
 #ifdef __cplusplus

@@ -185,6 +185,12 @@ pub struct CylvolRenderStats {
     /// Samples located through the structure rather than by marching to them: more than the
     /// march's reach ahead, the ray proved in the mesh up to them (fast path).
     pub far_locates: u64,
+    /// Pieces of rays in the mesh too short to hold a sample (a grazing ray, a thin part),
+    /// each sampled once at its middle (with the boundary surface, which the volume builds).
+    pub chord_samples: u64,
+    /// Stretches of rays outside the mesh between two samples in it (a thin blade crossed),
+    /// left out of the samples' segments.
+    pub gaps: u64,
 }
 
 impl From<(f64, RenderStats)> for CylvolRenderStats {
@@ -213,6 +219,8 @@ impl From<(f64, RenderStats)> for CylvolRenderStats {
             extreme_skips: s.extreme_skips,
             extreme_jumps: s.extreme_jumps,
             far_locates: s.far_locates,
+            chord_samples: s.chord_samples,
+            gaps: s.gaps,
         }
     }
 }
