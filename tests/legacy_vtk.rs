@@ -250,22 +250,16 @@ fn vtk_rewrites_the_mixer(body: &str) -> Option<(tempfile::TempDir, String)> {
 /// arrays carry range information) in binary and ASCII, and the classic layout (version 4.2).
 #[test]
 fn files_vtk_writes_read_the_same_in_both_cell_layouts() {
-    let Some((dir, default_version)) = vtk_rewrites_the_mixer(
+    let script = format!(
         r#"
 g.GetPoints().GetData().GetRange(-1)
 for i in range(g.GetPointData().GetNumberOfArrays()):
     g.GetPointData().GetArray(i).GetRange(-1)
-for name, binary, version in [('v51_binary', True, None), ('v51_ascii', False, None),
-                              ('v42_binary', True, 42), ('v42_ascii', False, 42)]:
-    w = vtk.vtkUnstructuredGridWriter(); w.SetInputData(g)
-    w.SetFileName(out + '/' + name + '.vtk')
-    if binary: w.SetFileTypeToBinary()
-    else: w.SetFileTypeToASCII()
-    if version: w.SetFileVersion(version)
-    w.Write()
+{VTK_WRITES_FOUR_LAYOUTS}
 print(vtk.vtkUnstructuredGridWriter().GetFileVersion())
-"#,
-    ) else {
+"#
+    );
+    let Some((dir, default_version)) = vtk_rewrites_the_mixer(&script) else {
         return;
     };
     assert_eq!(

@@ -1779,7 +1779,8 @@ impl<'a> Renderer<'a> {
     /// walk from the chord's face cell on the fast path, through the structure on the paper
     /// path (and where the walk gives up); a middle located nowhere (a chord too thin for the
     /// inverse map's tolerance) or in a transparent cell adds nothing. Counted in
-    /// [`RenderStats::chord_samples`].
+    /// [`RenderStats::chord_samples`]. Returns whether the ray is now opaque enough to stop
+    /// (early termination).
     #[allow(clippy::too_many_arguments)]
     fn composite_chords(
         &self,
@@ -1791,7 +1792,7 @@ impl<'a> Renderer<'a> {
         transparent: Option<&TransparentCells>,
         counters: &mut Counters,
         stats: &mut RenderStats,
-    ) {
+    ) -> bool {
         let mesh = self.volume.mesh;
         let opts = &self.options;
         for chord in chords {
@@ -1859,6 +1860,7 @@ impl<'a> Renderer<'a> {
             };
             acc.composite(&piece, chord.end, opts.step, opts.depth_opacity);
         }
+        1.0 - acc.transmittance >= opts.early_termination
     }
 
     /// The scalar at parameters `param` (in the cell's cube) of `cell`: the trilinear (or
@@ -2372,9 +2374,10 @@ impl<'a> Renderer<'a> {
                     &mut counters,
                     stats,
                 );
-                if let Some(b) = &between {
-                    self.composite_chords(
-                        b.chords(),
+                let chords = between.as_ref().map_or(&[][..], |b| b.chords());
+                if !chords.is_empty()
+                    && self.composite_chords(
+                        chords,
                         origin,
                         dir,
                         &mut acc,
@@ -2382,12 +2385,11 @@ impl<'a> Renderer<'a> {
                         transparent,
                         &mut counters,
                         stats,
-                    );
-                    if 1.0 - acc.transmittance >= opts.early_termination {
-                        stats.early_terminations += 1;
-                        terminated = true;
-                        break;
-                    }
+                    )
+                {
+                    stats.early_terminations += 1;
+                    terminated = true;
+                    break;
                 }
                 (outside_until, surface_cell) =
                     proved.map_or_else(|| next_surface_crossing(t), |p| p.next);
@@ -2409,40 +2411,43 @@ impl<'a> Renderer<'a> {
                         t,
                         stats,
                     ));
-            let mut entry: Option<Option<f64>> = None;
-            if !was_in || crossed {
-                let b = self.between(
-                    faces,
-                    origin,
-                    dir,
-                    previous(k - 1, was_in, after_jump),
-                    (t, End::Sample),
-                    stats,
-                );
-                if let Some(b) = b {
-                    if b.exit.is_some() && b.entry.is_some() {
-                        stats.gaps += 1;
-                    }
-                    if let (Some(e), Some(l)) = (b.exit, acc.last.take()) {
-                        acc.exit(l, e, step, opts.depth_opacity);
-                    }
-                    self.composite_chords(
-                        b.chords(),
+            let between = (!was_in || crossed)
+                .then(|| {
+                    self.between(
+                        faces,
                         origin,
                         dir,
-                        &mut acc,
-                        &extreme,
-                        transparent,
-                        &mut counters,
+                        previous(k - 1, was_in, after_jump),
+                        (t, End::Sample),
                         stats,
-                    );
-                    if 1.0 - acc.transmittance >= opts.early_termination {
-                        stats.early_terminations += 1;
-                        terminated = true;
-                        break;
-                    }
-                    entry = Some(b.entry);
+                    )
+                })
+                .flatten();
+            let entry = between.map(|b| b.entry);
+            if let Some(b) = &between {
+                if b.exit.is_some() && b.entry.is_some() {
+                    stats.gaps += 1;
                 }
+                if let (Some(e), Some(l)) = (b.exit, acc.last.take()) {
+                    acc.exit(l, e, step, opts.depth_opacity);
+                }
+            }
+            let chords = between.as_ref().map_or(&[][..], |b| b.chords());
+            if !chords.is_empty()
+                && self.composite_chords(
+                    chords,
+                    origin,
+                    dir,
+                    &mut acc,
+                    &extreme,
+                    transparent,
+                    &mut counters,
+                    stats,
+                )
+            {
+                stats.early_terminations += 1;
+                terminated = true;
+                break;
             }
             // The previous composited sample (if any) keeps its full end (or the exit just
             // found): this one is inside.
