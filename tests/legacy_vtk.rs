@@ -361,16 +361,19 @@ for name, binary, version in [('v51_binary', True, None), ('v42_ascii', False, 4
 }
 
 /// The four legacy layouts VTK 9.1 writes (binary or ASCII, VTK 5.1's cell layout or version
-/// 4.2's), as a script's loop over `name, binary, version`.
+/// 4.2's), as a script's calls of `write(name, binary, version)`, which later lines may call
+/// too.
 const VTK_WRITES_FOUR_LAYOUTS: &str = r#"
-for name, binary, version in [('v51_binary', True, None), ('v51_ascii', False, None),
-                              ('v42_binary', True, 42), ('v42_ascii', False, 42)]:
+def write(name, binary, version):
     w = vtk.vtkUnstructuredGridWriter(); w.SetInputData(g)
     w.SetFileName(out + '/' + name + '.vtk')
     if binary: w.SetFileTypeToBinary()
     else: w.SetFileTypeToASCII()
     if version: w.SetFileVersion(version)
     w.Write()
+for name, binary, version in [('v51_binary', True, None), ('v51_ascii', False, None),
+                              ('v42_binary', True, 42), ('v42_ascii', False, 42)]:
+    write(name, binary, version)
 "#;
 
 /// Our reader on a file VTK wrote from the mixer with arrays added: both the whole-file and
@@ -491,12 +494,7 @@ g.GetPointData().AddArray(bits('pair', np, 2, lambda i: i % 5 < 2))
 g.GetCellData().SetVectors(bits('bv', nc, 3, lambda i: i % 7 == 1))
 for name, binary, version in [('multi_v51_ascii', False, None), ('multi_v42_ascii', False, 42),
                               ('multi_v51_binary', True, None)]:
-    w = vtk.vtkUnstructuredGridWriter(); w.SetInputData(g)
-    w.SetFileName(out + '/' + name + '.vtk')
-    if binary: w.SetFileTypeToBinary()
-    else: w.SetFileTypeToASCII()
-    if version: w.SetFileVersion(version)
-    w.Write()
+    write(name, binary, version)
 "#;
     let Some((dir, _)) = vtk_rewrites_the_mixer(&body) else {
         return;

@@ -2155,6 +2155,29 @@ impl<'a> Renderer<'a> {
                 (sample_t(k - 1), End::Outside)
             }
         };
+        // Composites the chords between two positions (see `super::chords`) and stops the ray
+        // where they make it opaque (early termination).
+        macro_rules! chords_or_stop {
+            ($chords:expr) => {
+                let chords: &[Chord] = $chords;
+                if !chords.is_empty()
+                    && self.composite_chords(
+                        chords,
+                        origin,
+                        dir,
+                        &mut acc,
+                        &extreme,
+                        transparent,
+                        &mut counters,
+                        stats,
+                    )
+                {
+                    stats.early_terminations += 1;
+                    terminated = true;
+                    break;
+                }
+            };
+        }
         let mut k = 0u64;
         'samples: loop {
             let t = sample_t(k);
@@ -2374,23 +2397,7 @@ impl<'a> Renderer<'a> {
                     &mut counters,
                     stats,
                 );
-                let chords = between.as_ref().map_or(&[][..], |b| b.chords());
-                if !chords.is_empty()
-                    && self.composite_chords(
-                        chords,
-                        origin,
-                        dir,
-                        &mut acc,
-                        &extreme,
-                        transparent,
-                        &mut counters,
-                        stats,
-                    )
-                {
-                    stats.early_terminations += 1;
-                    terminated = true;
-                    break;
-                }
+                chords_or_stop!(between.as_ref().map_or(&[][..], |b| b.chords()));
                 (outside_until, surface_cell) =
                     proved.map_or_else(|| next_surface_crossing(t), |p| p.next);
                 continue;
@@ -2432,23 +2439,7 @@ impl<'a> Renderer<'a> {
                     acc.exit(l, e, step, opts.depth_opacity);
                 }
             }
-            let chords = between.as_ref().map_or(&[][..], |b| b.chords());
-            if !chords.is_empty()
-                && self.composite_chords(
-                    chords,
-                    origin,
-                    dir,
-                    &mut acc,
-                    &extreme,
-                    transparent,
-                    &mut counters,
-                    stats,
-                )
-            {
-                stats.early_terminations += 1;
-                terminated = true;
-                break;
-            }
+            chords_or_stop!(between.as_ref().map_or(&[][..], |b| b.chords()));
             // The previous composited sample (if any) keeps its full end (or the exit just
             // found): this one is inside.
             acc.last = None;
