@@ -724,8 +724,8 @@ fn q_file_for_other_inputs_is_refused() {
 }
 
 /// A grid with no Q file beside it and none given says so on standard error, with the names
-/// looked for (it was silent), before `render`'s "no scalar array" error, so that error can
-/// be understood; with a Q file beside it or given, nothing is said.
+/// looked for (it was silent), before `render`'s "no point or cell array" error, so that error
+/// can be understood; with a Q file beside it or given, nothing is said.
 #[test]
 fn missing_q_file_is_said_on_standard_error() {
     let dir = copies(&[("combxyz.bin", "combxyz.bin")]);
@@ -751,7 +751,10 @@ fn missing_q_file_is_said_on_standard_error() {
     let (status, stderr) = cylvol(&args);
     assert_eq!(status, 1, "{stderr}");
     let error = stderr.find("cylvol: error:").expect("an error");
-    assert!(stderr[error..].contains("no scalar array"), "{stderr}");
+    assert!(
+        stderr[error..].contains("no point or cell array to render"),
+        "{stderr}"
+    );
     assert!(stderr[..error].starts_with(&note), "{stderr}");
 
     let q = data("combq.bin");
