@@ -39,7 +39,8 @@ enum DataFormat {
 #[derive(Clone, Debug)]
 struct ArrayDesc {
     name: String,
-    /// `None` for types the reader skips (strings, bits, unknown names).
+    /// `None` for types that are not numbers (strings, bits, unknown names); of those, bit
+    /// arrays are read as 0 and 1 and the others skipped.
     ty: Option<ScalarType>,
     type_name: String,
     components: usize,
@@ -519,10 +520,21 @@ impl<'a> Decoder<'a> {
 
     /// The element data of an array of `count` elements of its type.
     fn data(&self, desc: &ArrayDesc, ty: ScalarType, count: usize) -> Result<Data<'a>, ReadError> {
-        let what = format!("DataArray \"{}\"", desc.name);
         let expected = (count as u64)
             .checked_mul(ty.size() as u64)
-            .ok_or_else(|| err(desc.at, format!("{what}: too many values")))?;
+            .ok_or_else(|| {
+                err(
+                    desc.at,
+                    format!("DataArray \"{}\": too many values", desc.name),
+                )
+            })?;
+        self.data_bytes(desc, expected)
+    }
+
+    /// The character data of an ASCII array, or the `expected` bytes of a binary or appended
+    /// one, decompressed.
+    fn data_bytes(&self, desc: &ArrayDesc, expected: u64) -> Result<Data<'a>, ReadError> {
+        let what = format!("DataArray \"{}\"", desc.name);
         match desc.format {
             DataFormat::Ascii => {
                 let (text, at) = self.text(desc);
@@ -592,6 +604,23 @@ impl<'a> Decoder<'a> {
                 ),
             )
         })
+    }
+
+    /// `count` values of a `type="Bit"` array as 0 and 1, as VTK's XML readers give them: in
+    /// an ASCII array, one number a value (any but 0 is 1); in binary and appended data,
+    /// `⌈count / 8⌉` bytes, the first value in a byte's highest bit, the tuples' components in
+    /// turn.
+    fn bits(&self, desc: &ArrayDesc, count: usize) -> Result<Vec<f64>, ReadError> {
+        let what = format!("DataArray \"{}\"", desc.name);
+        match self.data_bytes(desc, (count as u64).div_ceil(8))? {
+            Data::Bytes(b) => Ok((0..count)
+                .map(|i| f64::from((b[i / 8] >> (7 - i % 8)) & 1))
+                .collect()),
+            Data::Text(t, at) => Ok(ascii_f64(&t, at, count, &what)?
+                .into_iter()
+                .map(|v| if v == 0.0 { 0.0 } else { 1.0 })
+                .collect()),
+        }
     }
 
     fn f64s(&self, desc: &ArrayDesc, count: usize) -> Result<Vec<f64>, ReadError> {
@@ -748,7 +777,8 @@ fn data_arrays(
 ) -> Result<Vec<DataArray>, ReadError> {
     let mut out = Vec::new();
     for d in descs {
-        if d.ty.is_none() || d.components == 0 {
+        let bits = d.type_name == "Bit";
+        if (d.ty.is_none() && !bits) || d.components == 0 {
             continue;
         }
         let count = tuples
@@ -757,7 +787,11 @@ fn data_arrays(
         out.push(DataArray {
             name: d.name.clone(),
             components: d.components,
-            values: dec.f64s(d, count)?,
+            values: if bits {
+                dec.bits(d, count)?
+            } else {
+                dec.f64s(d, count)?
+            },
         });
     }
     Ok(out)
