@@ -162,6 +162,33 @@ pub enum MeshError {
     },
 }
 
+/// `v` as a message shows it: the shortest text that reads back as `v`, in scientific
+/// notation (`1e-300`, `2.5e20`) when plain digits would be long (below 10⁻⁴ or from 10¹⁶).
+///
+/// Rust's `{}` writes every digit of an `f64` (`1e-300` is 302 characters); every message
+/// that echoes a number a caller gave, or one derived from it, goes through this instead.
+///
+/// ```
+/// use cylvol::error::show_number;
+/// assert_eq!(show_number(1e-300), "1e-300");
+/// assert_eq!(show_number(0.25), "0.25");
+/// assert_eq!(show_number(f64::NAN), "NaN");
+/// ```
+pub fn show_number(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() || (1e-4..1e16).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// A point or vector as a message shows it, `(x, y, z)`, each by [`show_number`].
+pub fn show_vector(v: [f64; 3]) -> String {
+    let [x, y, z] = v.map(show_number);
+    format!("({x}, {y}, {z})")
+}
+
 fn list_types(types: &[(u8, &'static str, usize)]) -> String {
     types
         .iter()
@@ -196,6 +223,35 @@ pub(crate) fn by_name<T: Copy>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn numbers_are_shown_short_and_read_back() {
+        for (v, text) in [
+            (1e-300, "1e-300"),
+            (-1e-300, "-1e-300"),
+            (2.5e20, "2.5e20"),
+            (1e16, "1e16"),
+            (0.25, "0.25"),
+            (-3.0, "-3"),
+            (1234.5, "1234.5"),
+            (0.0001, "0.0001"),
+            (0.00001, "1e-5"),
+            (0.0, "0"),
+            (f64::INFINITY, "inf"),
+            (f64::NAN, "NaN"),
+            (f64::MIN_POSITIVE / 8.0, "2.781342323134e-309"),
+        ] {
+            assert_eq!(show_number(v), text, "{v:?}");
+            if v.is_finite() {
+                assert_eq!(show_number(v).parse::<f64>().unwrap(), v);
+            }
+        }
+        for k in -320..=308 {
+            let v = 1.7 * 10f64.powi(k);
+            assert!(show_number(v).len() <= 24, "{v:e}: {}", show_number(v));
+        }
+        assert_eq!(show_vector([1e-300, -2.0, 0.5]), "(1e-300, -2, 0.5)");
+    }
 
     #[test]
     fn by_name_finds_or_lists_the_names() {

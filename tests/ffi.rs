@@ -875,7 +875,7 @@ fn render_reports_every_bad_input() {
                 ],
                 ..p
             },
-            "params->clip_planes: clipping plane 1: [0.0, 0.0, 0.0, 1.0] has no normal",
+            "params->clip_planes: clipping plane 1: [0, 0, 0, 1] has no normal",
         ),
         (
             CylvolRenderParams {
@@ -912,6 +912,21 @@ fn render_reports_every_bad_input() {
                 ..p
             },
             "params->march_reach = -1",
+        ),
+        (
+            CylvolRenderParams {
+                march_reach: -1e-300,
+                ..p
+            },
+            "params->march_reach = -1e-300 (a number",
+        ),
+        (
+            CylvolRenderParams {
+                shading: 1,
+                ambient: -1e-300,
+                ..p
+            },
+            "params->ambient = -1e-300 (must",
         ),
         (
             CylvolRenderParams {

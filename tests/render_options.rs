@@ -375,3 +375,66 @@ fn far_samples_are_located_through_the_structure_with_the_same_image() {
         assert!(err.to_string().contains("march reach"), "{err}");
     }
 }
+
+/// The renderer's own refusals, which the C ABI and the mapper reach with any number a caller
+/// passes, write the numbers short (`error::show_number`): `1e-300`, not its 302 digits, and
+/// a projection or a clipping plane in the caller's terms, not as Rust's `Debug` prints it.
+#[test]
+fn refusals_write_numbers_short() {
+    let short = |e: cylvol::Error, want: &str| {
+        let text = e.to_string();
+        assert!(text.contains(want) && text.len() < 160, "{text}");
+    };
+    let (eye, focal, up) = (DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO, DVec3::Y);
+    short(
+        Camera::parallel(eye, focal, up, -1e-300).unwrap_err(),
+        "bad camera parallel scale -1e-300 (must be positive and finite)",
+    );
+    short(
+        Camera::perspective(eye, focal, up, 1e300).unwrap_err(),
+        "bad camera view angle 1e300 (must be in (0, 180) degrees)",
+    );
+    let tiny = DVec3::new(1e-300, 0.0, 0.0);
+    short(
+        Camera::perspective(tiny, tiny, up, 30.0).unwrap_err(),
+        "degenerate camera: eye (1e-300, 0, 0), focal point (1e-300, 0, 0), view-up (0, 1, 0)",
+    );
+    short(
+        ClipPlanes::new(&[[0.0, 0.0, 0.0, 1e-300]]).unwrap_err(),
+        "clipping plane 0: [0, 0, 0, 1e-300] has no normal",
+    );
+    let tf = TransferFunction::default_for_range(0.0, 1.0, 0.6, 0.2);
+    short(
+        tf.table(0.0, 1.0, 1e-300 - 2e-300, 256).unwrap_err(),
+        "bad step -1e-300",
+    );
+    short(
+        tf.table(1e-300, 0.0, 0.5, 256).unwrap_err(),
+        "bad scalar range [1e-300, 0]",
+    );
+
+    let mesh = cube(2, false, |p, _| p.x);
+    let accel = Accel::build(
+        &mesh,
+        StructureKind::CartGrid,
+        &Axis::Z,
+        &AccelParams::default(),
+    )
+    .expect("build");
+    let volume = Volume::new(&mesh, &accel).expect("volume");
+    let mut options = RenderOptions::new(8, 8, 0.1);
+    options.march_reach = -1e-300;
+    short(
+        Renderer::new(&volume, &tf, &options)
+            .err()
+            .expect("refused"),
+        "march reach -1e-300 must be a number of cells",
+    );
+    let options = RenderOptions::new(8, 8, 1e-300);
+    short(
+        Renderer::new(&volume, &tf, &options)
+            .err()
+            .expect("refused"),
+        "step 1e-300 is too small for a mesh of diagonal 1.8",
+    );
+}

@@ -14,6 +14,7 @@ use super::space::{
 };
 use super::{Counters, Structure, StructureKind};
 use crate::axis::Axis;
+use crate::error::show_vector;
 use crate::geometry::containment::locate_in_cell;
 use crate::geometry::cylindrical::CylFrame;
 use crate::{Error, Mesh};
@@ -105,8 +106,13 @@ impl Accel {
     ) -> Result<Accel, Error> {
         let started = Instant::now();
         let (coordinates, structure) = if kind.is_cylindrical() {
-            let bad_axis =
-                || Error::Invalid(format!("cannot build {kind} about the axis {axis:?}"));
+            let bad_axis = || {
+                Error::Invalid(format!(
+                    "cannot build {kind} about the axis through {} along {}",
+                    show_vector(axis.origin.to_array()),
+                    show_vector(axis.direction.to_array())
+                ))
+            };
             let frame = CylFrame::new(axis.origin, axis.direction).ok_or_else(bad_axis)?;
             let pieces = cylindrical_pieces(mesh, &frame, params.straddle_sectors);
             let (frame, pieces) = seam_frame(axis, pieces).ok_or_else(bad_axis)?;

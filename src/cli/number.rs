@@ -1,5 +1,5 @@
-//! Numbers on the command line: the parsers of the numeric options, and [`show`], which
-//! writes a number in a message as a person reads it.
+//! Numbers on the command line: the parsers of the numeric options, and [`show`] (the
+//! library's `error::show_number`), which writes a number in a message as a person reads it.
 //!
 //! A numeric option may be given a negative number, or a list that starts with one
 //! (`--step -1`, `--view -30,20,1`): each such option is declared with clap's
@@ -7,19 +7,7 @@
 //! with a message in the option's own terms, instead of clap reading it as an unknown flag.
 //! Each parser's message quotes the text as the user wrote it.
 
-/// `v` as a message shows it: the shortest text that reads back as `v`, in scientific
-/// notation (`1e-300`, `2.5e20`) when plain digits would be long (below 10⁻⁴ or from 10¹⁶).
-///
-/// Rust's `{}` writes every digit of an `f64` (`1e-300` is 302 characters); a message that
-/// echoes a number the user gave, or one derived from it, goes through this instead.
-pub fn show(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 || !a.is_finite() || (1e-4..1e16).contains(&a) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
-}
+pub use cylvol::error::show_number as show;
 
 /// `s` read as a number (`inf` and `nan` included, surrounding blanks ignored).
 fn number(s: &str) -> Option<f64> {
@@ -59,34 +47,6 @@ pub fn parse_step(s: &str) -> Result<f64, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn numbers_are_shown_short_and_read_back() {
-        for (v, text) in [
-            (1e-300, "1e-300"),
-            (-1e-300, "-1e-300"),
-            (2.5e20, "2.5e20"),
-            (1e16, "1e16"),
-            (0.25, "0.25"),
-            (-3.0, "-3"),
-            (1234.5, "1234.5"),
-            (0.0001, "0.0001"),
-            (0.00001, "1e-5"),
-            (0.0, "0"),
-            (f64::INFINITY, "inf"),
-            (f64::NAN, "NaN"),
-            (f64::MIN_POSITIVE / 8.0, "2.781342323134e-309"),
-        ] {
-            assert_eq!(show(v), text, "{v:?}");
-            if v.is_finite() {
-                assert_eq!(show(v).parse::<f64>().unwrap(), v);
-            }
-        }
-        for k in -320..=308 {
-            let v = 1.7 * 10f64.powi(k);
-            assert!(show(v).len() <= 24, "{v:e}: {}", show(v));
-        }
-    }
 
     #[test]
     fn positive_lengths_and_whole_numbers_say_what_is_wrong() {

@@ -5,6 +5,7 @@ use glam::DVec3;
 
 use super::codes::{CameraModeCode, Code, CylvolCameraMode};
 use super::status::Failure;
+use crate::error::show_number;
 use crate::render::camera::{MatrixRays, RayGenerator, RaySource};
 use crate::render::Camera;
 
@@ -124,7 +125,7 @@ impl CylvolCamera {
                     if !(self.parallel_scale > 0.0 && self.parallel_scale.is_finite()) {
                         return Err(Failure::invalid(format!(
                             "camera->parallel_scale = {} (must be positive and finite)",
-                            self.parallel_scale
+                            show_number(self.parallel_scale)
                         )));
                     }
                     Camera::parallel(eye, focal, up, self.parallel_scale)
@@ -132,7 +133,7 @@ impl CylvolCamera {
                     if !(self.view_angle > 0.0 && self.view_angle < 180.0) {
                         return Err(Failure::invalid(format!(
                             "camera->view_angle = {} (must be in (0, 180) degrees)",
-                            self.view_angle
+                            show_number(self.view_angle)
                         )));
                     }
                     Camera::perspective(eye, focal, up, self.view_angle)

@@ -15,6 +15,7 @@ use super::codes::{
 };
 use super::status::{CylvolStatus, Failure};
 use super::volume::{on_volume, CylvolVolume};
+use crate::error::show_number;
 use crate::render::{
     Blend, ClipPlanes, GradientOpacity, Image, Interpolation, RenderOptions, RenderPath,
     RenderStats, Renderer, Shading, TransferFunction, Volume, DEFAULT_TABLE_SIZE,
@@ -244,7 +245,7 @@ unsafe fn table(ptr: *const f32, n: usize, k: usize, what: &str) -> Result<Vec<f
     match values.iter().position(|v| !(0.0..=1.0).contains(v)) {
         Some(i) => Err(Failure::invalid(format!(
             "{what}[{i}] = {} is not in [0, 1]",
-            values[i]
+            show_number(values[i])
         ))),
         None => Ok(values),
     }
@@ -255,7 +256,8 @@ fn range(r: [f64; 2], what: &str) -> Result<[f64; 2], Failure> {
     if r[0] > r[1] {
         return Err(Failure::invalid(format!(
             "{what} = [{}, {}] is reversed",
-            r[0], r[1]
+            show_number(r[0]),
+            show_number(r[1])
         )));
     }
     Ok(r)
@@ -277,7 +279,7 @@ unsafe fn transfer_function(
     if !(t.unit_distance > 0.0 && t.unit_distance.is_finite()) {
         return Err(Failure::invalid(format!(
             "transfer->unit_distance = {} (must be positive and finite)",
-            t.unit_distance
+            show_number(t.unit_distance)
         )));
     }
     let gradient = if t.gradient_opacity.is_null() {
@@ -355,7 +357,8 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
     let step = match p.step {
         s if s.is_nan() || s.is_infinite() => {
             return Err(Failure::invalid(format!(
-                "params->step = {s} is not finite"
+                "params->step = {} is not finite",
+                show_number(s)
             )))
         }
         s if s <= 0.0 => default_step,
@@ -367,7 +370,7 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
             let name = ["ambient", "diffuse", "specular", "specular_power"][i];
             return Err(Failure::invalid(format!(
                 "params->{name} = {} (must be finite and ≥ 0)",
-                k[i]
+                show_number(k[i])
             )));
         }
         Some(Shading {
@@ -382,7 +385,7 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
     if !(p.early_termination > 0.0 && p.early_termination.is_finite()) {
         return Err(Failure::invalid(format!(
             "params->early_termination = {} (must be positive and finite)",
-            p.early_termination
+            show_number(p.early_termination)
         )));
     }
     let count = p.clip_plane_count as usize;
@@ -396,7 +399,7 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
     if p.march_reach.is_nan() || p.march_reach < 0.0 {
         return Err(Failure::invalid(format!(
             "params->march_reach = {} (a number of cells, ≥ 0; INFINITY always marches)",
-            p.march_reach
+            show_number(p.march_reach)
         )));
     }
     let mut o = RenderOptions::new(p.width, p.height, step);

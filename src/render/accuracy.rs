@@ -47,6 +47,7 @@ use serde::Serialize;
 use super::camera::{Camera, RayGenerator};
 use super::raycast::{default_step, Neighbours, RenderOptions, RenderStats, Renderer, Volume};
 use super::transfer::TransferFunction;
+use crate::error::show_number;
 use crate::{Error, Mesh};
 
 /// The study's steps as multiples of the mean cell size, coarse to fine.
@@ -233,7 +234,10 @@ pub fn step_study(
     mut progress: impl FnMut(&str),
 ) -> Result<(StepStudy, Rgba64), Error> {
     if !(base > 0.0 && base.is_finite()) {
-        return Err(Error::Invalid(format!("bad mean cell size {base}")));
+        return Err(Error::Invalid(format!(
+            "bad mean cell size {}",
+            show_number(base)
+        )));
     }
     let step = base * reference_factor;
     let (reference_image, stats, time_s) = scene.render_at(step)?;

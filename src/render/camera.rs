@@ -34,6 +34,7 @@
 
 use glam::{DMat4, DQuat, DVec3, DVec4};
 
+use crate::error::{show_number, show_vector};
 use crate::Error;
 
 /// Perspective or parallel projection.
@@ -121,10 +122,16 @@ impl Camera {
             Projection::Parallel(s) => s > 0.0 && s.is_finite(),
         };
         if !ok_projection {
-            return Err(Error::Invalid(format!(
-                "bad camera projection {:?} (view angle in (0, 180) degrees, parallel scale > 0)",
-                self.projection
-            )));
+            return Err(Error::Invalid(match self.projection {
+                Projection::Perspective(a) => format!(
+                    "bad camera view angle {} (must be in (0, 180) degrees)",
+                    show_number(a)
+                ),
+                Projection::Parallel(s) => format!(
+                    "bad camera parallel scale {} (must be positive and finite)",
+                    show_number(s)
+                ),
+            }));
         }
         self.frame().map(|_| ())
     }
@@ -139,7 +146,9 @@ impl Camera {
         {
             return Err(Error::Invalid(format!(
                 "degenerate camera: eye {}, focal point {}, view-up {}",
-                self.eye, self.focal, self.up
+                show_vector(self.eye.to_array()),
+                show_vector(self.focal.to_array()),
+                show_vector(self.up.to_array())
             )));
         }
         Ok(CameraFrame {

@@ -15,6 +15,7 @@
 use glam::DVec3;
 
 use crate::accel::bvh::ray::clip_to_slab;
+use crate::error::show_number;
 use crate::Error;
 
 /// The most clipping planes a render takes (VTK's OpenGL mappers take six).
@@ -60,12 +61,14 @@ impl ClipPlanes {
         for (i, e) in equations.iter().enumerate() {
             if !e.iter().all(|v| v.is_finite()) {
                 return Err(Error::Invalid(format!(
-                    "clipping plane {i}: {e:?} is not finite"
+                    "clipping plane {i}: {} is not finite",
+                    show_plane(e)
                 )));
             }
             if e[..3].iter().all(|&v| v == 0.0) {
                 return Err(Error::Invalid(format!(
-                    "clipping plane {i}: {e:?} has no normal"
+                    "clipping plane {i}: {} has no normal",
+                    show_plane(e)
                 )));
             }
             planes.planes[i] = *e;
@@ -119,6 +122,11 @@ impl ClipPlanes {
 /// The plane's function `a x + b y + c z + d` at `p`.
 fn value(e: &[f64; 4], p: DVec3) -> f64 {
     e[0] * p.x + e[1] * p.y + e[2] * p.z + e[3]
+}
+
+/// A plane's `[a, b, c, d]` as a message shows it.
+fn show_plane(e: &[f64; 4]) -> String {
+    format!("[{}]", e.map(show_number).join(", "))
 }
 
 #[cfg(test)]

@@ -144,6 +144,7 @@ use super::walk::{
 use crate::accel::bvh::{NodeMask, NodeRanges};
 use crate::accel::grid::GridMask;
 use crate::accel::{Accel, Counters, Structure};
+use crate::error::show_number;
 use crate::geometry::bounds::{cell_bounds, Aabb};
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
 use crate::geometry::inverse::invert;
@@ -978,7 +979,7 @@ impl<'a> Renderer<'a> {
         if options.march_reach.is_nan() || options.march_reach < 0.0 {
             return Err(Error::Invalid(format!(
                 "march reach {} must be a number of cells, 0 or more (inf to always march)",
-                options.march_reach
+                show_number(options.march_reach)
             )));
         }
         let [lo, hi] = volume.field.range;
@@ -986,8 +987,9 @@ impl<'a> Renderer<'a> {
         let diag = volume.field.bounds.diagonal();
         if diag / options.step > MAX_SAMPLES_PER_RAY {
             return Err(Error::Invalid(format!(
-                "step {} is too small for a mesh of diagonal {diag}",
-                options.step
+                "step {} is too small for a mesh of diagonal {}",
+                show_number(options.step),
+                show_number(diag)
             )));
         }
         let mag = volume

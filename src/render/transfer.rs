@@ -29,6 +29,7 @@
 //! `g` is 0 or 1.) It is held as a fixed table of [`GRADIENT_TABLE_SIZE`] entries so that
 //! [`super::RenderOptions`] stays `Copy`.
 
+use crate::error::show_number;
 use crate::Error;
 
 /// Table entries by default.
@@ -275,10 +276,14 @@ impl TransferFunction {
     ) -> Result<TransferTable, Error> {
         self.check()?;
         if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
-            return Err(Error::Invalid(format!("bad scalar range [{lo}, {hi}]")));
+            return Err(Error::Invalid(format!(
+                "bad scalar range [{}, {}]",
+                show_number(lo),
+                show_number(hi)
+            )));
         }
         if !(step > 0.0 && step.is_finite()) {
-            return Err(Error::Invalid(format!("bad step {step}")));
+            return Err(Error::Invalid(format!("bad step {}", show_number(step))));
         }
         let n = entries.max(2);
         let exponent = step / self.unit_distance;
