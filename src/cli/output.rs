@@ -4,25 +4,19 @@
 //! extension the command writes (any case), the path must not be a folder, and its folder
 //! must exist and take a new file. It neither creates nor truncates the output: the folder is
 //! tried with the very partial file [`write_replacing`] will write, made and removed at once.
-//! [`write_replacing`] writes to that sibling partial file and renames it over the target
-//! once complete, as [`cylvol::io::write_file`] writes meshes, so that a command that fails
-//! leaves what was at the path as it was.
+//! [`write_replacing`] (the library's, which [`cylvol::io::write_file`] writes meshes with)
+//! writes to that sibling partial file and renames it over the target once complete, so that
+//! a command that fails leaves what was at the path as it was.
 
-use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 use cylvol::Error;
 
-/// The sibling file a write to `path` goes through (`.NAME.cylvol-PID.partial`, as
-/// [`cylvol::io::write_file`] names its own), or an error when `path` names no file.
+/// The sibling file a write to `path` goes through ([`cylvol::io::partial_path`]), or an
+/// error naming `option` when `path` names no file.
 fn partial_path(option: &str, path: &Path) -> Result<PathBuf, Error> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::Invalid(format!("{option} {}: not a file name", path.display())))?;
-    let mut partial = OsString::from(".");
-    partial.push(name);
-    partial.push(format!(".cylvol-{}.partial", std::process::id()));
-    Ok(path.with_file_name(partial))
+    cylvol::io::partial_path(path)
+        .ok_or_else(|| Error::Invalid(format!("{option} {}: not a file name", path.display())))
 }
 
 /// The folder `path` is in (`.` for a bare name).
@@ -79,34 +73,7 @@ pub fn check_folder(option: &str, path: &Path) -> Result<(), Error> {
         .map_err(|e| refuse(format!("cannot write in {}: {e}", folder.display())))
 }
 
-/// Writes `path` through its partial sibling: `write` writes the partial file, which then
-/// replaces `path`; on failure the partial file is removed and `path` left as it was. Errors
-/// name `path`.
-pub fn write_replacing(
-    path: &Path,
-    write: impl FnOnce(&Path) -> Result<(), Error>,
-) -> Result<(), Error> {
-    let partial = partial_path("", path)?;
-    let written = write(&partial).and_then(|()| {
-        std::fs::rename(&partial, path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })
-    });
-    if written.is_err() {
-        let _ = std::fs::remove_file(&partial);
-    }
-    written.map_err(|e| match e {
-        Error::Io { path: p, source } if p == partial => Error::Io {
-            path: path.to_path_buf(),
-            source,
-        },
-        Error::Invalid(m) => {
-            Error::Invalid(m.replace(&partial.display().to_string(), &path.display().to_string()))
-        }
-        e => e,
-    })
-}
+pub use cylvol::io::write_replacing;
 
 #[cfg(test)]
 mod tests {

@@ -286,27 +286,76 @@ pub fn writer_for(path: &Path) -> Result<MeshWriter, Error> {
 /// ```
 pub fn write_file(mesh: &Mesh, path: &Path) -> Result<(), Error> {
     let write = writer_for(path)?;
-    let io_err = |source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let name = path
-        .file_name()
+    write_replacing(path, |partial| {
+        let io_err = |source| Error::Io {
+            path: partial.to_path_buf(),
+            source,
+        };
+        let mut out = std::io::BufWriter::new(std::fs::File::create(partial).map_err(io_err)?);
+        write(mesh, &mut out).map_err(io_err)?;
+        std::io::Write::flush(&mut out).map_err(io_err)
+    })
+}
+
+/// The sibling file a write to `path` goes through, `.NAME.cylvol-PID.partial` in the same
+/// folder (hidden, and one per process), or `None` when `path` names no file (`/`, `..`).
+///
+/// ```
+/// use std::path::Path;
+/// let partial = cylvol::io::partial_path(Path::new("out/rotor.vtu")).unwrap();
+/// assert_eq!(partial.parent(), Some(Path::new("out")));
+/// assert!(partial.to_str().unwrap().ends_with(".partial"));
+/// assert!(cylvol::io::partial_path(Path::new("/")).is_none());
+/// ```
+pub fn partial_path(path: &Path) -> Option<PathBuf> {
+    let mut partial = std::ffi::OsString::from(".");
+    partial.push(path.file_name()?);
+    partial.push(format!(".cylvol-{}.partial", std::process::id()));
+    Some(path.with_file_name(partial))
+}
+
+/// Writes `path` whole or not at all: `write` writes its [`partial_path`], which then replaces
+/// `path` by a rename; when anything fails the partial file is removed and what was at `path`
+/// is left as it was. Errors name `path`, not the partial file.
+///
+/// ```
+/// use cylvol::Error;
+/// let dir = tempfile::tempdir().unwrap();
+/// let out = dir.path().join("notes.txt");
+/// std::fs::write(&out, "old").unwrap();
+/// let failed = cylvol::io::write_replacing(&out, |partial| {
+///     std::fs::write(partial, "half").unwrap();
+///     Err(Error::Invalid("disk full".into()))
+/// });
+/// assert!(failed.is_err());
+/// assert_eq!(std::fs::read_to_string(&out).unwrap(), "old");
+/// assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+/// ```
+pub fn write_replacing(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let partial = partial_path(path)
         .ok_or_else(|| Error::Invalid(format!("{}: not a file name", path.display())))?;
-    let mut partial_name = std::ffi::OsString::from(".");
-    partial_name.push(name);
-    partial_name.push(format!(".cylvol-{}.partial", std::process::id()));
-    let partial = path.with_file_name(partial_name);
-    let written = (|| {
-        let mut out = std::io::BufWriter::new(std::fs::File::create(&partial)?);
-        write(mesh, &mut out)?;
-        std::io::Write::flush(&mut out)?;
-        std::fs::rename(&partial, path)
-    })();
+    let written = write(&partial).and_then(|()| {
+        std::fs::rename(&partial, path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    });
     if written.is_err() {
         let _ = std::fs::remove_file(&partial);
     }
-    written.map_err(io_err)
+    written.map_err(|e| match e {
+        Error::Io { path: p, source } if p == partial => Error::Io {
+            path: path.to_path_buf(),
+            source,
+        },
+        Error::Invalid(m) => {
+            Error::Invalid(m.replace(&partial.display().to_string(), &path.display().to_string()))
+        }
+        e => e,
+    })
 }
 
 #[cfg(test)]
