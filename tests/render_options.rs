@@ -61,13 +61,18 @@ fn cube(n: usize, cell_data: bool, field: impl Fn(DVec3, [usize; 3]) -> f64) -> 
     .expect("valid cube")
 }
 
+/// The structure `kind` of `mesh` with the default parameters, about the z axis.
+fn build(mesh: &Mesh, kind: StructureKind) -> Accel {
+    Accel::build(mesh, kind, &Axis::Z, &AccelParams::default()).expect("build")
+}
+
 fn render(
     mesh: &Mesh,
     kind: StructureKind,
     tf: &TransferFunction,
     set: impl Fn(&mut RenderOptions),
 ) -> (Image, RenderStats) {
-    let accel = Accel::build(mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
+    let accel = build(mesh, kind);
     let volume = Volume::new(mesh, &accel).expect("volume");
     let neighbours = cylvol::render::face_neighbours(mesh, &accel);
     let mut options = RenderOptions::new(24, 24, 0.03);
@@ -312,8 +317,7 @@ fn far_samples_are_located_through_the_structure_with_the_same_image() {
             // on average: at the default reach divided by that, every structure marches the
             // default reach (a grid's factor is the larger: its look-ups test its leaf
             // cell's candidates).
-            let accel =
-                Accel::build(&mesh, kind, &Axis::Z, &AccelParams::default()).expect("build");
+            let accel = build(&mesh, kind);
             let factor = accel.lookup_tests(&mesh);
             assert!(factor >= 1.0, "{kind}: {factor}");
             factors.insert(kind, factor);
@@ -358,13 +362,7 @@ fn far_samples_are_located_through_the_structure_with_the_same_image() {
         assert_eq!(at_default[&(kind, Blend::Composite)], bvh, "{kind}");
     }
     // A reach that is no number of cells is refused.
-    let accel = Accel::build(
-        &mesh,
-        StructureKind::CartGrid,
-        &Axis::Z,
-        &AccelParams::default(),
-    )
-    .expect("build");
+    let accel = build(&mesh, StructureKind::CartGrid);
     let volume = Volume::new(&mesh, &accel).expect("volume");
     for bad in [-1.0, f64::NAN, f64::NEG_INFINITY] {
         let mut options = RenderOptions::new(8, 8, step);
@@ -414,13 +412,7 @@ fn refusals_write_numbers_short() {
     );
 
     let mesh = cube(2, false, |p, _| p.x);
-    let accel = Accel::build(
-        &mesh,
-        StructureKind::CartGrid,
-        &Axis::Z,
-        &AccelParams::default(),
-    )
-    .expect("build");
+    let accel = build(&mesh, StructureKind::CartGrid);
     let volume = Volume::new(&mesh, &accel).expect("volume");
     let mut options = RenderOptions::new(8, 8, 0.1);
     options.march_reach = -1e-300;
