@@ -255,9 +255,10 @@ fn files_vtk_writes_read_the_same_in_both_cell_layouts() {
 g.GetPoints().GetData().GetRange(-1)
 for i in range(g.GetPointData().GetNumberOfArrays()):
     g.GetPointData().GetArray(i).GetRange(-1)
-{VTK_WRITES_FOUR_LAYOUTS}
+{four_layouts}
 print(vtk.vtkUnstructuredGridWriter().GetFileVersion())
-"#
+"#,
+        four_layouts = vtk_writes_four_layouts()
     );
     let Some((dir, default_version)) = vtk_rewrites_the_mixer(&script) else {
         return;
@@ -304,8 +305,8 @@ print(vtk.vtkUnstructuredGridWriter().GetFileVersion())
 /// stay, and neither ghost array is kept, in both encodings and both cell layouts.
 #[test]
 fn ghost_cells_vtk_writes_are_dropped() {
-    let Some((dir, _)) = vtk_rewrites_the_mixer(
-        r#"
+    let script = VTK_WRITE.to_string()
+        + r#"
 cells = g.AllocateCellGhostArray()
 for c in range(g.GetNumberOfCells()):
     # DUPLICATECELL (1) every 7th, HIDDENCELL (32) every 11th, REFINEDCELL (4) every 5th.
@@ -313,15 +314,10 @@ for c in range(g.GetNumberOfCells()):
 points = g.AllocatePointGhostArray()
 for p in range(0, g.GetNumberOfPoints(), 3):
     points.SetValue(p, 1)
-for name, binary, version in [('v51_binary', True, None), ('v42_ascii', False, 42)]:
-    w = vtk.vtkUnstructuredGridWriter(); w.SetInputData(g)
-    w.SetFileName(out + '/' + name + '.vtk')
-    if binary: w.SetFileTypeToBinary()
-    else: w.SetFileTypeToASCII()
-    if version: w.SetFileVersion(version)
-    w.Write()
-"#,
-    ) else {
+write('v51_binary', True, None)
+write('v42_ascii', False, 42)
+"#;
+    let Some((dir, _)) = vtk_rewrites_the_mixer(&script) else {
         return;
     };
     let reference = mixer();
@@ -360,10 +356,10 @@ for name, binary, version in [('v51_binary', True, None), ('v42_ascii', False, 4
     }
 }
 
-/// The four legacy layouts VTK 9.1 writes (binary or ASCII, VTK 5.1's cell layout or version
-/// 4.2's), as a script's calls of `write(name, binary, version)`, which later lines may call
-/// too.
-const VTK_WRITES_FOUR_LAYOUTS: &str = r#"
+/// Defines `write(name, binary, version)` in a script: VTK 9.1's legacy writer writes the
+/// grid `g` to `out/NAME.vtk`, binary or ASCII, in VTK 5.1's cell layout (version `None`) or
+/// version 4.2's (`42`).
+const VTK_WRITE: &str = r#"
 def write(name, binary, version):
     w = vtk.vtkUnstructuredGridWriter(); w.SetInputData(g)
     w.SetFileName(out + '/' + name + '.vtk')
@@ -371,10 +367,19 @@ def write(name, binary, version):
     else: w.SetFileTypeToASCII()
     if version: w.SetFileVersion(version)
     w.Write()
+"#;
+
+/// The four legacy layouts VTK 9.1 writes (binary or ASCII, VTK 5.1's cell layout or version
+/// 4.2's), as a script that defines [`VTK_WRITE`]'s `write(name, binary, version)`, which
+/// later lines may call too, and calls it for each.
+fn vtk_writes_four_layouts() -> String {
+    VTK_WRITE.to_string()
+        + r#"
 for name, binary, version in [('v51_binary', True, None), ('v51_ascii', False, None),
                               ('v42_binary', True, 42), ('v42_ascii', False, 42)]:
     write(name, binary, version)
-"#;
+"#
+}
 
 /// Our reader on a file VTK wrote from the mixer with arrays added: both the whole-file and
 /// the block-by-block reader give the mixer (VTK's ASCII files with VTK's rounding, so their
@@ -420,7 +425,7 @@ for x in (3, 'a b', 2.5):
 g.GetFieldData().AddArray(v)
 "#
     .to_string()
-        + VTK_WRITES_FOUR_LAYOUTS;
+        + &vtk_writes_four_layouts();
     let Some((dir, _)) = vtk_rewrites_the_mixer(&body) else {
         return;
     };
@@ -488,7 +493,7 @@ g.GetPointData().SetScalars(bits('wet', np, 1, lambda i: i % 3 == 0))
 g.GetCellData().AddArray(bits('marks', nc, 1, lambda i: i % 11 == 0))
 "#
     .to_string()
-        + VTK_WRITES_FOUR_LAYOUTS
+        + &vtk_writes_four_layouts()
         + r#"
 g.GetPointData().AddArray(bits('pair', np, 2, lambda i: i % 5 < 2))
 g.GetCellData().SetVectors(bits('bv', nc, 3, lambda i: i % 7 == 1))

@@ -1717,10 +1717,7 @@ impl<'a> Renderer<'a> {
         b: (f64, End),
         stats: &mut RenderStats,
     ) -> Option<Between> {
-        if !self.options.boundary_segments || !self.neighbours.complete() {
-            return None;
-        }
-        let surface = self.neighbours.surface()?;
+        let surface = self.bounding_surface()?;
         let mut c = Counters::default();
         let crossings =
             surface.crossings_between(faces, self.volume.mesh, origin, dir, a.0, b.0, &mut c);
@@ -1750,6 +1747,15 @@ impl<'a> Renderer<'a> {
         classify(crossings.ts(), a, b)
     }
 
+    /// The boundary surface whose crossings tell where a ray enters and leaves the mesh: only
+    /// with boundary segments on and every face without a neighbour bounding the mesh.
+    fn bounding_surface(&self) -> Option<&BoundarySurface> {
+        if !self.options.boundary_segments || !self.neighbours.complete() {
+            return None;
+        }
+        self.neighbours.surface()
+    }
+
     /// Whether the ray may cross the mesh's boundary between `t0` and `t1`, by the boundary
     /// surface's conservative bound ([`BoundarySurface::next_crossing`]); `false` without a
     /// surface whose faces bound the mesh. For the paper path, which has no march to tell it
@@ -1763,10 +1769,7 @@ impl<'a> Renderer<'a> {
         t1: f64,
         stats: &mut RenderStats,
     ) -> bool {
-        if !self.options.boundary_segments || !self.neighbours.complete() {
-            return false;
-        }
-        let Some(surface) = self.neighbours.surface() else {
+        let Some(surface) = self.bounding_surface() else {
             return false;
         };
         let mut c = Counters::default();

@@ -1129,6 +1129,24 @@ mod tests {
         assert!(read_file(&file, ascii.len(), 64).is_none());
     }
 
+    /// A binary file's unit tetrahedron after its `POINTS 4 float` (or `double`) line: the
+    /// points, big-endian, then its classic `CELLS` and `CELL_TYPES`.
+    fn tetrahedron_after_points(f: &mut Vec<u8>, double: bool) {
+        for p in [[0f64, 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]] {
+            for v in p {
+                if double {
+                    f.extend(v.to_be_bytes());
+                } else {
+                    f.extend((v as f32).to_be_bytes());
+                }
+            }
+        }
+        f.extend(b"\nCELLS 1 5\n");
+        f.extend([4i32, 0, 1, 2, 3].iter().flat_map(|v| v.to_be_bytes()));
+        f.extend(b"\nCELL_TYPES 1\n");
+        f.extend(10i32.to_be_bytes());
+    }
+
     /// A binary tetrahedron with strings and variants where VTK writes them — dataset field
     /// data, a point FIELD array beside a numeric one, cell pedigree ids — their lengths in
     /// headers of each size (1, 2, 4 and 8 bytes), an empty string among them.
@@ -1137,13 +1155,7 @@ mod tests {
             FIELD FieldData 2\ncase%20name 1 2 string\n\xcapump run 7\xc0\n\
             var 1 2 variant\n6 3\n13 a%20b\nPOINTS 4 float\n"
             .to_vec();
-        for p in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]] {
-            f.extend(p.iter().flat_map(|v| v.to_be_bytes()));
-        }
-        f.extend(b"\nCELLS 1 5\n");
-        f.extend([4i32, 0, 1, 2, 3].iter().flat_map(|v| v.to_be_bytes()));
-        f.extend(b"\nCELL_TYPES 1\n");
-        f.extend(10i32.to_be_bytes());
+        tetrahedron_after_points(&mut f, false);
         f.extend(b"\nPOINT_DATA 4\nFIELD FieldData 2\nlabels 1 4 string\n\x80\x46");
         f.extend([b'y'; 70]);
         f.extend(b"\x40\x00\x00\x03abc\x00\x00\x00\x00\x00\x00\x00\x02ab\xc1x");
@@ -1170,13 +1182,7 @@ mod tests {
         let mut f = b"# vtk DataFile Version 4.2\nbits\nBINARY\nDATASET UNSTRUCTURED_GRID\n\
             FIELD FieldData 1\nflags 1 3 bit\n\xa0\nPOINTS 4 double\n"
             .to_vec();
-        for p in [[0f64, 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]] {
-            f.extend(p.iter().flat_map(|v| v.to_be_bytes()));
-        }
-        f.extend(b"\nCELLS 1 5\n");
-        f.extend([4i32, 0, 1, 2, 3].iter().flat_map(|v| v.to_be_bytes()));
-        f.extend(b"\nCELL_TYPES 1\n");
-        f.extend(10i32.to_be_bytes());
+        tetrahedron_after_points(&mut f, true);
         f.extend(b"\nCELL_DATA 1\nFIELD FieldData 1\nmarks 2 1 bit\n\x40\n");
         f.extend(b"POINT_DATA 4\nSCALARS wet bit\nLOOKUP_TABLE default\n\x90\n");
         f.extend(b"VECTORS v bit\n\xa5\x30\n");
