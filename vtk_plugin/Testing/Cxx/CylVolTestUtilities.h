@@ -269,6 +269,20 @@ inline vtkSmartPointer<vtkImageData> Grab(vtkRenderWindow* win)
   return image;
 }
 
+/// How many pixels of an RGB image are not black: the pixels a volume on a black
+/// background lit.
+inline vtkIdType Lit(vtkImageData* image)
+{
+  const unsigned char* p =
+    static_cast<unsigned char*>(image->GetPointData()->GetScalars()->GetVoidPointer(0));
+  vtkIdType lit = 0;
+  for (vtkIdType i = 0; i < image->GetNumberOfPoints(); ++i)
+  {
+    lit += (p[3 * i] | p[3 * i + 1] | p[3 * i + 2]) ? 1 : 0;
+  }
+  return lit;
+}
+
 inline void WritePNG(vtkImageData* image, const std::string& path)
 {
   vtkNew<vtkPNGWriter> writer;

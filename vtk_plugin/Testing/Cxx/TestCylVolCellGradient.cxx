@@ -34,17 +34,6 @@ void OnWarning(vtkObject*, unsigned long, void*, void* callData)
   lastWarning = static_cast<const char*>(callData);
 }
 
-vtkIdType Lit(vtkImageData* image)
-{
-  const unsigned char* p = static_cast<unsigned char*>(image->GetPointData()->GetScalars()->GetVoidPointer(0));
-  vtkIdType lit = 0;
-  for (vtkIdType i = 0; i < image->GetNumberOfPoints(); ++i)
-  {
-    lit += (p[3 * i] | p[3 * i + 1] | p[3 * i + 2]) ? 1 : 0;
-  }
-  return lit;
-}
-
 // A scene: `mapper` draws `d` through `property`.
 struct Scene
 {
@@ -114,8 +103,8 @@ int TestCylVolCellGradient(int, char*[])
   auto property = Property(cells, true, true);
   Scene scene(cells, mapper, property);
   auto both = scene.Draw();
-  Expect(Lit(both) > 1000, "cell scalars, shading and gradient opacity: the volume is drawn (" +
-      std::to_string(Lit(both)) + " pixels lit)");
+  Expect(cylvoltest::Lit(both) > 1000, "cell scalars, shading and gradient opacity: the volume is drawn (" +
+      std::to_string(cylvoltest::Lit(both)) + " pixels lit)");
   Expect(cylvoltest::Compare(both, plain, 0).Within == 1.0,
     "cell scalars: the image is the one without shading or gradient opacity");
   Expect(mapper->GetLastGradientEvaluations() == 0, "cell scalars: no gradient evaluated");
@@ -136,7 +125,7 @@ int TestCylVolCellGradient(int, char*[])
   Expect(warnings == 2 && lastWarning.find("the gradient opacity function is left out") != std::string::npos &&
       lastWarning.find("shading") == std::string::npos,
     "cell scalars, shading turned off: a new warning naming the gradient opacity alone");
-  Expect(Lit(gradientOnly) > 1000, "cell scalars, gradient opacity alone: the volume is drawn");
+  Expect(cylvoltest::Lit(gradientOnly) > 1000, "cell scalars, gradient opacity alone: the volume is drawn");
 
   // Point scalars in the same scene: shaded and weighed by their gradient, without a warning.
   warnings = 0;

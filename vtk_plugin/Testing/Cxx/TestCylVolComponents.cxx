@@ -66,12 +66,7 @@ Result Draw(const cylvoltest::Dataset& d, vtkUnstructuredGrid* grid, const char*
   win->Render();
   Result r;
   r.Image = cylvoltest::Grab(win);
-  const unsigned char* p =
-    static_cast<unsigned char*>(r.Image->GetPointData()->GetScalars()->GetVoidPointer(0));
-  for (vtkIdType i = 0; i < r.Image->GetNumberOfPoints(); ++i)
-  {
-    r.Lit += (p[3 * i] | p[3 * i + 1] | p[3 * i + 2]) ? 1 : 0;
-  }
+  r.Lit = cylvoltest::Lit(r.Image);
   if (errors->GetError())
   {
     r.Error = errors->GetErrorMessage();

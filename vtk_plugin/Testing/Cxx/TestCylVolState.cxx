@@ -43,17 +43,6 @@ void OnProgressAbort(vtkObject*, unsigned long, void*, void*)
     abortWindow->SetAbortRender(1);
   }
 }
-
-vtkIdType Lit(vtkImageData* image)
-{
-  const unsigned char* p = static_cast<unsigned char*>(image->GetPointData()->GetScalars()->GetVoidPointer(0));
-  vtkIdType lit = 0;
-  for (vtkIdType i = 0; i < image->GetNumberOfPoints(); ++i)
-  {
-    lit += (p[3 * i] | p[3 * i + 1] | p[3 * i + 2]) ? 1 : 0;
-  }
-  return lit;
-}
 } // namespace
 
 int TestCylVolState(int, char*[])
@@ -85,7 +74,7 @@ int TestCylVolState(int, char*[])
   Expect(mapper->GetLastRenderSeconds() > 0.0, "render time measured");
   Expect(mapper->GetBuiltStructure() >= 1 && mapper->GetBuiltStructure() <= 4, "a concrete structure was built");
   Expect(mapper->GetLastImageSize()[0] == 160 && mapper->GetLastImageSize()[1] == 160, "image 160x160");
-  Expect(Lit(first) > 1000, "the first frame shows the volume");
+  Expect(cylvoltest::Lit(first) > 1000, "the first frame shows the volume");
   Expect(mapper->GetLastGradientEvaluations() == 0, "no gradients without shading or gradient opacity");
   Expect(mapper->GetLastWalkSteps() > 0, "the fast path crosses cells by face planes");
   const vtkTypeUInt64 skippedFirst = mapper->GetLastSamplesSkipped();
@@ -121,7 +110,7 @@ int TestCylVolState(int, char*[])
         mapper->GetLastFarLocates() <= mapper->GetLastSamplesLocated(),
       "samples many cells apart are located through the structure");
     auto far = cylvoltest::Grab(win);
-    Expect(Lit(far) > 1000, "and still show the volume");
+    Expect(cylvoltest::Lit(far) > 1000, "and still show the volume");
     const double reach = mapper->GetMarchReach();
     Expect(reach == 6.0, "the march reach is cylvol's default");
     mapper->SetMarchReach(VTK_DOUBLE_MAX);
