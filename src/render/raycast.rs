@@ -2160,23 +2160,27 @@ impl<'a> Renderer<'a> {
                 (sample_t(k - 1), End::Outside)
             }
         };
-        // Composites the chords between two positions (see `super::chords`) and stops the ray
-        // where they make it opaque (early termination).
+        // Composites the chords between two positions (see `super::chords`); true where they
+        // make the ray opaque enough to stop.
+        macro_rules! composite_chords {
+            ($chords:expr) => {
+                self.composite_chords(
+                    $chords,
+                    origin,
+                    dir,
+                    &mut acc,
+                    &extreme,
+                    transparent,
+                    &mut counters,
+                    stats,
+                )
+            };
+        }
+        // The same in the sample loop, which stops the ray there (early termination).
         macro_rules! chords_or_stop {
             ($chords:expr) => {
                 let chords: &[Chord] = $chords;
-                if !chords.is_empty()
-                    && self.composite_chords(
-                        chords,
-                        origin,
-                        dir,
-                        &mut acc,
-                        &extreme,
-                        transparent,
-                        &mut counters,
-                        stats,
-                    )
-                {
+                if !chords.is_empty() && composite_chords!(chords) {
                     stats.early_terminations += 1;
                     terminated = true;
                     break;
@@ -2666,16 +2670,8 @@ impl<'a> Renderer<'a> {
                     None => {}
                 }
             }
-            self.composite_chords(
-                b.chords(),
-                origin,
-                dir,
-                &mut acc,
-                &extreme,
-                transparent,
-                &mut counters,
-                stats,
-            );
+            // The ray ends here, so whether the chords make it opaque changes nothing.
+            composite_chords!(b.chords());
         } else if let Some(l) = acc.last.take() {
             let seg = Segment {
                 origin,
