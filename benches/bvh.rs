@@ -104,7 +104,7 @@ fn main() {
     for (short, file) in [("post", "postxyz.bin"), ("comb", "combxyz.bin")] {
         if want(short) {
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("../shared/data")
+                .join("tests/data")
                 .join(file);
             match cylvol::io::read_file(&path, &Default::default()) {
                 Ok(m) => meshes.push((short.to_owned(), m)),

@@ -211,7 +211,7 @@ fn main() {
         .collect();
     let mode = args.first().map(String::as_str).unwrap_or("");
     let number = |i: usize| args.get(i).and_then(|s| s.parse::<f64>().ok());
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     match mode {
         "sweep" => {
             let cells = number(1).unwrap_or(300_000.0) as usize;

@@ -18,9 +18,9 @@ Before measuring, the script brings what it measures up to date with the sources
 (configured first if need be; it rebuilds libcylvol.a through cargo and relinks the module), so
 the figures are never those of a stale module. --no-build skips both; with --pythonpath the
 package given is used as it is (only the cylvol command is built).
-Datasets: mixer, hexa, comb, post (from ../shared/data), mixer:N or hexa:N (that mesh with every
-hexahedron cut into N x N x N by `cylvol gen FILE --refine N`; mixer:4 is the 2.15 M-cell mixer of
-MISSION.md's reference measurement) or rotor[:CELLS] (generated with `cylvol gen pump-rotor:CELLS`). --json prints the results as JSON as well.
+Datasets: mixer, hexa, comb, post (from tests/data), mixer:N or hexa:N (that mesh with every
+hexahedron cut into N x N x N by `cylvol gen FILE --refine N`; mixer:4 is the 2.15 M-cell refined mixer)
+or rotor[:CELLS] (generated with `cylvol gen pump-rotor:CELLS`). --json prints the results as JSON as well.
 """
 import argparse
 import json
@@ -33,7 +33,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
-DATA = os.path.join(os.path.dirname(REPO), "shared", "data")
+DATA = os.path.join(REPO, "tests", "data")
 BUILD = os.path.join(REPO, "build", "vtk_plugin")
 CYLVOL = os.path.join(REPO, "target", "release", "cylvol")
 # vtkCylVolMapper's StructureType values.

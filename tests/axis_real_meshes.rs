@@ -1,4 +1,4 @@
-//! Axis detection on the real meshes in `../shared/data/`: the OpenFOAM mixer and the LOX
+//! Axis detection on the real meshes in `tests/data/`: the OpenFOAM mixer and the LOX
 //! post turn about z, the combustor sector about x (all through the origin).
 
 use std::path::Path;
@@ -10,7 +10,7 @@ use glam::DVec3;
 /// degrees, and its origin within `max_offset` × the bounding-box diagonal of the line.
 fn check(file: &str, truth: Axis, max_deg: f64, max_offset: f64) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
+        .join("tests/data")
         .join(file);
     let mesh = cylvol::io::read_file(&path, &Default::default())
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -45,7 +45,7 @@ fn combustor_turns_about_x() {
 
 #[test]
 fn cube_has_no_clear_axis() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/hexa.vtk");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/hexa.vtk");
     let mesh = cylvol::io::read_file(&path, &Default::default()).unwrap();
     let report = axis::detect_with_report(&mesh);
     assert!(!report.clear, "{report:?}");

@@ -610,7 +610,7 @@ fn mesh_far_from_the_origin() {
 
 fn plot3d(name: &str) -> Mesh {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
+        .join("tests/data")
         .join(name);
     cylvol::io::read_file(&path, &Default::default()).expect("PLOT3D mesh")
 }

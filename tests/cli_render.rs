@@ -550,7 +550,7 @@ fn effects_that_cannot_apply_are_warned_about() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("x.png");
     let png = png.to_str().unwrap();
-    let mixer = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mixer.vtk");
+    let mixer = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mixer.vtk");
     let mixer = mixer.to_str().unwrap();
     let warnings = |extra: &[&str]| -> Vec<String> {
         let args = render_args(mixer, png, "8x8", &[extra]);
@@ -1084,7 +1084,7 @@ fn a_mesh_with_nothing_to_render_is_refused_before_any_build() {
     let dir = tempfile::tempdir().unwrap();
     let grid = dir.path().join("combxyz.bin");
     std::fs::copy(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/combxyz.bin"),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/combxyz.bin"),
         &grid,
     )
     .unwrap();

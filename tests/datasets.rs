@@ -89,7 +89,7 @@ fn specs_parse_names_sizes_and_suffixes() {
 fn non_dataset_names_are_left_to_the_caller() {
     for s in [
         "mixer.vtu",
-        "../shared/data/cube.vtk",
+        "../meshes/cube.vtk",
         "pump-rotor.vtk",
         "pump-rotor2:1000",
         "C:\\data\\pump.vtk",

@@ -549,7 +549,7 @@ fn check_location(
 
 fn data(file: &str) -> Option<Mesh> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
+        .join("tests/data")
         .join(file);
     if !path.exists() {
         eprintln!("skipping {file}: not found");

@@ -13,8 +13,8 @@ use cylvol::{CellKind, Component, DataArray, Error, Mesh, MeshError, MeshParts};
 use glam::DVec3;
 use serde_json::Value;
 
-const MIXER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/mixer.vtk");
-const HEXA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/hexa.vtk");
+const MIXER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/mixer.vtk");
+const HEXA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/hexa.vtk");
 
 fn read_path(path: &str) -> Mesh {
     let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{path}: {e}"));

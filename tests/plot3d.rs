@@ -11,7 +11,7 @@ use cylvol::io::ReadOptions;
 use cylvol::{Component, Error, Mesh};
 
 fn data(name: &str) -> String {
-    format!("{}/../shared/data/{name}", env!("CARGO_MANIFEST_DIR"))
+    format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
 fn bytes(name: &str) -> Vec<u8> {

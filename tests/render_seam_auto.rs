@@ -301,7 +301,7 @@ fn auto_structure(input: &str) -> String {
 }
 
 fn data(name: &str) -> String {
-    let p = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/");
+    let p = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
     let path = Path::new(p).join(name);
     assert!(path.exists(), "{} is missing", path.display());
     path.to_string_lossy().into_owned()

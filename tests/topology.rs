@@ -535,7 +535,7 @@ fn synthetic_datasets() {
 
 fn real(name: &str) -> Mesh {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
+        .join("tests/data")
         .join(name);
     cylvol::io::read_file(&path, &Default::default()).unwrap()
 }

@@ -11,7 +11,7 @@ use cylvol::{CellKind, DataArray, Error, Mesh, MeshParts};
 use glam::DVec3;
 
 fn hexa_vtk() -> &'static str {
-    concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/hexa.vtk")
+    concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/hexa.vtk")
 }
 
 /// Two hexahedra, a wedge, a pyramid and a tetrahedron, with point scalars, a point vector

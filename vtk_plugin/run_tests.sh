@@ -39,5 +39,5 @@ print("import cylvol OK:", cylvol.__file__, "cylvol", cylvol.vtkCylVolMapper.Get
 PY
 # The Python pipeline once more, through the installed package.
 PYTHONPATH="$site" xvfb-run -a /usr/bin/python3 "$here/Testing/Python/TestCylVolPipeline.py" \
-  --data "$repo/../shared/data" --output "$prefix/python-mixer.png"
+  --data "$repo/tests/data" --output "$prefix/python-mixer.png"
 echo "vtk_plugin: all tests passed"

@@ -10,10 +10,10 @@ use cylvol::io::structured::hexahedra;
 use cylvol::{CellKind, DataArray, Mesh, MeshParts};
 use glam::DVec3;
 
-/// The data folder shared with the project.
+/// The real meshes the tests carry, in `tests/data/`.
 pub fn data(name: &str) -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
+        .join("tests/data")
         .join(name)
 }
 
