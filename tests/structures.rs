@@ -1,5 +1,5 @@
 //! All four acceleration structures locate exactly the points brute force locates, on every
-//! real mesh, every synthetic dataset (small), and the hard meshes of the mission: sectors
+//! real mesh, every synthetic dataset (small), and the hard meshes: sectors
 //! crossing θ = ±π and θ = 0, a full ring (closed, and with a duplicated seam), an O-grid with
 //! collapsed cells on the axis, and meshes moved 10⁶ units away. Validation passes for all.
 

@@ -1,4 +1,4 @@
-//! Meshes for the integration tests: the hard cases of the mission built in code, and seeded
+//! Meshes for the integration tests: the hard cases (seams, the axis, collapsed and skewed cells) built in code, and seeded
 //! points inside, on the faces of, and around a mesh.
 #![allow(dead_code)]
 

@@ -62,8 +62,8 @@
 //! | 1/4 | 2 | 11.4 | 134 | 582 | 7.0 |
 //! | 1/4 | 4 | 22.6 | 238 | 1042 | 6.3 |
 //!
-//! (`cargo bench --bench grid -- sweep`, session 16, cell-id candidate order; session 15's
-//! cubic cells took 9–15 % more memory and 6–11 % more tests at the same densities.)
+//! (`cargo bench --bench grid -- sweep`, cell-id candidate order; cubic second-level cells
+//! take 9–15 % more memory and 6–11 % more tests at the same densities.)
 //!
 //! The rotor's thin, stretched cells overlap many grid cells whatever their size, so memory
 //! grows much faster than tests fall; the default sits at the ≤ 64 bytes per cell budget.
