@@ -1,5 +1,6 @@
 //! The axis a machine turns about: the [`Axis`] type, its textual form for `--axis` overrides,
-//! and its detection from a mesh ([`detect()`], [`detect_with_report`]).
+//! and its detection from a mesh ([`detect()`], [`detect_with_report`]); and whether a mesh is
+//! one periodic sector of a wheel about it ([`periodic`]).
 //!
 //! The cylindrical acceleration structures are built in (r, θ, h) about this axis, so it should
 //! be the line the turbomachine's cells were laid out around: then each cell hugs a box in
@@ -32,6 +33,7 @@
 
 pub mod detect;
 mod optimize;
+pub mod periodic;
 
 use std::fmt;
 use std::str::FromStr;

@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use super::number::show;
 use super::InputArgs;
+use cylvol::axis::periodic::{self, NotPeriodic, Periodicity};
 use cylvol::axis::Axis;
 use cylvol::{Error, Mesh};
 
@@ -31,6 +32,66 @@ pub struct Info {
     scalar_range: Option<[f64; 2]>,
     bounds: [f64; 6],
     axis: AxisJson,
+    periodic: PeriodicJson,
+}
+
+/// Whether the mesh is one periodic sector of a wheel about the axis.
+#[derive(Serialize, Debug)]
+struct PeriodicJson {
+    /// The copies that close the wheel; `None` when the mesh is no periodic sector.
+    copies: Option<u32>,
+    /// The sector's span in degrees (absent for a full ring).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    span_deg: Option<f64>,
+    /// The angle where the sector starts about the axis, in degrees.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    start_deg: Option<f64>,
+    /// Pairs of boundary faces matched between the two sides.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    matched_faces: Option<usize>,
+    /// The worst distance between matched side points, in units of their face's shortest edge.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    worst_mismatch: Option<f64>,
+    /// Why the mesh is no periodic sector.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reason: Option<String>,
+}
+
+impl PeriodicJson {
+    fn of(found: Result<Periodicity, NotPeriodic>) -> PeriodicJson {
+        match found {
+            Ok(p) => PeriodicJson {
+                copies: Some(p.copies),
+                span_deg: Some(p.span_degrees()),
+                start_deg: Some(p.start.to_degrees()),
+                matched_faces: Some(p.matched_faces),
+                worst_mismatch: Some(p.worst_mismatch),
+                reason: None,
+            },
+            Err(e) => PeriodicJson {
+                copies: None,
+                span_deg: None,
+                start_deg: None,
+                matched_faces: None,
+                worst_mismatch: None,
+                reason: Some(e.to_string()),
+            },
+        }
+    }
+
+    /// One line for the text report.
+    fn line(&self) -> String {
+        match (self.copies, self.span_deg, self.worst_mismatch, &self.reason) {
+            (Some(n), Some(span), Some(worst), _) => format!(
+                "{n} copies of a {}° sector make the wheel ({} side faces matched, worst {} of a cell edge)",
+                show(span),
+                self.matched_faces.unwrap_or(0),
+                show(worst)
+            ),
+            (_, _, _, Some(reason)) => format!("no: {reason}"),
+            _ => "no".to_string(),
+        }
+    }
 }
 
 #[derive(Serialize, Debug)]
@@ -81,6 +142,7 @@ pub fn describe(mesh: &Mesh, axis: Axis, clear: Option<bool>) -> Info {
             source: if clear.is_some() { "detected" } else { "given" },
             clear,
         },
+        periodic: PeriodicJson::of(periodic::detect(mesh, &axis)),
     }
 }
 
@@ -139,5 +201,6 @@ pub fn run(args: &InfoArgs) -> Result<(), Error> {
             Some(false) => "detected, but no clear axis: the mesh does not turn about one",
         }
     );
+    outln!("  periodic       {}", info.periodic.line());
     Ok(())
 }
