@@ -180,8 +180,8 @@ PALETTE = ["#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#937860"]
 def bar_chart(path, title, categories, series, y_label, log_scale=False, lines=()):
     """Grouped vertical bars: `series` is [(label, [value per category])]; `lines` are
     horizontal reference lines [(value, label)]. Writes the SVG to `path`."""
-    width, height = 760, 340
-    left, right, top, bottom = 64, 16, 40, 78
+    width, height = 760, 360
+    left, right, top, bottom = 64, 16, 40, 100
     values = [v for _, vs in series for v in vs if v is not None] + [v for v, _ in lines]
     if log_scale:
         lo = 10 ** math.floor(math.log10(min(values)))
@@ -224,8 +224,11 @@ def bar_chart(path, title, categories, series, y_label, log_scale=False, lines=(
             s.append('<rect x="%.1f" y="%.1f" width="%.1f" height="%.1f" fill="%s"><title>%s, %s: %s</title></rect>'
                      % (x, y(v), bar_w - 1, base - y(v), PALETTE[j % len(PALETTE)],
                         html.escape(cat), html.escape(label), fmt_tick(v)))
-        s.append('<text x="%.1f" y="%d" text-anchor="middle">%s</text>'
-                 % (left + (i + 0.5) * group_w, height - bottom + 16, html.escape(cat)))
+        # A label of several parts ("mesh, step") goes on one line a part.
+        cx = left + (i + 0.5) * group_w
+        parts = "".join('<tspan x="%.1f" dy="%d">%s</tspan>' % (cx, 0 if k == 0 else 14, html.escape(part))
+                        for k, part in enumerate(cat.split(", ")))
+        s.append('<text x="%.1f" y="%d" text-anchor="middle">%s</text>' % (cx, height - bottom + 16, parts))
     for v, label in lines:
         s.append('<line x1="%d" x2="%d" y1="%.1f" y2="%.1f" stroke="black" stroke-dasharray="5,3"/>'
                  % (left, width - right, y(v), y(v)))
@@ -318,14 +321,20 @@ class Section:
         the machine and date follow it)}."""
         return {}
 
+    def rerun_options(self, data):
+        """The options beyond `--only NAME` that rerun this section as it was run."""
+        return ""
+
 
 class VtkSection(Section):
     name = "vtk"
     title = "Against VTK's unstructured ray caster"
+    # The meshes every run compares; --large adds the 2.15 M-cell refined mixer.
+    SMALL = ("mixer", "rotor:200000")
 
     def run(self, opts, commands):
         keep = tempfile.mkdtemp(prefix="cylvol-benchmarks-vtk-")
-        runs = [["mixer", "rotor:200000", "--relative-steps", "1,4"]]
+        runs = [list(self.SMALL) + ["--relative-steps", "1,4"]]
         if opts.large:
             # The 2.15 M-cell refined mixer (VTK renders 12.9 M tetrahedra).
             runs.append(["mixer:4", "--relative-steps", "8,12"])
@@ -358,7 +367,9 @@ class VtkSection(Section):
                     "v_err": verr.get("mean_abs_255"), "v_within": verr.get("percent_within_8"),
                     "size": entry["size"],
                 })
-        return rows
+        # Per mesh, coarse steps after fine ones (JSON keeps the comparisons in name order).
+        order = {e["dataset"]: i for i, e in enumerate(data)}
+        return sorted(rows, key=lambda r: (order[r["dataset"]], r["factor"]))
 
     @staticmethod
     def name_of(dataset):
@@ -412,6 +423,11 @@ class VtkSection(Section):
             "",
             "![VTK ÷ cylvol](%s)" % rel(plot),
             "",
+            "A refined mixer is the OpenFOAM mixer with every hexahedron cut into N × N × N "
+            "(`cylvol gen tests/data/mixer.vtk --refine N`); VTK renders six tetrahedra for each. "
+            "A longer step is a fair comparison as long as cylvol's error stays at or below "
+            "VTK's (the last column).",
+            "",
             "VTK integrates once per tetrahedron crossed; cylvol samples at steps and inverts the "
             "trilinear map of a hexahedron at each sample, so on small meshes VTK can be faster, "
             "and cylvol's lead grows with the mesh (VTK's set-up and memory grow with the six "
@@ -422,6 +438,9 @@ class VtkSection(Section):
     def blocks(self, data):
         rows = self.rows(data)
         return {("README.md", "vtk-table"): (self.table(rows, compact=True), True)}
+
+    def rerun_options(self, data):
+        return " --large" if any(e["dataset"] not in self.SMALL for e in data) else ""
 
 
 def f3(x):
@@ -562,6 +581,9 @@ class RenderSection(Section):
 class AccuracySection(Section):
     name = "accuracy"
     title = "Accuracy: the price of the step"
+    # Larger than `cylvol accuracy`'s default 128, so that a frame's time is more than its
+    # fixed costs and the machine's noise.
+    size = 256
     runs = [
         ("pump-rotor:200000", [], "pump-rotor, boundary segments (default)", "accuracy-rotor.svg"),
         ("pump-rotor:200000", ["--whole-steps"], "pump-rotor, `--whole-steps`", "accuracy-rotor-whole-steps.svg"),
@@ -572,7 +594,8 @@ class AccuracySection(Section):
         out = []
         for mesh, extra, _, svg in self.runs:
             plot = os.path.relpath(os.path.join(OUT_DIR, svg), REPO)
-            out.append(run_json([CYLVOL, "accuracy", mesh, "--structure", "cyl-bvh"] + extra
+            out.append(run_json([CYLVOL, "accuracy", mesh, "--structure", "cyl-bvh",
+                                 "--size", str(self.size)] + extra
                                 + ["--plot", plot, "--json"], commands))
         return out
 
@@ -648,7 +671,9 @@ def write_benchmarks_md(results):
                       % section.name, ""]
             continue
         parts += [section.markdown(entry["data"]), "",
-                  "Machine: %s." % machine_line(entry["machine"]), "", "Commands:", "",
+                  "Machine: %s." % machine_line(entry["machine"]), "",
+                  "Commands (run by `/usr/bin/python3 scripts/make_benchmarks_doc.py --only %s%s`):"
+                  % (section.name, section.rerun_options(entry["data"])), "",
                   commands_block(entry["commands"]), ""]
     with open(os.path.join(DOCS, "benchmarks.md"), "w") as f:
         f.write("\n".join(parts).rstrip() + "\n")
@@ -673,8 +698,9 @@ def fill_blocks(results):
             if document == "README.md":
                 m = entry["machine"]
                 note = ("%s, %d cores, %s; %s. Regenerate: `/usr/bin/python3 "
-                        "scripts/make_benchmarks_doc.py --only %s`."
-                        % (m["cpu"], m["cores"], m["os"], m["date"].split()[0], section.name))
+                        "scripts/make_benchmarks_doc.py --only %s%s`."
+                        % (m["cpu"], m["cores"], m["os"], m["date"].split()[0], section.name,
+                           section.rerun_options(entry["data"])))
             body = text + ("\n\n" + note if with_machine else "")
             with open(path, "w") as f:
                 f.write(head + begin + "\n" + body + "\n" + end + tail)
