@@ -131,19 +131,13 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The repository's files, relative to its root: tracked and untracked-but-not-ignored ones
-/// from git, or a walk of the tree where git cannot say.
+/// The repository's files, relative to its root: those git tracks (files of a user's own lying
+/// about untracked are not the project's), or a walk of the tree where git cannot say.
 fn repository_files(root: &Path) -> Vec<String> {
     let listed = Command::new("git")
         .arg("-C")
         .arg(root)
-        .args([
-            "ls-files",
-            "-z",
-            "--cached",
-            "--others",
-            "--exclude-standard",
-        ])
+        .args(["ls-files", "-z"])
         .output();
     match listed {
         Ok(out) if out.status.success() => String::from_utf8_lossy(&out.stdout)
