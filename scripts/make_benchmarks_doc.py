@@ -694,7 +694,9 @@ def fill_blocks(results):
                 continue
             head, rest = content.split(begin, 1)
             _, tail = rest.split(end, 1)
-            note = "Machine: %s." % machine_line(entry["machine"])
+            note = "Machine: %s.\n\nCommands (`/usr/bin/python3 scripts/make_benchmarks_doc.py --only %s%s` runs them):\n\n%s" % (
+                machine_line(entry["machine"]), section.name, section.rerun_options(entry["data"]),
+                commands_block(entry["commands"]))
             if document == "README.md":
                 m = entry["machine"]
                 note = ("%s, %d cores, %s; %s. Regenerate: `/usr/bin/python3 "
