@@ -213,7 +213,7 @@ def bar_chart(path, title, categories, series, y_label, log_scale=False, lines=(
         s.append('<text x="%d" y="%.1f" text-anchor="end">%s</text>' % (left - 6, y(t) + 4, fmt_tick(t)))
     s.append('<text transform="translate(16,%d) rotate(-90)" text-anchor="middle">%s</text>'
              % ((top + height - bottom) // 2, html.escape(y_label)))
-    base = y(lo) if not log_scale else y(lo)
+    base = y(lo)
     for i, cat in enumerate(categories):
         x0 = left + i * group_w + group_w * 0.1
         for j, (label, vs) in enumerate(series):
@@ -656,7 +656,8 @@ def write_benchmarks_md(results):
         "",
         "The machine was shared with other builds while these ran, so absolute times are noisy "
         "(tens of per cent from one run to the next). What is compared is measured side by side: "
-        "the ratios come from runs made in one script, in alternation, and the counters "
+        "the ratios come from runs made by one script minutes apart (the render benchmark's in "
+        "rounds that alternate the structures), and the counters "
         "(hexahedra tested, nodes visited, samples, references, bytes) are exact and the same on "
         "any machine. Read the ratios and counters; treat the seconds as indications.",
         "",
