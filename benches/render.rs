@@ -14,7 +14,7 @@
 //! (boundary segments, the default) or `whole` (whole steps).
 //!
 //! `--vtk-scene` renders the scene of the VTK comparison (`scripts/bench_vtk.py`, whose
-//! `cylvol render` options the README gives) instead of the default one: its opacity and
+//! `cylvol render` options docs/cli.md gives) instead of the default one: its opacity and
 //! colour points, the opacity read as an attenuation (as VTK's unstructured ray caster and
 //! vtkCylVolMapper read it), a unit distance of 10 % of the bounding-box diagonal, every cell
 //! with some opacity; `--step-factor=F` multiplies the default step by `F` (the comparison is also run

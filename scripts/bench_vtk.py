@@ -20,7 +20,14 @@ the figures are never those of a stale module. --no-build skips both; with --pyt
 package given is used as it is (only the cylvol command is built).
 Datasets: mixer, hexa, comb, post (from tests/data), mixer:N or hexa:N (that mesh with every
 hexahedron cut into N x N x N by `cylvol gen FILE --refine N`; mixer:4 is the 2.15 M-cell refined mixer)
-or rotor[:CELLS] (generated with `cylvol gen pump-rotor:CELLS`). --json prints the results as JSON as well.
+or rotor[:CELLS] (generated with `cylvol gen pump-rotor:CELLS`).
+--relative-steps F1,F2,... runs cylvol at those multiples of its default step (the mapper's
+SetRelativeSampleDistance), each compared with VTK; --only runs one mapper; --keep DIR keeps the
+generated meshes and the images. --json prints, after the text report and the line naming that
+folder, the results as a JSON array (one object per dataset: `runs` per mapper and step,
+`comparisons` with the ratios and image errors); scripts/make_benchmarks_doc.py reads it to
+write docs/benchmarks.md and the README's table. Times depend on the machine and on what else
+runs on it: compare the ratios of one run, in which both mappers ran side by side.
 """
 import argparse
 import json

@@ -1,5 +1,8 @@
 //! cylvol: ray casting of large unstructured hexahedral volume meshes (the CFD meshes of pumps,
 //! turbines, combustors) with acceleration structures in Cartesian and cylindrical coordinates.
+//! The method comes from the talk by J. Wang, M. Elshehaly and Y. Cao, *Cylindrical
+//! Acceleration Structures for Large Hexahedral Volume Visualization*, IEEE Symposium on Large
+//! Data Analysis and Visualization (LDAV), 2015: "the talk" in this documentation.
 //!
 //! The crate is organised by concern:
 //! - [`accel`]: the four acceleration structures behind one point-location interface;

@@ -175,7 +175,7 @@ fn mixer_has_the_documented_counts_and_arrays() {
         let comps = if a.name.starts_with('U') { 3 } else { 1 };
         assert_eq!(a.components, comps, "{}", a.name);
     }
-    // The README's rounded figures; the exact ones are checked against VTK below.
+    // tests/data/README.md's rounded figures; the exact ones are checked against VTK below.
     let [lo, hi] = array(m.point_data(), "p")
         .range(Component::Index(0))
         .unwrap();

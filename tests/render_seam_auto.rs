@@ -1,4 +1,4 @@
-//! Two checks of the list.
+//! Two checks of rendering about a machine's axis: no seam where θ wraps, and `auto`'s choice.
 //!
 //! 1. **No visible seam.** A closed full ring, a full ring with a duplicated seam and a sector
 //!    crossing θ = ±π, carrying a smooth scalar that is a function of the geometry, are
