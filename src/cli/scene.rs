@@ -95,14 +95,53 @@ pub fn structure(choice: StructureChoice, mesh: &Mesh, axis: &Axis) -> Structure
 }
 
 /// The mesh to render, refused before anything is built for it where it holds no point or
-/// cell array (the renderer's own refusal comes only after the structure's build).
+/// cell array, or where the array to draw holds NaN or infinite values
+/// ([`Mesh::drawn_scalars`]; the renderer's own refusal comes only after the structure's
+/// build).
 pub fn renderable(mesh: Mesh) -> Result<Mesh, Error> {
-    match mesh.active_scalars() {
-        Some(_) => Ok(mesh),
-        None => Err(Error::Invalid(
-            "the mesh has no point or cell array to render".into(),
-        )),
+    match mesh.drawn_scalars() {
+        Ok(_) => Ok(mesh),
+        Err(e) if mesh.active_scalar().is_none() => Err(e),
+        Err(e) => {
+            let finite: Vec<String> = drawable_arrays(&mesh);
+            let choice = if finite.is_empty() {
+                "; no array of this mesh is finite everywhere".to_string()
+            } else {
+                format!(" with --scalar ({})", finite.join(", "))
+            };
+            Err(Error::Invalid(format!("{e}{choice}")))
+        }
     }
+}
+
+/// The arrays whose values are all finite, each as `--scalar` names it.
+fn drawable_arrays(mesh: &Mesh) -> Vec<String> {
+    let bad = mesh.non_finite_arrays();
+    let is_bad = |association, name: &str| {
+        bad.iter()
+            .any(|b| b.association == association && b.name == name)
+    };
+    let (point, cell) = (mesh.point_data(), mesh.cell_data());
+    let tagged = point
+        .iter()
+        .enumerate()
+        .map(|(i, a)| (cylvol::Association::Point, i, a))
+        .chain(
+            cell.iter()
+                .enumerate()
+                .map(|(i, a)| (cylvol::Association::Cell, i, a)),
+        );
+    tagged
+        .filter(|(association, _, a)| !is_bad(*association, &a.name))
+        .map(|(association, array, a)| {
+            cylvol::mesh::ActiveScalar {
+                association,
+                array,
+                component: a.default_component(),
+            }
+            .selector(point, cell)
+        })
+        .collect()
 }
 
 /// The length of the mesh's bounding-box diagonal.

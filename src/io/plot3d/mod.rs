@@ -120,7 +120,7 @@ pub(crate) fn read_blaming(xyz: &[u8], q: Option<&[u8]>) -> Result<Mesh, (FileKi
     .map_err(|e| {
         // Point arrays come from the Q file alone; the rest is the grid's.
         let kind = match e {
-            MeshError::NonFiniteScalar { .. } | MeshError::ArrayLength { .. } => FileKind::Solution,
+            MeshError::ArrayLength { .. } => FileKind::Solution,
             _ => FileKind::Grid,
         };
         (kind, e.into())
