@@ -1,7 +1,9 @@
 //! What is drawn of the arrays a file holds, the same through every interface: arrays with
 //! NaN or infinite values (as VTK writes them: legacy BINARY and VTU) are loaded, listed with
 //! their counts by `cylvol info` (text and JSON) and in the load log, and refused only where a
-//! render draws them, naming the array and the count (the C ABI's refusal is in `tests/ffi.rs`).
+//! render draws them, naming the array and the count (the C ABI's refusal is in `tests/ffi.rs`);
+//! a constant field is drawn, with the transfer function laid about its one value, and said
+//! so on standard error; a transfer function transparent over the whole field is said too.
 
 mod common;
 
@@ -227,4 +229,71 @@ fn render_refuses_only_the_array_it_draws() {
             "{err}"
         );
     }
+}
+
+/// The number of pixels of a PNG that are not black.
+fn lit_pixels(path: &Path) -> usize {
+    let decoder = png::Decoder::new(std::fs::File::open(path).unwrap());
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = info.color_type.samples();
+    buf[..info.buffer_size()]
+        .chunks_exact(channels)
+        .filter(|px| px[..3].iter().any(|&c| c > 0))
+        .count()
+}
+
+/// A constant field (`k`, 2.5 everywhere) is drawn, the default transfer function laid
+/// about its value, and standard error says so: the value, the empty range, what to do.
+/// Given an opacity of zero at that value, the image is empty, and standard error says that.
+#[test]
+fn a_constant_field_is_drawn_and_explained() {
+    let Some((dir, files, _)) = vtk_files() else {
+        return;
+    };
+    let png = dir.path().join("k.png");
+    let (code, _, err) = cylvol(&[
+        "render",
+        text(&files[1]),
+        "--scalar",
+        "k",
+        "--size",
+        "32x32",
+        "-o",
+        text(&png),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(
+            "warning: the scalar k is 2.5 everywhere: its range [2.5, 2.5] is empty, so the \
+             transfer function is laid over [2.4999975, 2.5000025]"
+        ) && err.contains("--opacity 2.5:0.05"),
+        "{err}"
+    );
+    assert!(!err.contains("image is empty"), "{err}");
+    let lit = lit_pixels(&png);
+    assert!(lit > 100, "{lit} pixels lit");
+
+    let (code, _, err) = cylvol(&[
+        "render",
+        text(&files[1]),
+        "--scalar",
+        "k",
+        "--size",
+        "32x32",
+        "--opacity",
+        "2.5:0",
+        "-o",
+        text(&png),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(
+            "warning: the transfer function's opacity is zero at every value of the scalar \
+             (over [2.5, 2.5]): the image is empty"
+        ),
+        "{err}"
+    );
+    assert_eq!(lit_pixels(&png), 0);
 }

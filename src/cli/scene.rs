@@ -150,6 +150,39 @@ pub fn diagonal(mesh: &Mesh) -> f64 {
     ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt()
 }
 
+/// The range a transfer function is laid over (the default one, and `--opacity` and
+/// `--color` percentages) for the scalar range `[lo, hi]`: the range itself, or for a
+/// constant field, whose range is empty, `[v − d, v + d]` with `d = max(10⁻⁶, 10⁻⁶ |v|)`,
+/// as vtkCylVolMapper samples a caller's transfer function over a constant array: the value
+/// then takes the function's middle, and the field is drawn as that, not left out.
+pub fn transfer_range([lo, hi]: [f64; 2]) -> [f64; 2] {
+    if hi > lo {
+        return [lo, hi];
+    }
+    let d = (lo.abs() * 1e-6).max(1e-6);
+    [lo - d, lo + d]
+}
+
+/// What a user should know of a constant field before it is drawn (its one value, the
+/// empty range, what the picture shows and how to choose otherwise); `None` for a field
+/// that varies.
+pub fn constant_field_warning(mesh: &Mesh, [lo, hi]: [f64; 2]) -> Option<String> {
+    if hi > lo {
+        return None;
+    }
+    let active = mesh.active_scalar()?;
+    let scalar = active.selector(mesh.point_data(), mesh.cell_data());
+    let [a, b] = transfer_range([lo, hi]).map(show);
+    let v = show(lo);
+    Some(format!(
+        "the scalar {scalar} is {v} everywhere: its range [{v}, {v}] is empty, so the \
+         transfer function is laid over [{a}, {b}] and every sample takes its middle (the \
+         colour and opacity at 50 %): the picture shows where the mesh is, not a field; give \
+         --opacity and --color with values rather than percentages (e.g. --opacity {v}:0.05) \
+         to choose how it looks, or render a varying array with --scalar"
+    ))
+}
+
 /// The default transfer function over the scalar range `[lo, hi]`
 /// ([`TransferFunction::default_for_range`]) with a maximum opacity of [`MAX_OPACITY`] per
 /// hundredth of the mesh's diagonal.
