@@ -47,9 +47,10 @@ impl Input {
 
     /// [`Input::load`], giving `log` what a user should know of the load (the `cylvol`
     /// program writes it to standard error): a PLOT3D grid with no Q file given and none
-    /// beside it (so no arrays to render) says so, and which names were looked for; each
-    /// array holding NaN or infinite values is named with how many (it is kept, but cannot
-    /// be drawn: [`Mesh::drawn_scalars`]).
+    /// beside it (so no arrays to render) says so, and which names were looked for; what the
+    /// reader did beyond reading ([`io::read_file_logged`]: bytes after a PLOT3D file's data
+    /// ignored, PLOT3D grids joined); each array holding NaN or infinite values is named
+    /// with how many (it is kept, but cannot be drawn: [`Mesh::drawn_scalars`]).
     ///
     /// ```
     /// use cylvol::input::Input;
@@ -117,7 +118,7 @@ fn load_file(
                 let options = ReadOptions {
                     q_file: Some(q.clone()),
                 };
-                return io::read_file(path, &options);
+                return io::read_file_logged(path, &options, log);
             }
             None => {
                 let looked_for: Vec<String> = names
@@ -138,7 +139,7 @@ fn load_file(
             }
         }
     }
-    io::read_file(path, options)
+    io::read_file_logged(path, options, log)
 }
 
 /// Parses and loads an `INPUT` in one step.

@@ -7,7 +7,7 @@
 //! | legacy VTK (`.vtk`), ASCII and BINARY, `UNSTRUCTURED_GRID` and `STRUCTURED_GRID` | [`legacy::read`], [`legacy::read_file`] | [`legacy::write`] (BINARY unstructured grid) |
 //! | VTU (`.vtu`), ascii, base64, raw appended, zlib, LZ4 or LZMA compression, 32/64-bit headers | [`vtu::read`], [`vtu::read_file`] | [`vtu::write`] (zlib or none) |
 //! | parallel VTU (`.pvtu`): an index and one `.vtu` a piece | [`vtu::read_parallel`], [`vtu::read_parallel_file`] | — |
-//! | PLOT3D whole single-grid `*xyz.bin` + `*q.bin` | [`plot3d::read`] | — |
+//! | PLOT3D whole 3-D grids, one or several, `*xyz.bin` + `*q.bin` | [`plot3d::read`], [`plot3d::read_logged`] | — |
 //! | VTK image data (`.vti`), one array over a 2-D image (a render's depth) | [`vti::read_point_scalars`] | [`vti::write_point_scalars`] (`Float32`) |
 
 mod elements;
@@ -213,8 +213,20 @@ pub(crate) fn read_exact_at(
 }
 
 /// Reads a mesh file, choosing the reader from its extension. Errors name the file. A Q file
-/// in `options` is an error for any file but a PLOT3D grid.
+/// in `options` is an error for any file but a PLOT3D grid. Says nothing of what was done
+/// beyond reading; [`read_file_logged`] does.
 pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
+    read_file_logged(path, options, &mut |_| {})
+}
+
+/// [`read_file`], giving `log` what a user should know of the read, each note naming its
+/// file: bytes after a PLOT3D file's data that were ignored, PLOT3D grids joined into one
+/// mesh (see [`plot3d::read_logged`]).
+pub fn read_file_logged(
+    path: &Path,
+    options: &ReadOptions,
+    log: &mut dyn FnMut(String),
+) -> Result<Mesh, Error> {
     let format = Format::from_path(path).ok_or_else(|| {
         Error::Invalid(format!(
             "{}: unknown file type (expected .vtk, .vtu, .pvtu, or a PLOT3D *xyz.bin / .xyz / .x \
@@ -240,10 +252,15 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
                 None => plot3d_q_file_for(path),
             };
             let q = q_path.as_deref().map(read_bytes).transpose()?;
-            plot3d::read_blaming(&bytes, q.as_deref()).map_err(|(kind, e)| match (kind, &q_path) {
-                (plot3d::FileKind::Solution, Some(q_path)) => e.in_file(q_path),
-                _ => e.in_file(path),
-            })
+            let file_of = |kind| match (kind, &q_path) {
+                (plot3d::FileKind::Solution, Some(q_path)) => q_path.as_path(),
+                _ => path,
+            };
+            let mut note = |kind, note: String| {
+                log(format!("{}: {note}", file_of(kind).display()));
+            };
+            plot3d::read_blaming(&bytes, q.as_deref(), &mut note)
+                .map_err(|(kind, e)| e.in_file(file_of(kind)))
         }
     }
 }
