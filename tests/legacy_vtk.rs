@@ -853,6 +853,68 @@ w.SetFileTypeToBinary(); w.Write()
     assert_matches_vtk(&m, &vtk_summary(&path));
 }
 
+/// VTK writes a structured grid with blanking (`BlankPoint`, `BlankCell`: `vtkGhostType`
+/// point and cell flags), binary and ASCII: the cells VTK shows (`IsCellVisible`, as its
+/// triangulation for the unstructured ray caster keeps them) are the ones read, by their
+/// point ids: every cell about a hidden point goes, as well as the hidden cell (the cells
+/// about hidden points were kept).
+#[test]
+fn structured_grid_blanking_vtk_writes_hides_the_cells_vtk_hides() {
+    if !common::vtk_python_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = r#"
+import sys, vtk
+ni, nj, nk = 6, 5, 4
+pts = vtk.vtkPoints()
+for k in range(nk):
+    for j in range(nj):
+        for i in range(ni):
+            pts.InsertNextPoint(i + 0.1 * j, j, k + 0.05 * i)
+g = vtk.vtkStructuredGrid(); g.SetDimensions(ni, nj, nk); g.SetPoints(pts)
+s = vtk.vtkFloatArray(); s.SetName('s')
+for n in range(g.GetNumberOfPoints()): s.InsertNextValue(0.5 * n)
+g.GetPointData().SetScalars(s)
+for (i, j, k) in [(2, 2, 1), (5, 0, 3)]:
+    g.BlankPoint(i + ni * (j + nj * k))
+g.BlankCell(17)
+for name, binary in [('blank_binary', True), ('blank_ascii', False)]:
+    w = vtk.vtkStructuredGridWriter(); w.SetInputData(g)
+    w.SetFileName(sys.argv[1] + '/' + name + '.vtk')
+    if binary: w.SetFileTypeToBinary()
+    w.Write()
+for c in range(g.GetNumberOfCells()):
+    if g.IsCellVisible(c):
+        ids = g.GetCell(c).GetPointIds()
+        print(' '.join(str(x) for x in sorted(ids.GetId(k) for k in range(8))))
+"#;
+    let out = common::vtk_python(script, &[dir.path().to_str().unwrap()]);
+    let visible: Vec<Vec<u32>> = out
+        .lines()
+        .map(|l| l.split(' ').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(visible.len(), 5 * 4 * 3 - 8 - 1 - 1);
+    for name in ["blank_binary", "blank_ascii"] {
+        let m = read_path(dir.path().join(format!("{name}.vtk")).to_str().unwrap());
+        let mut ours: Vec<Vec<u32>> = m
+            .cells()
+            .iter()
+            .map(|c| {
+                let mut ids = c.to_vec();
+                ids.sort_unstable();
+                ids
+            })
+            .collect();
+        ours.sort();
+        let mut theirs = visible.clone();
+        theirs.sort();
+        assert_eq!(ours, theirs, "{name}");
+        assert_eq!(m.point_count(), 6 * 5 * 4, "{name}: every point kept");
+        assert_eq!(names(m.point_data()), ["s"], "{name}: no ghost array");
+    }
+}
+
 /// One unit cube: 8 points, one hexahedron, in the classic layout; pieces replaceable.
 fn cube(points: &str, cells: &str, types: &str, data: &str) -> String {
     format!(

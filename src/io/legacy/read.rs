@@ -9,7 +9,7 @@ use super::cursor::{show, Cursor, Shortfall, Token};
 use super::values::{parse_f64, parse_i64, ArrayType, ValueType};
 use crate::error::{Error, ReadError};
 use crate::io::elements::{to_f64, to_tuples, Integers, ScalarType};
-use crate::io::ghost::drop_ghost_cells;
+use crate::io::ghost::{drop_ghost_cells, Blanking};
 use crate::io::structured::hexahedra;
 use crate::mesh::{cells_from_ids, Association, CellKind, DataArray, Mesh, MeshParts, OffsetStyle};
 
@@ -895,6 +895,7 @@ impl<'a> Parser<'a> {
             .points
             .ok_or_else(|| self.err(end, "the file has no POINTS section"))?;
         let n_points = points.value.len();
+        let dataset = p.dataset;
         let (cells, kinds) = match p.dataset {
             Dataset::Unstructured => match p.cells {
                 None => (Vec::new(), Vec::new()),
@@ -977,7 +978,11 @@ impl<'a> Parser<'a> {
             point_data: p.point_data,
             cell_data: p.cell_data,
         };
-        drop_ghost_cells(&mut parts);
+        let blanking = match dataset {
+            Dataset::Unstructured => Blanking::Cells,
+            Dataset::Structured => Blanking::CellsAndPoints,
+        };
+        drop_ghost_cells(&mut parts, blanking);
         let mesh = Mesh::from_parts(parts)?;
         Ok(mesh)
     }

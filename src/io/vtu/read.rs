@@ -17,7 +17,7 @@ use crate::io::elements::{is_integer, to_f64, to_i64, to_tuples, Integers, Scala
 use super::xml::{attr, check_file_type, is_blank, Attr, Event, OpenElements, Scanner};
 use super::FORMAT;
 use crate::error::{Error, ReadError};
-use crate::io::ghost::drop_ghost_cells;
+use crate::io::ghost::{drop_ghost_cells, Blanking};
 use crate::mesh::{
     cells_from_ids, cells_from_vtk, ConvertedCells, DataArray, MeshParts, OffsetStyle,
 };
@@ -1062,7 +1062,7 @@ fn decode_parts(
         let at = pieces.first().map_or(0, |p| p.at);
         join_pieces(decoded).map_err(|m| err(at, m))?
     };
-    drop_ghost_cells(&mut parts);
+    drop_ghost_cells(&mut parts, Blanking::Cells);
     let active = pieces.first().and_then(|first| {
         first
             .active_point
