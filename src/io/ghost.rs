@@ -1,7 +1,7 @@
 //! VTK's ghost convention, which every VTK reader honours: a `vtkGhostType` cell array of
 //! flags marks the cells a parallel writer copied from a neighbouring piece (its ghost layers)
 //! and cells hidden by blanking; a `vtkGhostType` point array marks points likewise. The
-//! readers that can meet them (VTU and legacy VTK) drop those cells and both arrays, so a
+//! readers that can meet them (VTU, VTS and legacy VTK) drop those cells and both arrays, so a
 //! mesh holds each cell once and its arrays are fields, never flags.
 //!
 //! A structured grid is also blanked by its points, as `vtkStructuredGrid::IsCellVisible`

@@ -7,6 +7,7 @@
 //! | legacy VTK (`.vtk`), ASCII and BINARY, `UNSTRUCTURED_GRID` and `STRUCTURED_GRID` | [`legacy::read`], [`legacy::read_file`] | [`legacy::write`] (BINARY unstructured grid) |
 //! | VTU (`.vtu`), ascii, base64, raw appended, zlib, LZ4 or LZMA compression, 32/64-bit headers | [`vtu::read`], [`vtu::read_file`] | [`vtu::write`] (zlib or none) |
 //! | parallel VTU (`.pvtu`): an index and one `.vtu` a piece | [`vtu::read_parallel`], [`vtu::read_parallel_file`] | — |
+//! | VTK XML structured grid (`.vts`), one or several pieces, blanking | [`vts::read`], [`vts::read_file`] | — |
 //! | PLOT3D whole 3-D grids, one or several, `*xyz.bin` + `*q.bin` | [`plot3d::read`], [`plot3d::read_logged`] | — |
 //! | VTK image data (`.vti`), one array over a 2-D image (a render's depth) | [`vti::read_point_scalars`] | [`vti::write_point_scalars`] (`Float32`) |
 
@@ -16,6 +17,7 @@ pub mod legacy;
 pub mod plot3d;
 pub mod structured;
 pub mod vti;
+pub mod vts;
 pub mod vtu;
 
 use std::path::{Path, PathBuf};
@@ -39,6 +41,8 @@ pub enum Format {
     Vtu,
     /// VTK XML parallel unstructured grid index (`.pvtu`) and its pieces.
     Pvtu,
+    /// VTK XML structured grid (`.vts`).
+    Vts,
     /// PLOT3D grid (`*.bin`, `*.xyz`, `*.x`, `*.g`).
     Plot3d,
 }
@@ -51,6 +55,7 @@ impl Format {
             "vtk" => Some(Format::LegacyVtk),
             "vtu" => Some(Format::Vtu),
             "pvtu" => Some(Format::Pvtu),
+            "vts" => Some(Format::Vts),
             "bin" | "xyz" | "x" | "g" | "p3d" => Some(Format::Plot3d),
             _ => None,
         }
@@ -62,6 +67,7 @@ impl Format {
             Format::LegacyVtk => Some("a legacy VTK file"),
             Format::Vtu => Some("a VTU file"),
             Format::Pvtu => Some("a parallel VTU index"),
+            Format::Vts => Some("a VTS file"),
             Format::Plot3d => None,
         }
     }
@@ -229,8 +235,8 @@ pub fn read_file_logged(
 ) -> Result<Mesh, Error> {
     let format = Format::from_path(path).ok_or_else(|| {
         Error::Invalid(format!(
-            "{}: unknown file type (expected .vtk, .vtu, .pvtu, or a PLOT3D *xyz.bin / .xyz / .x \
-             grid)",
+            "{}: unknown file type (expected .vtk, .vtu, .pvtu, .vts, or a PLOT3D *xyz.bin / .xyz \
+             / .x grid)",
             path.display()
         ))
     })?;
@@ -245,6 +251,7 @@ pub fn read_file_logged(
         Format::LegacyVtk => legacy::read_file(path),
         Format::Vtu => vtu::read_file(path),
         Format::Pvtu => vtu::read_parallel_file(path),
+        Format::Vts => vts::read_file(path),
         Format::Plot3d => {
             let bytes = read_bytes(path)?;
             let q_path = match &options.q_file {

@@ -33,8 +33,9 @@ mod xml;
 
 pub use parallel::read_parallel;
 
-/// The XML walker and decoders also read VTK images' point arrays, for [`super::vti`].
-pub(crate) use read::read_image_points;
+/// The XML walker and decoders also read VTK images' point arrays, for [`super::vti`], and
+/// structured grids, for [`super::vts`].
+pub(crate) use read::{mesh_with_active, read_image_points, read_structured_parts};
 pub use write::{ByteOrder, Encoding, HeaderType, VtuOptions};
 /// XML attribute escaping, shared with the other VTK XML writer ([`super::vti`]).
 pub(crate) use xml::escape as xml_escape;

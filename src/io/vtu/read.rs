@@ -64,7 +64,7 @@ enum Section {
 struct PieceDesc {
     points: usize,
     cells: usize,
-    /// An image piece's `Extent` (`None` for an unstructured grid's).
+    /// An image's or a structured grid's piece's `Extent` (`None` for an unstructured grid's).
     extent: Option<[i64; 6]>,
     at: usize,
     coords: Option<ArrayDesc>,
@@ -115,12 +115,14 @@ impl<'a> RawData<'a> {
     }
 }
 
-/// The dataset types the XML walker reads: unstructured grids for meshes, images (such as a
-/// render's depth image) for their point arrays.
+/// The dataset types the XML walker reads: unstructured and structured grids for meshes,
+/// images (such as a render's depth image) for their point arrays.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum XmlDataset {
     /// `UnstructuredGrid` (`.vtu`).
     UnstructuredGrid,
+    /// `StructuredGrid` (`.vts`): pieces of an extent, points given, cells implied.
+    StructuredGrid,
     /// `ImageData` (`.vti`).
     ImageData,
 }
@@ -130,6 +132,7 @@ impl XmlDataset {
     fn element(self) -> &'static str {
         match self {
             XmlDataset::UnstructuredGrid => "UnstructuredGrid",
+            XmlDataset::StructuredGrid => "StructuredGrid",
             XmlDataset::ImageData => "ImageData",
         }
     }
@@ -137,6 +140,7 @@ impl XmlDataset {
     fn extension(self) -> &'static str {
         match self {
             XmlDataset::UnstructuredGrid => ".vtu",
+            XmlDataset::StructuredGrid => ".vts",
             XmlDataset::ImageData => ".vti",
         }
     }
@@ -184,6 +188,39 @@ fn parse_extent(
         return Err(bad());
     }
     Ok(extent)
+}
+
+/// A structured piece's `Extent`: six integers; an empty extent (a high end below its low
+/// end on some axis, as writers give a piece with nothing in it) holds no points.
+fn parse_piece_extent(attrs: &[Attr<'_>], at: usize) -> Result<PieceDesc, ReadError> {
+    let v = attr(attrs, "Extent").ok_or_else(|| err(at, "<Piece> has no Extent"))?;
+    let values: Option<Vec<i64>> = v
+        .split_ascii_whitespace()
+        .map(|x| x.parse::<i64>().ok())
+        .collect();
+    let extent: [i64; 6] = values
+        .and_then(|v| v.try_into().ok())
+        .ok_or_else(|| err(at, format!("<Piece> Extent=\"{v}\" is not six integers")))?;
+    if extent[0] > extent[1] || extent[2] > extent[3] || extent[4] > extent[5] {
+        return Ok(PieceDesc {
+            at,
+            ..PieceDesc::default()
+        });
+    }
+    let too_many = || err(at, "<Piece> Extent holds too many points");
+    let points = extent_points(&extent).ok_or_else(too_many)?;
+    // As VTK counts a structured extent's cells: a flat axis counts once.
+    let cells = extent.chunks_exact(2).try_fold(1usize, |n, e| {
+        let span = usize::try_from(e[1] - e[0]).ok()?.max(1);
+        n.checked_mul(span)
+    });
+    Ok(PieceDesc {
+        points,
+        cells: cells.ok_or_else(too_many)?,
+        extent: Some(extent),
+        at,
+        ..PieceDesc::default()
+    })
 }
 
 /// The points of an image extent (`None` if they do not fit a `usize`).
@@ -355,6 +392,7 @@ fn parse_structure(bytes: &[u8], dataset: XmlDataset) -> Result<Parsed<'_>, Read
                             at: offset,
                             ..PieceDesc::default()
                         },
+                        XmlDataset::StructuredGrid => parse_piece_extent(&attrs, offset)?,
                         XmlDataset::ImageData => {
                             let extent = parse_extent(&attrs, "Extent", "Piece", offset)?;
                             PieceDesc {
@@ -810,6 +848,9 @@ fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error
         .into());
     }
     let points = dec.points(coords, piece.points)?;
+    if let Some(extent) = piece.extent {
+        return structured_piece(dec, piece, extent, points);
+    }
 
     let types_desc = cell_array(piece, "types")?;
     let offsets_desc = cell_array(piece, "offsets")?;
@@ -839,6 +880,36 @@ fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error
         kinds: converted.kinds,
         point_data: data_arrays(dec, &piece.point_data, piece.points)?,
         cell_data: data_arrays(dec, &piece.cell_data, piece.cells)?,
+    })
+}
+
+/// A structured grid's piece: the hexahedra of its extent over its points (i fastest, as
+/// [`crate::io::structured::hexahedra`] takes them), and its arrays. A piece flat along an
+/// axis has no volume cells, and is an error saying so.
+fn structured_piece(
+    dec: &Decoder<'_>,
+    piece: &PieceDesc,
+    extent: [i64; 6],
+    points: Vec<DVec3>,
+) -> Result<MeshParts, Error> {
+    let dims = [0, 2, 4].map(|a| (extent[a + 1] - extent[a] + 1) as usize);
+    if dims.contains(&1) {
+        return Err(err(
+            piece.at,
+            format!(
+                "the piece's Extent {extent:?} is flat along an axis: its cells are not \
+                 volumes, and cylvol renders volume cells only"
+            ),
+        )
+        .into());
+    }
+    let cells = crate::io::structured::hexahedra(dims, &points);
+    Ok(MeshParts {
+        kinds: vec![crate::mesh::CellKind::Hexahedron; cells.len()],
+        cells,
+        point_data: data_arrays(dec, &piece.point_data, piece.points)?,
+        cell_data: data_arrays(dec, &piece.cell_data, piece.cells)?,
+        points,
     })
 }
 
@@ -899,7 +970,17 @@ pub(super) fn join_pieces(pieces: Vec<MeshParts>) -> Result<MeshParts, String> {
 pub(super) fn read_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Error> {
     let parsed = parse_structure(bytes, XmlDataset::UnstructuredGrid)?;
     let dec = decoder_checked(bytes, &parsed)?;
-    decode_parts(&dec, &parsed)
+    decode_parts(&dec, &parsed, Blanking::Cells)
+}
+
+/// [`read_parts`] of a VTK structured grid (`.vts`): each piece's hexahedra over its extent,
+/// the pieces joined (the points on the faces they share are each piece's own), ghost and
+/// blanked cells dropped, a hidden point hiding its cells as VTK's structured grids hide
+/// them.
+pub(crate) fn read_structured_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Error> {
+    let parsed = parse_structure(bytes, XmlDataset::StructuredGrid)?;
+    let dec = decoder_checked(bytes, &parsed)?;
+    decode_parts(&dec, &parsed, Blanking::CellsAndPoints)
 }
 
 /// The decoder of a file read whole, once the XML after its appended data (if any) is
@@ -1025,7 +1106,7 @@ pub(super) fn read_file_parts(
         e.offset += trailer_at as u64;
         e
     })?;
-    decode_parts(&dec, &parsed).map(Some)
+    decode_parts(&dec, &parsed, Blanking::Cells).map(Some)
 }
 
 /// Where (within the raw appended block) the last of the file's appended arrays ends.
@@ -1040,10 +1121,11 @@ fn appended_end(dec: &Decoder<'_>, parsed: &Parsed<'_>) -> Result<usize, ReadErr
     Ok(end)
 }
 
-/// Decodes the non-empty pieces, joins them and drops ghost cells.
+/// Decodes the non-empty pieces, joins them and drops ghost cells (and what `blanking` hides).
 fn decode_parts(
     dec: &Decoder<'_>,
     parsed: &Parsed<'_>,
+    blanking: Blanking,
 ) -> Result<(MeshParts, Option<String>), Error> {
     // Empty pieces (parallel writers leave them) may lack arrays altogether: skip them.
     let pieces: Vec<&PieceDesc> = parsed
@@ -1062,7 +1144,7 @@ fn decode_parts(
         let at = pieces.first().map_or(0, |p| p.at);
         join_pieces(decoded).map_err(|m| err(at, m))?
     };
-    drop_ghost_cells(&mut parts, Blanking::Cells);
+    drop_ghost_cells(&mut parts, blanking);
     let active = pieces.first().and_then(|first| {
         first
             .active_point
@@ -1075,7 +1157,7 @@ fn decode_parts(
 
 /// A validated mesh from joined parts, with `active` (`point:NAME` or `cell:NAME`) as its
 /// active scalar where that array survived the join.
-pub(super) fn mesh_with_active(parts: MeshParts, active: Option<&str>) -> Result<Mesh, Error> {
+pub(crate) fn mesh_with_active(parts: MeshParts, active: Option<&str>) -> Result<Mesh, Error> {
     let mut mesh = Mesh::from_parts(parts)?;
     if let Some(name) = active {
         let _ = mesh.set_active_scalar(name);
