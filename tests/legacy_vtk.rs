@@ -915,6 +915,38 @@ for c in range(g.GetNumberOfCells()):
     }
 }
 
+/// Hand-written files carry several attribute blocks of one kind, which VTK's writer never
+/// writes (it writes one SCALARS and puts the rest in a FIELD): three SCALARS blocks (one
+/// with a custom LOOKUP_TABLE, defined after it, one of two components), COLOR_SCALARS,
+/// VECTORS, and two cell SCALARS. Every numeric block is read as VTK's reader reads it with
+/// ReadAllScalarsOn (COLOR_SCALARS, which VTK reads only on request, and lookup tables
+/// dropped), and the first SCALARS block is the active scalar, as VTK's are.
+#[test]
+fn several_scalar_blocks_read_as_vtk_reads_them_all() {
+    let text = "# vtk DataFile Version 3.0\nseveral scalar blocks\nASCII\n\
+DATASET UNSTRUCTURED_GRID\nPOINTS 8 float\n0 0 0 1 0 0 1 1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1\n\
+CELLS 1 9\n8 0 1 2 3 4 5 6 7\nCELL_TYPES 1\n12\nPOINT_DATA 8\n\
+SCALARS p float 1\nLOOKUP_TABLE default\n0 1 2 3 4 5 6 7\n\
+SCALARS T double\nLOOKUP_TABLE warm\n10 11 12 13 14 15 16 17\n\
+LOOKUP_TABLE warm 2\n0 0 0 1 1 1 1 1\n\
+COLOR_SCALARS rgb 3\n0 0 0 1 1 1 0 0 0 1 1 1 0 0 0 1 1 1 0 0 0 1 1 1\n\
+SCALARS k int 2\nLOOKUP_TABLE default\n1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16\n\
+VECTORS U float\n0 0 0 1 0 0 1 1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1\n\
+CELL_DATA 1\nSCALARS cp float\nLOOKUP_TABLE default\n3\n\
+SCALARS cq float\nLOOKUP_TABLE default\n4\n";
+    let m = legacy::read(text.as_bytes()).unwrap();
+    assert_eq!(names(m.point_data()), ["p", "T", "k", "U"]);
+    assert_eq!(names(m.cell_data()), ["cp", "cq"]);
+    assert_eq!(array(m.point_data(), "k").components, 2);
+    assert_eq!(m.active_array().unwrap().name, "p");
+    if common::vtk_python_available() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("several.vtk");
+        std::fs::write(&path, text).unwrap();
+        assert_matches_vtk(&m, &vtk_summary(&path));
+    }
+}
+
 /// One unit cube: 8 points, one hexahedron, in the classic layout; pieces replaceable.
 fn cube(points: &str, cells: &str, types: &str, data: &str) -> String {
     format!(

@@ -1132,3 +1132,63 @@ fn write_fuzz_seeds() {
         std::fs::write(dir.join(name), write_to_vec(&mesh, &o)).unwrap();
     }
 }
+
+/// A piece-aware source written by VTK in three pieces in one file, without and with a ghost
+/// level: read as the cells VTK's reader gives less those it flags as ghosts (VTK's reader
+/// keeps them for the pipeline to skip), each once, by their corners' mean.
+#[test]
+fn one_file_of_several_pieces_with_ghost_cells_reads_each_cell_once() {
+    if !common::vtk_python_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = r#"
+import sys, os, vtk
+src = vtk.vtkRTAnalyticSource(); src.SetWholeExtent(0, 8, 0, 6, 0, 5)
+sg = vtk.vtkImageDataToPointSet(); sg.SetInputConnection(src.GetOutputPort())
+ug = vtk.vtkAppendFilter(); ug.SetInputConnection(sg.GetOutputPort())
+for ghost in (0, 1):
+    path = os.path.join(sys.argv[1], "pieces%d.vtu" % ghost)
+    w = vtk.vtkXMLUnstructuredGridWriter(); w.SetInputConnection(ug.GetOutputPort())
+    w.SetFileName(path); w.SetNumberOfPieces(3); w.SetGhostLevel(ghost)
+    assert w.Write() == 1
+    r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(path); r.Update(); g = r.GetOutput()
+    flags = g.GetCellData().GetArray("vtkGhostType")
+    for c in range(g.GetNumberOfCells()):
+        if flags is not None and flags.GetValue(c) & 1: continue
+        ids = g.GetCell(c).GetPointIds()
+        pts = [g.GetPoint(ids.GetId(k)) for k in range(ids.GetNumberOfIds())]
+        print(ghost, " ".join(repr(sum(p[a] for p in pts) / len(pts)) for a in range(3)))
+"#;
+    let out = common::vtk_python(script, &[dir.path().to_str().unwrap()]);
+    for ghost in [0, 1] {
+        let path = dir.path().join(format!("pieces{ghost}.vtu"));
+        let text = std::fs::read(&path).unwrap();
+        assert_eq!(text.windows(6).filter(|w| w == b"<Piece").count(), 3);
+        let mesh = vtu::read_file(&path).unwrap();
+        let mut theirs: Vec<[f64; 3]> = out
+            .lines()
+            .filter_map(|l| l.strip_prefix(&format!("{ghost} ")))
+            .map(|l| {
+                let v: Vec<f64> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+                [v[0], v[1], v[2]]
+            })
+            .collect();
+        let mut ours: Vec<[f64; 3]> = (0..mesh.cell_count())
+            .map(|c| {
+                let p = mesh.cell_corners(c);
+                [0, 1, 2].map(|a| p.iter().map(|q| q[a]).sum::<f64>() / 8.0)
+            })
+            .collect();
+        assert_eq!(ours.len(), 8 * 6 * 5, "ghost level {ghost}");
+        theirs.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        ours.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        assert_eq!(ours.len(), theirs.len(), "ghost level {ghost}");
+        for (o, t) in ours.iter().zip(&theirs) {
+            assert!(
+                o.iter().zip(t).all(|(a, b)| (a - b).abs() < 1e-9),
+                "ghost level {ghost}: {o:?} against VTK's {t:?}"
+            );
+        }
+    }
+}
