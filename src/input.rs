@@ -1,7 +1,8 @@
-//! Resolution of a command-line `INPUT`: a mesh file (`.vtk`, `.vtu`, `.pvtu`, `.vts`, PLOT3D
-//! grid) or a synthetic dataset `NAME[:CELLS]` such as `pump-rotor:2100000`. Loading one says on
-//! standard error what a user should know (a PLOT3D grid without a Q file, arrays holding NaN
-//! or infinite values), or gives it to a caller's log ([`Input::load_logged`]).
+//! Resolution of a command-line `INPUT`: a mesh file (`.vtk`, `.vtu`, `.pvtu`, `.vts`, `.pvts`,
+//! PLOT3D grid) or a synthetic dataset `NAME[:CELLS]` such as `pump-rotor:2100000`. Loading
+//! one says on standard error what a user should know (a PLOT3D grid without a Q file, what
+//! the reader did beyond reading, arrays holding NaN or infinite values), or gives it to a
+//! caller's log ([`Input::load_logged`]).
 
 use std::path::{Path, PathBuf};
 

@@ -68,9 +68,16 @@ def gen(out):
         w.SetFileName(os.path.join(out, "pieces-ghost%d.vts" % ghost))
         w.SetNumberOfPieces(3); w.SetGhostLevel(ghost)
         assert w.Write() == 1
+        w = vtk.vtkXMLPStructuredGridWriter(); w.SetInputConnection(sg.GetOutputPort())
+        w.SetFileName(os.path.join(out, "parallel-ghost%d.pvts" % ghost))
+        w.SetNumberOfPieces(3); w.SetStartPiece(0); w.SetEndPiece(2); w.SetGhostLevel(ghost)
+        w.SetCompressorTypeToZLib()
+        assert w.Write() == 1
 
 def summary(path):
-    r = vtk.vtkXMLStructuredGridReader(); r.SetFileName(path); r.Update()
+    if path.endswith('.pvts'): r = vtk.vtkXMLPStructuredGridReader()
+    else: r = vtk.vtkXMLStructuredGridReader()
+    r.SetFileName(path); r.Update()
     g = r.GetOutput()
     s = lambda v: [repr(x) for x in v]
     def values(d, i):
@@ -240,6 +247,37 @@ fn several_pieces_vtk_writes_are_joined_without_their_ghost_cells() {
         assert_eq!(mesh.active_array().unwrap().name, "RTData");
         assert_matches_vtk(&mesh, &path);
     }
+}
+
+/// A parallel index (`.pvts`) and its three `.vts` pieces, without and with a ghost level:
+/// read through the index, each cell once, VTK's values at every point.
+#[test]
+fn parallel_index_and_its_pieces_read_as_vtk_reads_them() {
+    let Some(dir) = vtk_files() else {
+        return;
+    };
+    for ghost in [0, 1] {
+        let path = dir.path().join(format!("parallel-ghost{ghost}.pvts"));
+        let mesh = io::read_file(&path, &ReadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(mesh.cell_count(), 8 * 6 * 5, "ghost level {ghost}");
+        assert_matches_vtk(&mesh, &path);
+    }
+    // A piece that is missing is an error naming it, under the index's name.
+    let index = dir.path().join("parallel-ghost0.pvts");
+    let text = std::fs::read_to_string(&index).unwrap();
+    let piece = text
+        .split("Source=\"")
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap();
+    std::fs::remove_file(dir.path().join(piece)).unwrap();
+    let msg = message(vts::read_parallel_file(&index));
+    assert!(
+        msg.starts_with(&index.display().to_string()) && msg.contains(piece),
+        "{msg}"
+    );
 }
 
 fn message(r: Result<Mesh, Error>) -> String {

@@ -8,6 +8,7 @@
 //! | VTU (`.vtu`), ascii, base64, raw appended, zlib, LZ4 or LZMA compression, 32/64-bit headers | [`vtu::read`], [`vtu::read_file`] | [`vtu::write`] (zlib or none) |
 //! | parallel VTU (`.pvtu`): an index and one `.vtu` a piece | [`vtu::read_parallel`], [`vtu::read_parallel_file`] | — |
 //! | VTK XML structured grid (`.vts`), one or several pieces, blanking | [`vts::read`], [`vts::read_file`] | — |
+//! | parallel VTS (`.pvts`): an index and one `.vts` a piece | [`vts::read_parallel_file`] | — |
 //! | PLOT3D whole 3-D grids, one or several, `*xyz.bin` + `*q.bin` | [`plot3d::read`], [`plot3d::read_logged`] | — |
 //! | VTK image data (`.vti`), one array over a 2-D image (a render's depth) | [`vti::read_point_scalars`] | [`vti::write_point_scalars`] (`Float32`) |
 
@@ -43,6 +44,8 @@ pub enum Format {
     Pvtu,
     /// VTK XML structured grid (`.vts`).
     Vts,
+    /// VTK XML parallel structured grid index (`.pvts`) and its pieces.
+    Pvts,
     /// PLOT3D grid (`*.bin`, `*.xyz`, `*.x`, `*.g`).
     Plot3d,
 }
@@ -56,6 +59,7 @@ impl Format {
             "vtu" => Some(Format::Vtu),
             "pvtu" => Some(Format::Pvtu),
             "vts" => Some(Format::Vts),
+            "pvts" => Some(Format::Pvts),
             "bin" | "xyz" | "x" | "g" | "p3d" => Some(Format::Plot3d),
             _ => None,
         }
@@ -68,6 +72,7 @@ impl Format {
             Format::Vtu => Some("a VTU file"),
             Format::Pvtu => Some("a parallel VTU index"),
             Format::Vts => Some("a VTS file"),
+            Format::Pvts => Some("a parallel VTS index"),
             Format::Plot3d => None,
         }
     }
@@ -235,8 +240,8 @@ pub fn read_file_logged(
 ) -> Result<Mesh, Error> {
     let format = Format::from_path(path).ok_or_else(|| {
         Error::Invalid(format!(
-            "{}: unknown file type (expected .vtk, .vtu, .pvtu, .vts, or a PLOT3D *xyz.bin / .xyz \
-             / .x grid)",
+            "{}: unknown file type (expected .vtk, .vtu, .pvtu, .vts, .pvts, or a PLOT3D *xyz.bin \
+             / .xyz / .x grid)",
             path.display()
         ))
     })?;
@@ -252,6 +257,7 @@ pub fn read_file_logged(
         Format::Vtu => vtu::read_file(path),
         Format::Pvtu => vtu::read_parallel_file(path),
         Format::Vts => vts::read_file(path),
+        Format::Pvts => vts::read_parallel_file(path),
         Format::Plot3d => {
             let bytes = read_bytes(path)?;
             let q_path = match &options.q_file {

@@ -13,6 +13,8 @@
 //!   piece (an extent with nothing in it) is skipped.
 //!
 //! Errors are [`crate::ReadError`]s of format `VTS` with the byte offset, as for VTU files.
+//!
+//! A parallel index (`.pvts`) and its `.vts` pieces are read by [`read_parallel_file`].
 
 use std::path::Path;
 
@@ -46,6 +48,23 @@ pub fn read(bytes: &[u8]) -> Result<Mesh, Error> {
 pub fn read_file(path: &Path) -> Result<Mesh, Error> {
     let bytes = super::read_bytes(path)?;
     read(&bytes).map_err(|e| e.in_file(path))
+}
+
+/// Reads a parallel structured grid index (`.pvts`, `vtkXMLPStructuredGridWriter`'s) and its
+/// pieces, named relative to the index's folder, each as [`read_file`] reads a `.vts` file
+/// (its ghost and blanked cells dropped), joined in index order; errors name the file.
+pub fn read_parallel_file(index: &Path) -> Result<Mesh, Error> {
+    let bytes = super::read_bytes(index)?;
+    let folder = index.parent().unwrap_or(Path::new(""));
+    let read_piece = |source: &str| {
+        let path = folder.join(source);
+        let piece = super::read_bytes(&path)?;
+        super::vtu::read_structured_parts(&piece)
+            .map_err(as_vts)
+            .map_err(|e| e.in_file(&path))
+    };
+    super::vtu::read_index_with(&bytes, super::vtu::Indexed::StructuredGrid, read_piece)
+        .map_err(|e| e.in_file(index))
 }
 
 /// A read error of the shared XML reader, named as this format's.

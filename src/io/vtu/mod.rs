@@ -32,6 +32,7 @@ mod write;
 mod xml;
 
 pub use parallel::read_parallel;
+pub(crate) use parallel::{read_index_with, Indexed};
 
 /// The XML walker and decoders also read VTK images' point arrays, for [`super::vti`], and
 /// structured grids, for [`super::vts`].
