@@ -202,7 +202,8 @@ fn assert_matches_vtk(mesh: &Mesh, path: &Path) {
 
 /// The blanked sector in every encoding, compressor and header width VTK's writer offers:
 /// the cells VTK shows (the 8, 4 and 1 cells about the hidden points and the hidden cell
-/// gone), the point and cell values VTK gives, no ghost array kept; the file's active scalar.
+/// gone, and the load note says 14), the point and cell values VTK gives, no ghost array
+/// kept; the file's active scalar.
 #[test]
 fn blanked_grids_vtk_writes_read_as_vtk_shows_them() {
     let Some(dir) = vtk_files() else {
@@ -215,8 +216,17 @@ fn blanked_grids_vtk_writes_read_as_vtk_shows_them() {
         if !name.starts_with("sector-") {
             continue;
         }
-        let mesh =
-            io::read_file(&path, &ReadOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let mut notes = Vec::new();
+        let mesh = io::read_file_logged(&path, &ReadOptions::default(), &mut |n| notes.push(n))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(
+            notes,
+            [format!(
+                "{}: 14 blanked cells were dropped (hidden in vtkGhostType, or with a hidden \
+                 corner point), as VTK hides them",
+                path.display()
+            )]
+        );
         assert_eq!(mesh.point_count(), 7 * 6 * 5, "{name}");
         assert_eq!(mesh.cell_count(), 6 * 5 * 4 - 8 - 4 - 1 - 1, "{name}");
         assert!(mesh
@@ -242,8 +252,12 @@ fn several_pieces_vtk_writes_are_joined_without_their_ghost_cells() {
         let path = dir.path().join(format!("pieces-ghost{ghost}.vts"));
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(text.matches("<Piece").count(), 3, "three pieces");
-        let mesh = vts::read_file(&path).unwrap_or_else(|e| panic!("{e}"));
+        let mut notes = Vec::new();
+        let mesh =
+            vts::read_file_logged(&path, &mut |n| notes.push(n)).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(mesh.cell_count(), 8 * 6 * 5, "ghost level {ghost}");
+        let said = notes.iter().any(|n| n.contains("ghost cells were dropped"));
+        assert_eq!(said, ghost == 1, "{notes:?}");
         assert_eq!(mesh.active_array().unwrap().name, "RTData");
         assert_matches_vtk(&mesh, &path);
     }

@@ -1192,3 +1192,66 @@ for ghost in (0, 1):
         }
     }
 }
+
+/// A blanked structured grid made unstructured by VTK (vtkAppendFilter, as ParaView's Merge
+/// Blocks makes it) has VTK's empty cells (type 0, no points) where the blanked cells were;
+/// VTK writes them to VTU and legacy files and reads them back. Both read as the grid's other
+/// cells, the cell data of the empty ones dropped with them, and the load notes say how many
+/// (they were refused: "unsupported cell types: 2 × empty cell").
+#[test]
+fn empty_cells_vtk_writes_are_dropped_with_their_cell_data_and_said() {
+    if !common::vtk_python_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = r#"
+import sys, os, vtk
+ni, nj, nk = 4, 3, 3
+pts = vtk.vtkPoints()
+for k in range(nk):
+    for j in range(nj):
+        for i in range(ni):
+            pts.InsertNextPoint(i, j + 0.2 * i, k)
+g = vtk.vtkStructuredGrid(); g.SetDimensions(ni, nj, nk); g.SetPoints(pts)
+c = vtk.vtkDoubleArray(); c.SetName('c')
+for n in range(g.GetNumberOfCells()): c.InsertNextValue(n)
+g.GetCellData().AddArray(c)
+g.BlankCell(2); g.BlankCell(7)
+a = vtk.vtkAppendFilter(); a.AddInputData(g); a.Update()
+u = vtk.vtkUnstructuredGrid(); u.DeepCopy(a.GetOutput())
+print(' '.join(str(u.GetCellType(i)) for i in range(u.GetNumberOfCells())))
+w = vtk.vtkXMLUnstructuredGridWriter(); w.SetInputData(u)
+w.SetFileName(os.path.join(sys.argv[1], 'merged.vtu')); w.Write()
+w = vtk.vtkUnstructuredGridWriter(); w.SetInputData(u); w.SetFileTypeToBinary()
+w.SetFileName(os.path.join(sys.argv[1], 'merged.vtk')); w.Write()
+"#;
+    let types = common::vtk_python(script, &[dir.path().to_str().unwrap()]);
+    let types: Vec<u8> = types
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(
+        types.iter().filter(|&&t| t == 0).count(),
+        2,
+        "VTK wrote empty cells"
+    );
+    let kept: Vec<f64> = (0..12)
+        .filter(|&c| types[c] != 0)
+        .map(|c| c as f64)
+        .collect();
+    for name in ["merged.vtu", "merged.vtk"] {
+        let path = dir.path().join(name);
+        let mut notes = Vec::new();
+        let mesh = cylvol::io::read_file_logged(&path, &Default::default(), &mut |n| notes.push(n))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(mesh.cell_count(), 10, "{name}");
+        let c = mesh.cell_data().iter().find(|a| a.name == "c").unwrap();
+        assert_eq!(c.values, kept, "{name}: the other cells' values, in order");
+        let note = format!(
+            "{}: 2 empty cells were dropped (VTK type 0, without points, as blanked cells \
+             become in an unstructured grid) with their cell data",
+            path.display()
+        );
+        assert!(notes.contains(&note), "{name}: {notes:?}");
+    }
+}

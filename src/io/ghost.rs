@@ -9,11 +9,15 @@
 //! point flagged hidden hides every cell it is a corner of ([`Blanking::CellsAndPoints`]).
 //! An unstructured grid's cells are not hidden by their points in VTK, nor here.
 
+use crate::io::empty::cells_were;
 use crate::mesh::{DataArray, MeshParts};
 
-/// The cell flags of VTK's `vtkGhostType` array (`vtkDataSetAttributes`) that mark a cell
-/// another piece owns (`DUPLICATECELL`) or one not to be shown (`HIDDENCELL`).
-const GHOST_CELL_FLAGS: u8 = 1 | 32;
+/// The cell flag of VTK's `vtkGhostType` array (`vtkDataSetAttributes`) that marks a cell
+/// another piece owns (`DUPLICATECELL`).
+const DUPLICATE_CELL: u8 = 1;
+
+/// The cell flag that marks a cell not to be shown (`HIDDENCELL`).
+const HIDDEN_CELL: u8 = 32;
 
 /// The point flag of VTK's `vtkGhostType` array that blanks a point (`HIDDENPOINT`).
 const HIDDEN_POINT: u8 = 2;
@@ -41,31 +45,78 @@ fn take_flags(arrays: &mut Vec<DataArray>, tuples: usize) -> Option<Vec<u8>> {
     flags
 }
 
+/// The cells [`drop_ghost_cells`] dropped, by reason.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Dropped {
+    /// Copies of another piece's cells (`DUPLICATECELL`).
+    pub ghosts: usize,
+    /// Cells hidden by blanking (`HIDDENCELL`, or a corner point flagged `HIDDENPOINT`).
+    pub hidden: usize,
+}
+
+impl Dropped {
+    /// How many cells went.
+    pub(crate) fn total(self) -> usize {
+        self.ghosts + self.hidden
+    }
+
+    /// What a user is told of them, a note a reason.
+    pub(crate) fn notes(self) -> Vec<String> {
+        let mut notes = Vec::new();
+        if self.ghosts > 0 {
+            notes.push(format!(
+                "{} dropped (copies of another piece's cells, flagged in vtkGhostType): each \
+                 cell is drawn once",
+                cells_were(self.ghosts, "ghost")
+            ));
+        }
+        if self.hidden > 0 {
+            notes.push(format!(
+                "{} dropped (hidden in vtkGhostType, or with a hidden corner point), as VTK \
+                 hides them",
+                cells_were(self.hidden, "blanked")
+            ));
+        }
+        notes
+    }
+}
+
 /// Drops the cells VTK's ghost arrays hide — flagged as another piece's or hidden (a parallel
 /// writer's ghost layers, blanked cells), or, with [`Blanking::CellsAndPoints`], with a
-/// corner point flagged hidden — and both ghost arrays, which are flags, not fields;
-/// returns how many cells went. Their points stay (unreferenced). A ghost array of the wrong
-/// length hides nothing.
-pub(crate) fn drop_ghost_cells(parts: &mut MeshParts, blanking: Blanking) -> usize {
+/// corner point flagged hidden — and both ghost arrays, which are flags, not fields; says
+/// how many cells went, and why. Their points stay (unreferenced). A ghost array of the
+/// wrong length hides nothing.
+pub(crate) fn drop_ghost_cells(parts: &mut MeshParts, blanking: Blanking) -> Dropped {
     let n_cells = parts.cells.len();
     let point_flags = take_flags(&mut parts.point_data, parts.points.len());
     let cell_flags = take_flags(&mut parts.cell_data, n_cells);
     if parts.kinds.len() != n_cells {
         // Mismatched lengths are the validation's to report; nothing is dropped.
-        return 0;
+        return Dropped::default();
     }
-    let mut keep: Vec<bool> = match &cell_flags {
-        Some(flags) => flags.iter().map(|&f| f & GHOST_CELL_FLAGS == 0).collect(),
-        None => vec![true; n_cells],
+    let hidden_point = |&p: &u32| {
+        point_flags
+            .as_ref()
+            .filter(|_| blanking == Blanking::CellsAndPoints)
+            .and_then(|flags| flags.get(p as usize))
+            .is_some_and(|f| f & HIDDEN_POINT != 0)
     };
-    if let (Blanking::CellsAndPoints, Some(flags)) = (blanking, &point_flags) {
-        let hidden = |&p: &u32| flags.get(p as usize).is_some_and(|f| f & HIDDEN_POINT != 0);
-        for (k, cell) in keep.iter_mut().zip(&parts.cells) {
-            *k = *k && !cell.iter().any(hidden);
-        }
-    }
-    let dropped = keep.iter().filter(|&&k| !k).count();
-    if dropped > 0 {
+    let mut dropped = Dropped::default();
+    let keep: Vec<bool> = (0..n_cells)
+        .map(|c| {
+            let flags = cell_flags.as_ref().map_or(0, |f| f[c]);
+            if flags & DUPLICATE_CELL != 0 {
+                dropped.ghosts += 1;
+                false
+            } else if flags & HIDDEN_CELL != 0 || parts.cells[c].iter().any(hidden_point) {
+                dropped.hidden += 1;
+                false
+            } else {
+                true
+            }
+        })
+        .collect();
+    if dropped.total() > 0 {
         drop_cells(parts, &keep);
     }
     dropped
@@ -140,7 +191,13 @@ mod tests {
         // DUPLICATECELL (1), none, HIDDENCELL (32), REFINEDCELL (4, kept), both (33).
         let mut p = parts(&[1.0, 0.0, 32.0, 4.0, 33.0]);
         let before = p.clone();
-        assert_eq!(drop_ghost_cells(&mut p, Blanking::Cells), 3);
+        assert_eq!(
+            drop_ghost_cells(&mut p, Blanking::Cells),
+            Dropped {
+                ghosts: 2,
+                hidden: 1
+            }
+        );
         assert_eq!(p.cells, [before.cells[1], before.cells[3]]);
         assert_eq!(p.kinds, [CellKind::Wedge, CellKind::Wedge]);
         let names: Vec<&str> = p.cell_data.iter().map(|a| a.name.as_str()).collect();
@@ -157,7 +214,7 @@ mod tests {
     fn unflagged_cells_stay_but_the_flag_arrays_still_go() {
         let mut p = parts(&[0.0, 4.0, 8.0]);
         let before = p.clone();
-        assert_eq!(drop_ghost_cells(&mut p, Blanking::Cells), 0);
+        assert_eq!(drop_ghost_cells(&mut p, Blanking::Cells).total(), 0);
         assert_eq!((&p.cells, &p.kinds), (&before.cells, &before.kinds));
         assert!(p.cell_data.iter().all(|a| a.name != GHOST_ARRAY));
         assert!(p.point_data.iter().all(|a| a.name != GHOST_ARRAY));
@@ -185,7 +242,7 @@ mod tests {
         let mut p = parts(&[1.0, 1.0, 1.0]);
         p.cell_data[1].values.pop();
         let cells = p.cells.clone();
-        assert_eq!(drop_ghost_cells(&mut p, Blanking::Cells), 0);
+        assert_eq!(drop_ghost_cells(&mut p, Blanking::Cells).total(), 0);
         assert_eq!(p.cells, cells);
     }
 }

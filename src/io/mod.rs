@@ -13,6 +13,7 @@
 //! | VTK image data (`.vti`), one array over a 2-D image (a render's depth) | [`vti::read_point_scalars`] | [`vti::write_point_scalars`] (`Float32`) |
 
 mod elements;
+mod empty;
 mod ghost;
 pub mod legacy;
 pub mod plot3d;
@@ -231,8 +232,9 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
 }
 
 /// [`read_file`], giving `log` what a user should know of the read, each note naming its
-/// file: bytes after a PLOT3D file's data that were ignored, PLOT3D grids joined into one
-/// mesh (see [`plot3d::read_logged`]).
+/// file: cells dropped (empty cells, ghost cells, blanked cells) with how many, bytes after a
+/// PLOT3D file's data that were ignored, PLOT3D grids joined into one mesh (see
+/// [`plot3d::read_logged`]).
 pub fn read_file_logged(
     path: &Path,
     options: &ReadOptions,
@@ -252,12 +254,14 @@ pub fn read_file_logged(
             path.display()
         )));
     }
+    // Each note of a file's reader names the file.
+    let mut noting = |note: String| log(format!("{}: {note}", path.display()));
     match format {
-        Format::LegacyVtk => legacy::read_file(path),
-        Format::Vtu => vtu::read_file(path),
-        Format::Pvtu => vtu::read_parallel_file(path),
-        Format::Vts => vts::read_file(path),
-        Format::Pvts => vts::read_parallel_file(path),
+        Format::LegacyVtk => legacy::read_file_logged(path, &mut noting),
+        Format::Vtu => vtu::read_file_logged(path, &mut noting),
+        Format::Pvtu => vtu::read_parallel_file_logged(path, &mut noting),
+        Format::Vts => vts::read_file_logged(path, &mut noting),
+        Format::Pvts => vts::read_parallel_file_logged(path, &mut noting),
         Format::Plot3d => {
             let bytes = read_bytes(path)?;
             let q_path = match &options.q_file {

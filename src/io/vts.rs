@@ -40,20 +40,37 @@ const FORMAT: &str = "VTS";
 /// assert_eq!(mesh.scalar_range(), Some([0.0, 2.0]));
 /// ```
 pub fn read(bytes: &[u8]) -> Result<Mesh, Error> {
-    let (parts, active) = super::vtu::read_structured_parts(bytes).map_err(as_vts)?;
-    super::vtu::mesh_with_active(parts, active.as_deref())
+    read_logged(bytes, &mut |_| {})
+}
+
+/// [`read`], giving `log` what was done beyond reading: ghost and blanked cells dropped.
+pub fn read_logged(bytes: &[u8], log: &mut dyn FnMut(String)) -> Result<Mesh, Error> {
+    let file = super::vtu::read_structured_parts(bytes).map_err(as_vts)?;
+    file.notes.into_iter().for_each(&mut *log);
+    super::vtu::mesh_with_active(file.parts, file.active.as_deref())
 }
 
 /// Reads a `.vts` file: the mesh [`read`] gives for its bytes, errors naming the file.
 pub fn read_file(path: &Path) -> Result<Mesh, Error> {
+    read_file_logged(path, &mut |_| {})
+}
+
+/// [`read_file`], giving `log` what was done beyond reading ([`read_logged`]).
+pub fn read_file_logged(path: &Path, log: &mut dyn FnMut(String)) -> Result<Mesh, Error> {
     let bytes = super::read_bytes(path)?;
-    read(&bytes).map_err(|e| e.in_file(path))
+    read_logged(&bytes, log).map_err(|e| e.in_file(path))
 }
 
 /// Reads a parallel structured grid index (`.pvts`, `vtkXMLPStructuredGridWriter`'s) and its
 /// pieces, named relative to the index's folder, each as [`read_file`] reads a `.vts` file
 /// (its ghost and blanked cells dropped), joined in index order; errors name the file.
 pub fn read_parallel_file(index: &Path) -> Result<Mesh, Error> {
+    read_parallel_file_logged(index, &mut |_| {})
+}
+
+/// [`read_parallel_file`], giving `log` what was done beyond reading ([`read_logged`], for
+/// every piece, each note naming its piece).
+pub fn read_parallel_file_logged(index: &Path, log: &mut dyn FnMut(String)) -> Result<Mesh, Error> {
     let bytes = super::read_bytes(index)?;
     let folder = index.parent().unwrap_or(Path::new(""));
     let read_piece = |source: &str| {
@@ -63,7 +80,7 @@ pub fn read_parallel_file(index: &Path) -> Result<Mesh, Error> {
             .map_err(as_vts)
             .map_err(|e| e.in_file(&path))
     };
-    super::vtu::read_index_with(&bytes, super::vtu::Indexed::StructuredGrid, read_piece)
+    super::vtu::read_index_with(&bytes, super::vtu::Indexed::StructuredGrid, read_piece, log)
         .map_err(|e| e.in_file(index))
 }
 

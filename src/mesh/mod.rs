@@ -18,7 +18,8 @@ pub mod validate;
 mod vtk_cells;
 
 pub use cell_kind::{
-    vtk_type_name, CellKind, VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_VOXEL, VTK_WEDGE,
+    vtk_type_name, CellKind, VTK_EMPTY_CELL, VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_VOXEL,
+    VTK_WEDGE,
 };
 pub use data::{
     non_finite_refusal, ActiveScalar, Association, Component, DataArray, NonFiniteArray,

@@ -11,10 +11,9 @@
 
 use rayon::prelude::*;
 
-use super::read::{join_pieces, mesh_with_active, read_parts};
+use super::read::{join_pieces, mesh_with_active, read_parts, FileParts};
 use super::xml::{attr, check_file_type, Event, OpenElements, Scanner};
 use crate::error::{Error, ReadError};
-use crate::mesh::MeshParts;
 use crate::Mesh;
 
 /// The datasets a parallel index may hold the pieces of.
@@ -160,40 +159,39 @@ pub fn read_parallel(
     index: &[u8],
     load: impl Fn(&str) -> Result<Vec<u8>, Error> + Sync,
 ) -> Result<Mesh, Error> {
-    read_parallel_with(index, |source| {
+    let read_piece = |source: &str| {
         let bytes = load(source)?;
         read_parts(&bytes).map_err(|e| e.in_file(source))
-    })
+    };
+    read_index_with(index, Indexed::UnstructuredGrid, read_piece, &mut |_| {})
 }
 
-/// [`read_parallel`] with each piece's parts (and the active scalar it names) from
-/// `read_piece`, given the piece's `Source`.
-pub(super) fn read_parallel_with(
-    index: &[u8],
-    read_piece: impl Fn(&str) -> Result<(MeshParts, Option<String>), Error> + Sync,
-) -> Result<Mesh, Error> {
-    read_index_with(index, Indexed::UnstructuredGrid, read_piece)
-}
-
-/// Reads an index of `kind`, each piece's parts (and the active scalar it names) from
-/// `read_piece`, given the piece's `Source`: the pieces read in parallel, joined in index
-/// order.
+/// Reads an index of `kind`, each piece's parts (with the active scalar it names, and its
+/// notes) from `read_piece`, given the piece's `Source`: the pieces read in parallel, joined
+/// in index order; `log` is given every piece's notes, each naming its piece.
 pub(crate) fn read_index_with(
     index: &[u8],
     kind: Indexed,
-    read_piece: impl Fn(&str) -> Result<(MeshParts, Option<String>), Error> + Sync,
+    read_piece: impl Fn(&str) -> Result<FileParts, Error> + Sync,
+    log: &mut dyn FnMut(String),
 ) -> Result<Mesh, Error> {
     let index = parse_index(index, kind)?;
-    let pieces: Vec<_> = index
+    let pieces: Vec<FileParts> = index
         .sources
         .par_iter()
         .map(|source| read_piece(source))
         .collect::<Result<_, _>>()?;
     let active = index
         .active
-        .or_else(|| pieces.iter().find_map(|(_, active)| active.clone()));
-    let parts = join_pieces(pieces.into_iter().map(|(parts, _)| parts).collect())
-        .map_err(|m| ReadError::new(kind.format(), 0, m))?;
+        .or_else(|| pieces.iter().find_map(|p| p.active.clone()));
+    let mut all_parts = Vec::with_capacity(pieces.len());
+    for (piece, source) in pieces.into_iter().zip(&index.sources) {
+        for note in piece.notes {
+            log(format!("{source}: {note}"));
+        }
+        all_parts.push(piece.parts);
+    }
+    let parts = join_pieces(all_parts).map_err(|m| ReadError::new(kind.format(), 0, m))?;
     mesh_with_active(parts, active.as_deref())
 }
 

@@ -17,10 +17,9 @@ use crate::io::elements::{is_integer, to_f64, to_i64, to_tuples, Integers, Scala
 use super::xml::{attr, check_file_type, is_blank, Attr, Event, OpenElements, Scanner};
 use super::FORMAT;
 use crate::error::{Error, ReadError};
+use crate::io::empty::{self, drop_tuples};
 use crate::io::ghost::{drop_ghost_cells, Blanking};
-use crate::mesh::{
-    cells_from_ids, cells_from_vtk, ConvertedCells, DataArray, MeshParts, OffsetStyle,
-};
+use crate::mesh::{cells_from_ids, ConvertedCells, DataArray, MeshParts, OffsetStyle};
 use crate::Mesh;
 
 fn err(offset: usize, message: impl Into<String>) -> ReadError {
@@ -735,7 +734,15 @@ impl<'a> Decoder<'a> {
             Data::Text(t, at) => {
                 let what = format!("DataArray \"{}\"", desc.name);
                 let ids = ascii_i64(&t, at, len, ty, &what)?;
-                cells_from_vtk(&ids, offsets, OffsetStyle::Ends, types, points)?
+                cells_from_ids(
+                    ids.len(),
+                    |k| ids[k],
+                    offsets,
+                    OffsetStyle::Ends,
+                    0,
+                    types,
+                    points,
+                )?
             }
         })
     }
@@ -835,7 +842,8 @@ fn data_arrays(
     Ok(out)
 }
 
-fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error> {
+/// A piece's parts, and how many empty cells it had (left out, with their cell data).
+fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<(MeshParts, usize), Error> {
     let coords = piece
         .coords
         .as_ref()
@@ -849,7 +857,7 @@ fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error
     }
     let points = dec.points(coords, piece.points)?;
     if let Some(extent) = piece.extent {
-        return structured_piece(dec, piece, extent, points);
+        return Ok((structured_piece(dec, piece, extent, points)?, 0));
     }
 
     let types_desc = cell_array(piece, "types")?;
@@ -873,14 +881,16 @@ fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error
     let conn_len = usize::try_from(conn_len)
         .map_err(|_| err(offsets_desc.at, format!("the last cell ends at {conn_len}")))?;
     let converted = dec.cells(conn_desc, conn_len, &offsets, &types, piece.points)?;
-
-    Ok(MeshParts {
+    let mut cell_data = data_arrays(dec, &piece.cell_data, piece.cells)?;
+    drop_tuples(&mut cell_data, &converted.empty, piece.cells);
+    let parts = MeshParts {
         points,
         cells: converted.cells,
         kinds: converted.kinds,
         point_data: data_arrays(dec, &piece.point_data, piece.points)?,
-        cell_data: data_arrays(dec, &piece.cell_data, piece.cells)?,
-    })
+        cell_data,
+    };
+    Ok((parts, converted.empty.len()))
 }
 
 /// A structured grid's piece: the hexahedra of its extent over its points (i fastest, as
@@ -965,9 +975,21 @@ pub(super) fn join_pieces(pieces: Vec<MeshParts>) -> Result<MeshParts, String> {
     Ok(parts)
 }
 
+/// A file's pieces joined, not yet validated, with the scalar the file names as active
+/// (`point:NAME` or `cell:NAME`), if any, and what was done beyond reading, for the user.
+#[derive(Debug)]
+pub(crate) struct FileParts {
+    /// The joined pieces, their empty, ghost and blanked cells dropped.
+    pub parts: MeshParts,
+    /// The active scalar the file names.
+    pub active: Option<String>,
+    /// Notes: which cells were dropped, how many, and why.
+    pub notes: Vec<String>,
+}
+
 /// A VTU file's pieces joined, ghost cells dropped, not yet validated, with the scalar the
 /// file names as active (`point:NAME` or `cell:NAME`), if any.
-pub(super) fn read_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Error> {
+pub(super) fn read_parts(bytes: &[u8]) -> Result<FileParts, Error> {
     let parsed = parse_structure(bytes, XmlDataset::UnstructuredGrid)?;
     let dec = decoder_checked(bytes, &parsed)?;
     decode_parts(&dec, &parsed, Blanking::Cells)
@@ -977,7 +999,7 @@ pub(super) fn read_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Er
 /// the pieces joined (the points on the faces they share are each piece's own), ghost and
 /// blanked cells dropped, a hidden point hiding its cells as VTK's structured grids hide
 /// them.
-pub(crate) fn read_structured_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Error> {
+pub(crate) fn read_structured_parts(bytes: &[u8]) -> Result<FileParts, Error> {
     let parsed = parse_structure(bytes, XmlDataset::StructuredGrid)?;
     let dec = decoder_checked(bytes, &parsed)?;
     decode_parts(&dec, &parsed, Blanking::CellsAndPoints)
@@ -1065,7 +1087,7 @@ pub(super) const HEAD_BYTES: usize = 1 << 16;
 pub(super) fn read_file_parts(
     file: &std::fs::File,
     head: usize,
-) -> Result<Option<(MeshParts, Option<String>)>, Error> {
+) -> Result<Option<FileParts>, Error> {
     let Some(len) = file
         .metadata()
         .ok()
@@ -1126,7 +1148,7 @@ fn decode_parts(
     dec: &Decoder<'_>,
     parsed: &Parsed<'_>,
     blanking: Blanking,
-) -> Result<(MeshParts, Option<String>), Error> {
+) -> Result<FileParts, Error> {
     // Empty pieces (parallel writers leave them) may lack arrays altogether: skip them.
     let pieces: Vec<&PieceDesc> = parsed
         .pieces
@@ -1134,8 +1156,11 @@ fn decode_parts(
         .filter(|p| p.points > 0 || p.cells > 0)
         .collect();
     let mut decoded = Vec::with_capacity(pieces.len());
+    let mut empty_cells = 0;
     for piece in &pieces {
-        decoded.push(decode_piece(dec, piece)?);
+        let (parts, empty) = decode_piece(dec, piece)?;
+        decoded.push(parts);
+        empty_cells += empty;
     }
     let mut parts = if decoded.len() == 1 {
         // One piece (the usual case): move, do not copy.
@@ -1144,7 +1169,7 @@ fn decode_parts(
         let at = pieces.first().map_or(0, |p| p.at);
         join_pieces(decoded).map_err(|m| err(at, m))?
     };
-    drop_ghost_cells(&mut parts, blanking);
+    let dropped = drop_ghost_cells(&mut parts, blanking);
     let active = pieces.first().and_then(|first| {
         first
             .active_point
@@ -1152,7 +1177,15 @@ fn decode_parts(
             .map(|n| format!("point:{n}"))
             .or_else(|| first.active_cell.as_ref().map(|n| format!("cell:{n}")))
     });
-    Ok((parts, active))
+    let notes = empty::note(empty_cells)
+        .into_iter()
+        .chain(dropped.notes())
+        .collect();
+    Ok(FileParts {
+        parts,
+        active,
+        notes,
+    })
 }
 
 /// A validated mesh from joined parts, with `active` (`point:NAME` or `cell:NAME`) as its
@@ -1167,8 +1200,8 @@ pub(crate) fn mesh_with_active(parts: MeshParts, active: Option<&str>) -> Result
 
 /// Reads a VTU file's bytes into a validated mesh.
 pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
-    let (parts, active) = read_parts(bytes)?;
-    mesh_with_active(parts, active.as_deref())
+    let file = read_parts(bytes)?;
+    mesh_with_active(file.parts, file.active.as_deref())
 }
 
 #[cfg(all(test, unix))]
@@ -1178,7 +1211,7 @@ mod tests {
     use crate::io::vtu::{write_with, ByteOrder, Encoding, HeaderType, VtuOptions};
 
     /// What a read gave, comparable: the parts or the error's message.
-    fn outcome(r: Result<(MeshParts, Option<String>), Error>) -> Result<String, String> {
+    fn outcome(r: Result<FileParts, Error>) -> Result<String, String> {
         r.map(|p| format!("{p:?}")).map_err(|e| e.to_string())
     }
 
