@@ -634,8 +634,10 @@ enum CylvolStatus cylvol_mesh_new(const void *points,
  * (or cell) count. `component`: which component to use, or -1 for the magnitude (for a
  * one-component array 0 and -1 both mean the value). `name` may be NULL.
  *
- * Errors: NULL_POINTER, INVALID_ARGUMENT (a NaN or infinite value, a bad enum value,
- * `n_components == 0`), LENGTH_MISMATCH (`n_tuples`), OUT_OF_RANGE (`component`).
+ * Errors: NULL_POINTER, INVALID_ARGUMENT (a NaN or infinite value among the scalars drawn:
+ * the component chosen, or the magnitude; other components may hold them, as a mesh read
+ * from a file may; a bad enum value, `n_components == 0`), LENGTH_MISMATCH (`n_tuples`),
+ * OUT_OF_RANGE (`component`).
  *
  * # Safety
  * `mesh` a live handle; `values` `n_tuples × n_components` readable values; `name` NULL or

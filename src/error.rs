@@ -140,18 +140,6 @@ pub enum MeshError {
         /// Values given.
         got: usize,
     },
-    /// A data array holds NaN or an infinity.
-    #[error("{association} array '{name}' has a non-finite value {value} at index {index}")]
-    NonFiniteScalar {
-        /// Array name.
-        name: String,
-        /// Point or cell data.
-        association: Association,
-        /// Index of the first such value.
-        index: usize,
-        /// The value.
-        value: f64,
-    },
     /// Cells whose trilinear map has a negative Jacobian determinant at a corner.
     #[error("{count} inverted cell(s) (negative corner Jacobian), first is cell {first}")]
     InvertedCells {

@@ -1,6 +1,7 @@
-//! Resolution of a command-line `INPUT`: a mesh file (`.vtk`, `.vtu`, `.pvtu`, PLOT3D grid) or a
-//! synthetic dataset `NAME[:CELLS]` such as `pump-rotor:2100000`. Loading one says on
-//! standard error what a user should know (a PLOT3D grid without a Q file), or gives it to a
+//! Resolution of a command-line `INPUT`: a mesh file (`.vtk`, `.vtu`, `.pvtu`, `.vts`, `.pvts`,
+//! PLOT3D grid) or a synthetic dataset `NAME[:CELLS]` such as `pump-rotor:2100000`. Loading
+//! one says on standard error what a user should know (a PLOT3D grid without a Q file, what
+//! the reader did beyond reading, arrays holding NaN or infinite values), or gives it to a
 //! caller's log ([`Input::load_logged`]).
 
 use std::path::{Path, PathBuf};
@@ -47,7 +48,10 @@ impl Input {
 
     /// [`Input::load`], giving `log` what a user should know of the load (the `cylvol`
     /// program writes it to standard error): a PLOT3D grid with no Q file given and none
-    /// beside it (so no arrays to render) says so, and which names were looked for.
+    /// beside it (so no arrays to render) says so, and which names were looked for; what the
+    /// reader did beyond reading ([`io::read_file_logged`]: bytes after a PLOT3D file's data
+    /// ignored, PLOT3D grids joined); each array holding NaN or infinite values is named
+    /// with how many (it is kept, but cannot be drawn: [`Mesh::drawn_scalars`]).
     ///
     /// ```
     /// use cylvol::input::Input;
@@ -71,6 +75,14 @@ impl Input {
         options: &ReadOptions,
         log: &mut dyn FnMut(String),
     ) -> Result<Mesh, Error> {
+        let mesh = self.load_mesh(options, log)?;
+        for array in mesh.non_finite_arrays() {
+            log(format!("{array}: it is kept, but cannot be drawn"));
+        }
+        Ok(mesh)
+    }
+
+    fn load_mesh(&self, options: &ReadOptions, log: &mut dyn FnMut(String)) -> Result<Mesh, Error> {
         match self {
             Input::Synthetic(dataset, cells) => {
                 if let Some(q) = &options.q_file {
@@ -107,7 +119,7 @@ fn load_file(
                 let options = ReadOptions {
                     q_file: Some(q.clone()),
                 };
-                return io::read_file(path, &options);
+                return io::read_file_logged(path, &options, log);
             }
             None => {
                 let looked_for: Vec<String> = names
@@ -128,7 +140,7 @@ fn load_file(
             }
         }
     }
-    io::read_file(path, options)
+    io::read_file_logged(path, options, log)
 }
 
 /// Parses and loads an `INPUT` in one step.

@@ -609,10 +609,23 @@ fn set_scalars_reports_every_bad_input_and_picks_components() {
     assert_eq!(call(&vectors, 0, 1, n, 3, 3), S::OutOfRange);
     assert_eq!(call(&vectors, 0, 1, n, 3, -2), S::OutOfRange);
     assert!(last_error().contains("component -2"), "{}", last_error());
+    // A NaN in tuple 1's component 2: refused where component 2 or the magnitude is drawn,
+    // naming what and how many, as a mesh read from a file is; component 0 draws (below).
     let mut nan = vectors.clone();
     nan[5] = f64::NAN;
-    assert_eq!(call(&nan, 0, 1, n, 3, 0), S::InvalidArgument);
-    assert!(last_error().contains("values[5]"), "{}", last_error());
+    assert_eq!(call(&nan, 0, 1, n, 3, 2), S::InvalidArgument);
+    assert!(
+        last_error().contains("component 2 of point array 'scalars' cannot be drawn: 1 of its")
+            && last_error().contains("(the first, NaN, at point 1)"),
+        "{}",
+        last_error()
+    );
+    assert_eq!(call(&nan, 0, 1, n, 3, -1), S::InvalidArgument);
+    assert!(
+        last_error().contains(": the magnitude of point array"),
+        "{}",
+        last_error()
+    );
     assert_eq!(
         unsafe {
             cylvol_mesh_set_scalars(
@@ -633,6 +646,8 @@ fn set_scalars_reports_every_bad_input_and_picks_components() {
         unsafe { cylvol_mesh_scalar_range(m, range.as_mut_ptr()) },
         S::NoScalars
     );
+    // Component 0 of the array with a NaN in component 2: finite, so drawn.
+    assert_eq!(call(&nan, 0, 1, n, 3, 0), S::Ok, "{}", last_error());
     // Component 0: the index; 1: constant 3; −1: the magnitude √(i² + 25).
     assert_eq!(call(&vectors, 0, 1, n, 3, 0), S::Ok);
     unsafe { cylvol_mesh_scalar_range(m, range.as_mut_ptr()) };
@@ -1455,6 +1470,44 @@ fn a_constant_medium_gives_the_beer_lambert_alpha_and_misses_give_zero() {
             } else {
                 assert_eq!(&out.f32[at * 4..at * 4 + 4], &[0.0; 4], "{i},{j}");
             }
+        }
+    }
+    unsafe { cylvol_volume_free(v) };
+}
+
+/// A constant field (every value 0.5) under a caller's transfer function over its own range
+/// `[0, 1]` is drawn as that function gives 0.5, as VTK's mappers draw it: the empty data
+/// range does not empty the picture. Parallel rays through the unit cube: path length 1.
+#[test]
+fn a_constant_field_draws_the_transfer_function_at_its_value() {
+    let a = cube(4);
+    let (s, m) = new_mesh(&a);
+    assert_eq!(s, S::Ok, "{}", last_error());
+    let constant = vec![0.5; a.n_points()];
+    assert_eq!(
+        set_scalars(m, &constant, CylvolAssociation::POINT_DATA),
+        S::Ok
+    );
+    let v = new_volume(m, &cart_bvh_params());
+    unsafe { cylvol_mesh_free(m) };
+    let c = look_at([0.5, 0.5, 3.0], [0.5, 0.5, 0.5], Some(0.75));
+    let tables = Tables::ramp([0.0, 1.0]);
+    // The ramp's third of five entries sits at 0.5: opacity 0.6, colour (0.8, 0.1, 0.1).
+    let (opacity, color) = (0.6f64, [0.8f64, 0.1, 0.1]);
+    let expected = 1.0 - (1.0 - opacity).powf(1.0 / tables.unit);
+    let out = render_f32(v, &c, &tables.c(), &params(8, 8), None);
+    assert_eq!(out.status, S::Ok, "{}", last_error());
+    // The four central pixels look through the cube's middle.
+    for (i, j) in [(3usize, 3usize), (4, 3), (3, 4), (4, 4)] {
+        let at = (j * 8 + i) * 4;
+        let alpha = out.f32[at + 3] as f64;
+        assert!(
+            (alpha - expected).abs() < 1e-4,
+            "{i},{j}: {alpha} vs {expected}"
+        );
+        for (k, want) in color.iter().enumerate() {
+            let c = out.f32[at + k] as f64;
+            assert!((c - want * alpha).abs() < 1e-4, "{i},{j} channel {k}: {c}");
         }
     }
     unsafe { cylvol_volume_free(v) };

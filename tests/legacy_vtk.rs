@@ -853,6 +853,100 @@ w.SetFileTypeToBinary(); w.Write()
     assert_matches_vtk(&m, &vtk_summary(&path));
 }
 
+/// VTK writes a structured grid with blanking (`BlankPoint`, `BlankCell`: `vtkGhostType`
+/// point and cell flags), binary and ASCII: the cells VTK shows (`IsCellVisible`, as its
+/// triangulation for the unstructured ray caster keeps them) are the ones read, by their
+/// point ids: every cell about a hidden point goes, as well as the hidden cell (the cells
+/// about hidden points were kept).
+#[test]
+fn structured_grid_blanking_vtk_writes_hides_the_cells_vtk_hides() {
+    if !common::vtk_python_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = r#"
+import sys, vtk
+ni, nj, nk = 6, 5, 4
+pts = vtk.vtkPoints()
+for k in range(nk):
+    for j in range(nj):
+        for i in range(ni):
+            pts.InsertNextPoint(i + 0.1 * j, j, k + 0.05 * i)
+g = vtk.vtkStructuredGrid(); g.SetDimensions(ni, nj, nk); g.SetPoints(pts)
+s = vtk.vtkFloatArray(); s.SetName('s')
+for n in range(g.GetNumberOfPoints()): s.InsertNextValue(0.5 * n)
+g.GetPointData().SetScalars(s)
+for (i, j, k) in [(2, 2, 1), (5, 0, 3)]:
+    g.BlankPoint(i + ni * (j + nj * k))
+g.BlankCell(17)
+for name, binary in [('blank_binary', True), ('blank_ascii', False)]:
+    w = vtk.vtkStructuredGridWriter(); w.SetInputData(g)
+    w.SetFileName(sys.argv[1] + '/' + name + '.vtk')
+    if binary: w.SetFileTypeToBinary()
+    w.Write()
+for c in range(g.GetNumberOfCells()):
+    if g.IsCellVisible(c):
+        ids = g.GetCell(c).GetPointIds()
+        print(' '.join(str(x) for x in sorted(ids.GetId(k) for k in range(8))))
+"#;
+    let out = common::vtk_python(script, &[dir.path().to_str().unwrap()]);
+    let visible: Vec<Vec<u32>> = out
+        .lines()
+        .map(|l| l.split(' ').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(visible.len(), 5 * 4 * 3 - 8 - 1 - 1);
+    for name in ["blank_binary", "blank_ascii"] {
+        let m = read_path(dir.path().join(format!("{name}.vtk")).to_str().unwrap());
+        let mut ours: Vec<Vec<u32>> = m
+            .cells()
+            .iter()
+            .map(|c| {
+                let mut ids = c.to_vec();
+                ids.sort_unstable();
+                ids
+            })
+            .collect();
+        ours.sort();
+        let mut theirs = visible.clone();
+        theirs.sort();
+        assert_eq!(ours, theirs, "{name}");
+        assert_eq!(m.point_count(), 6 * 5 * 4, "{name}: every point kept");
+        assert_eq!(names(m.point_data()), ["s"], "{name}: no ghost array");
+    }
+}
+
+/// Hand-written files carry several attribute blocks of one kind, which VTK's writer never
+/// writes (it writes one SCALARS and puts the rest in a FIELD): three SCALARS blocks (one
+/// with a custom LOOKUP_TABLE, defined after it, one of two components), COLOR_SCALARS,
+/// VECTORS, and two cell SCALARS. Every numeric block is read as VTK's reader reads it with
+/// ReadAllScalarsOn (COLOR_SCALARS, which VTK reads only on request, and lookup tables
+/// dropped), and the first SCALARS block is the active scalar, as VTK's are.
+#[test]
+fn several_scalar_blocks_read_as_vtk_reads_them_all() {
+    let text = "# vtk DataFile Version 3.0\nseveral scalar blocks\nASCII\n\
+DATASET UNSTRUCTURED_GRID\nPOINTS 8 float\n0 0 0 1 0 0 1 1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1\n\
+CELLS 1 9\n8 0 1 2 3 4 5 6 7\nCELL_TYPES 1\n12\nPOINT_DATA 8\n\
+SCALARS p float 1\nLOOKUP_TABLE default\n0 1 2 3 4 5 6 7\n\
+SCALARS T double\nLOOKUP_TABLE warm\n10 11 12 13 14 15 16 17\n\
+LOOKUP_TABLE warm 2\n0 0 0 1 1 1 1 1\n\
+COLOR_SCALARS rgb 3\n0 0 0 1 1 1 0 0 0 1 1 1 0 0 0 1 1 1 0 0 0 1 1 1\n\
+SCALARS k int 2\nLOOKUP_TABLE default\n1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16\n\
+VECTORS U float\n0 0 0 1 0 0 1 1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1\n\
+CELL_DATA 1\nSCALARS cp float\nLOOKUP_TABLE default\n3\n\
+SCALARS cq float\nLOOKUP_TABLE default\n4\n";
+    let m = legacy::read(text.as_bytes()).unwrap();
+    assert_eq!(names(m.point_data()), ["p", "T", "k", "U"]);
+    assert_eq!(names(m.cell_data()), ["cp", "cq"]);
+    assert_eq!(array(m.point_data(), "k").components, 2);
+    assert_eq!(m.active_array().unwrap().name, "p");
+    if common::vtk_python_available() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("several.vtk");
+        std::fs::write(&path, text).unwrap();
+        assert_matches_vtk(&m, &vtk_summary(&path));
+    }
+}
+
 /// One unit cube: 8 points, one hexahedron, in the classic layout; pieces replaceable.
 fn cube(points: &str, cells: &str, types: &str, data: &str) -> String {
     format!(

@@ -1,6 +1,7 @@
 //! PLOT3D reader tests: the real LOX post and combustor files, a comparison with VTK's own
 //! reader, layout variants made from the real files (byte order, record markers, IBLANK,
-//! precision, grid count), and malformed files (multi-grid, 2-D, truncated, mismatched Q).
+//! precision, grid count, several grids, bytes after the data), and malformed files (2-D,
+//! truncated, mismatched Q).
 
 mod common;
 
@@ -254,6 +255,8 @@ fn no_q_file_no_arrays() {
 const VTK_SCRIPT: &str = r#"
 import vtk, sys, json
 r = vtk.vtkMultiBlockPLOT3DReader()
+errors = []
+r.AddObserver('ErrorEvent', lambda o, e: errors.append(e))
 r.AutoDetectFormatOn()
 r.SetXYZFileName(sys.argv[1])
 r.SetQFileName(sys.argv[2])
@@ -263,7 +266,7 @@ n = b.GetNumberOfPoints()
 ids = [0, 1, 777, n // 2, n - 1]
 # Numbers as repr strings: Rust's str::parse rounds them exactly back to the same double.
 s = lambda v: [repr(x) for x in v]
-out = {"dims": list(b.GetDimensions()), "bounds": s(b.GetBounds()),
+out = {"errors": len(errors), "dims": list(b.GetDimensions()), "bounds": s(b.GetBounds()),
        "ids": ids, "points": [s(b.GetPoint(i)) for i in ids], "ranges": {}}
 pd = b.GetPointData()
 for name in ["Density", "Momentum", "StagnationEnergy"]:
@@ -272,12 +275,22 @@ print(json.dumps(out))
 "#;
 
 fn compare_with_vtk(xyz: &str, q: &str, mesh: &Mesh) {
-    let dims = plot3d::detect_layout(&bytes(xyz)).unwrap().dims;
+    compare_files_with_vtk(Path::new(&data(xyz)), Path::new(&data(q)), mesh);
+}
+
+/// What VTK's reader gives for the grid file `xyz` and Q file `q` (dimensions, bounds, some
+/// points, the arrays' ranges) is what `mesh` holds.
+fn compare_files_with_vtk(xyz: &Path, q: &Path, mesh: &Mesh) {
+    let dims = plot3d::detect_layout(&std::fs::read(xyz).unwrap())
+        .unwrap()
+        .dims;
     if !common::vtk_python_available() {
         return;
     }
-    let out = common::vtk_python(VTK_SCRIPT, &[&data(xyz), &data(q)]);
+    let out = common::vtk_python(VTK_SCRIPT, &[xyz.to_str().unwrap(), q.to_str().unwrap()]);
+    let xyz = xyz.display();
     let v: serde_json::Value = serde_json::from_str(&out).expect("json");
+    assert_eq!(v["errors"], 0, "{xyz}: VTK's reader reported errors");
     let f = |v: &serde_json::Value| -> f64 { v.as_str().expect("string").parse().expect("number") };
     let vtk_dims: Vec<usize> = v["dims"]
         .as_array()
@@ -422,23 +435,6 @@ fn layout_variants_read_to_the_same_mesh() {
 }
 
 #[test]
-fn multi_grid_is_refused() {
-    let g = parse_grid(&bytes("combxyz.bin"));
-    for markers in [false, true] {
-        let opts = Opts {
-            markers,
-            count: Some(2),
-            ..Opts::default()
-        };
-        let msg = message(plot3d::read(&write_grid(&g, false, opts), None));
-        assert!(
-            msg.contains("multi-grid PLOT3D files are not supported: 2 grids"),
-            "{msg}"
-        );
-    }
-}
-
-#[test]
 fn two_d_is_refused() {
     // A 4×3 2-D grid: two ints, the x block, the y block.
     let mut b: Vec<u8> = [4u32, 3].iter().flat_map(|v| v.to_be_bytes()).collect();
@@ -554,7 +550,8 @@ fn garbage_is_an_error() {
 #[test]
 fn fuzz_seeds_are_valid_files() {
     // The seeds in fuzz/seeds/read_plot3d are a 2-byte grid length, the grid, then the Q file
-    // (the split the fuzz target makes): each must read to the unit cube with its Q arrays.
+    // (the split the fuzz target makes): each must read to the unit cube with its Q arrays,
+    // once per grid (`two_grids`: twice), with or without bytes after the data (`padded`).
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/fuzz/seeds/read_plot3d");
     let mut seen = 0;
     for entry in std::fs::read_dir(dir).expect("seed folder") {
@@ -563,12 +560,21 @@ fn fuzz_seeds_are_valid_files() {
         let at = usize::from(u16::from_le_bytes([b[0], b[1]]));
         let (xyz, q) = b[2..].split_at(at);
         let mesh = plot3d::read(xyz, Some(q)).unwrap_or_else(|e| panic!("{path:?}: {e}"));
-        assert_eq!((mesh.point_count(), mesh.cell_count()), (8, 1), "{path:?}");
+        let grids = if path.ends_with("be_f32_two_grids") {
+            2
+        } else {
+            1
+        };
+        assert_eq!(
+            (mesh.point_count(), mesh.cell_count()),
+            (8 * grids, grids),
+            "{path:?}"
+        );
         assert_eq!(mesh.bounds(), [0.0, 1.0, 0.0, 1.0, 0.0, 1.0], "{path:?}");
         assert_eq!(range(&mesh, "StagnationEnergy"), [2.5, 2.5], "{path:?}");
         seen += 1;
     }
-    assert_eq!(seen, 5);
+    assert_eq!(seen, 8);
 }
 
 /// Copies of the shared files in a new folder, under the names given (`(shared, copy)`).
@@ -620,18 +626,17 @@ fn q_file_errors_name_the_q_file() {
         "{msg}"
     );
 
-    // A NaN density at point 100: the Q file's header is 12 bytes of dimensions and 16 of
-    // free-stream values (big-endian f32, no record markers).
+    // A NaN density at point 100 (the Q file's header is 12 bytes of dimensions and 16 of
+    // free-stream values, big-endian f32, no record markers): read, and counted.
     let mut nan = full.clone();
     nan[28 + 4 * 100..28 + 4 * 101].copy_from_slice(&f32::NAN.to_be_bytes());
     std::fs::write(&q, &nan).unwrap();
-    let msg = read_file_error(&grid, None);
-    assert!(
-        msg.starts_with(&format!(
-            "{}: invalid mesh: point array 'Density'",
-            q.display()
-        )) && msg.contains("non-finite"),
-        "{msg}"
+    let mesh = read_file(&grid);
+    assert!(mesh.point_data()[0].values[100].is_nan());
+    let listed = mesh.non_finite_arrays();
+    assert_eq!(
+        (listed.len(), listed[0].name.as_str(), listed[0].count),
+        (1, "Density", 1)
     );
 
     // The grid cut short, the Q file whole: the grid's error.
@@ -773,4 +778,340 @@ fn missing_q_file_is_said_on_standard_error() {
         notes.is_empty() && mesh.point_data().len() == 3,
         "{notes:?}"
     );
+}
+
+/// `bytes` with `n` more bytes of `fill` after them.
+fn padded(bytes: &[u8], n: usize, fill: u8) -> Vec<u8> {
+    let mut out = bytes.to_vec();
+    out.resize(bytes.len() + n, fill);
+    out
+}
+
+/// The combustor's Q file with 484 zero bytes after its last record (what a file of VTK's
+/// test data carries): read as the file without them, VTK's reader reading the same, and the
+/// note says how many bytes were ignored, through the library and the program (it was
+/// refused: "matches no layout"). Bytes that are not zero are said to be so.
+#[test]
+fn bytes_after_a_q_file_are_ignored_and_said() {
+    let q = padded(&bytes("combq.bin"), 484, 0);
+    let mut notes = Vec::new();
+    let mesh = plot3d::read_logged(&bytes("combxyz.bin"), Some(&q), &mut |n| notes.push(n))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(mesh == comb(), "the mesh of the file without the padding");
+    assert_eq!(
+        notes,
+        ["the Q file: 484 bytes after its last record (all zero) were ignored"]
+    );
+    let dir = copies(&[("combxyz.bin", "combxyz.bin")]);
+    let (grid, q_path) = (dir.path().join("combxyz.bin"), dir.path().join("combq.bin"));
+    std::fs::write(&q_path, &q).unwrap();
+    compare_files_with_vtk(&grid, &q_path, &mesh);
+    let (status, stderr) = cylvol(&["info", grid.to_str().unwrap()]);
+    assert_eq!(status, 0, "{stderr}");
+    let note = format!(
+        "cylvol: {}: 484 bytes after its last record (all zero) were ignored\n",
+        q_path.display()
+    );
+    assert!(stderr.starts_with(&note), "{stderr}");
+
+    for (n, fill, said) in [
+        (1, 0, "1 byte after its last record (all zero) was ignored"),
+        (
+            4096,
+            0x3f,
+            "4096 bytes after its last record (not all zero) were ignored",
+        ),
+    ] {
+        let mut notes = Vec::new();
+        let q = padded(&bytes("combq.bin"), n, fill);
+        let mesh = plot3d::read_logged(&bytes("combxyz.bin"), Some(&q), &mut |n| notes.push(n))
+            .unwrap_or_else(|e| panic!("{n} bytes: {e}"));
+        assert!(mesh == comb(), "{n} bytes");
+        assert_eq!(notes, [format!("the Q file: {said}")]);
+    }
+}
+
+/// With record markers, which hold every record's length, bytes after the last record of a
+/// grid file or a Q file are ignored, in every byte order, precision and grid-count layout,
+/// as VTK's reader ignores them (compared with VTK on two of them).
+#[test]
+fn bytes_after_records_are_ignored_in_grid_and_q_files() {
+    let g = parse_grid(&bytes("postxyz.bin"));
+    let s = parse_solution(&bytes("postq.bin"));
+    let reference = post();
+    let dir = tempfile::tempdir().unwrap();
+    for (k, opts) in [
+        Opts {
+            markers: true,
+            ..Opts::default()
+        },
+        Opts {
+            markers: true,
+            little: true,
+            f64: true,
+            count: Some(1),
+        },
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let xyz = padded(&write_grid(&g, true, opts), 484, 0);
+        let q = padded(&write_solution(&s, s.dims, opts), 1000, 7);
+        let layout = plot3d::detect_layout(&xyz).unwrap();
+        assert_eq!((layout.trailing_bytes, layout.iblank), (484, true));
+        let mut notes = Vec::new();
+        let mesh = plot3d::read_logged(&xyz, Some(&q), &mut |n| notes.push(n)).unwrap();
+        assert!(mesh == reference, "layout {k}");
+        assert_eq!(
+            notes,
+            [
+                "the grid file: 484 bytes after its last record (all zero) were ignored",
+                "the Q file: 1000 bytes after its last record (not all zero) were ignored"
+            ]
+        );
+        let (xyz_path, q_path) = (dir.path().join("xyz.bin"), dir.path().join("q.bin"));
+        std::fs::write(&xyz_path, &xyz).unwrap();
+        std::fs::write(&q_path, &q).unwrap();
+        compare_files_with_vtk(&xyz_path, &q_path, &mesh);
+    }
+}
+
+/// A grid file without record markers has no measure of its layout but its size: with bytes
+/// after its data it is refused (VTK's reader cannot tell its settings either), the error
+/// saying what it reads as if they are padding. A Q file cut short in another layout than
+/// its grid's (`f64` values for an `f32` grid), or with a block's worth of bytes after its
+/// data, is not taken for a padded file in its grid's layout.
+#[test]
+fn bytes_after_data_that_nothing_proves_are_padding_are_refused() {
+    let xyz = padded(&bytes("combxyz.bin"), 484, 0);
+    let msg = message(plot3d::read(&xyz, Some(&bytes("combq.bin"))));
+    assert!(
+        msg.contains("the file has 564796 bytes, which matches no layout")
+            && msg.contains("if its last 484 bytes are padding, it reads as f32, a file of 564312")
+            && msg.contains("(truncate -s 564312 FILE)"),
+        "{msg}"
+    );
+    let xyz = padded(&bytes("postxyz.bin"), 484, 0);
+    let msg = message(plot3d::read(&xyz, None));
+    assert!(
+        msg.contains("reads as f32 + IBLANK, a file of 1755916 bytes"),
+        "{msg}"
+    );
+
+    let s = parse_solution(&bytes("combq.bin"));
+    let f64_q = write_solution(
+        &s,
+        s.dims,
+        Opts {
+            f64: true,
+            ..Opts::default()
+        },
+    );
+    assert!(plot3d::read(&bytes("combxyz.bin"), Some(&f64_q)).unwrap() == comb());
+    let cut = &f64_q[..f64_q.len() - 4];
+    let msg = message(plot3d::read(&bytes("combxyz.bin"), Some(cut)));
+    assert!(
+        msg.starts_with("PLOT3D Q: the file has") && msg.contains("matches no layout"),
+        "{msg}"
+    );
+    let block = 57 * 33 * 25 * 4;
+    for n in [block - 1, block] {
+        let q = padded(&bytes("combq.bin"), n, 0);
+        let read = plot3d::read(&bytes("combxyz.bin"), Some(&q));
+        assert_eq!(read.is_ok(), n < block, "{n} bytes after the data");
+    }
+}
+
+/// A grid file of several grids (each a whole grid), with a grid count.
+fn write_grids(grids: &[&Grid], opts: Opts) -> Vec<u8> {
+    let mut w = Writer::new(opts);
+    w.record(|w| w.int(grids.len() as u32));
+    w.record(|w| {
+        grids
+            .iter()
+            .for_each(|g| g.dims.iter().for_each(|&d| w.int(d)))
+    });
+    for g in grids {
+        w.record(|w| {
+            g.coords.iter().for_each(|&c| w.float(c));
+            let blank = g.iblank.as_ref().expect("every grid has IBLANK");
+            blank.iter().for_each(|&b| w.int(b as u32));
+        });
+    }
+    w.out
+}
+
+/// The Q file of several grids, with a grid count.
+fn write_solutions(solutions: &[&Solution], opts: Opts) -> Vec<u8> {
+    let mut w = Writer::new(opts);
+    w.record(|w| w.int(solutions.len() as u32));
+    w.record(|w| {
+        solutions
+            .iter()
+            .for_each(|s| s.dims.iter().for_each(|&d| w.int(d)))
+    });
+    for s in solutions {
+        w.record(|w| s.values[..4].iter().for_each(|&v| w.float(v)));
+        w.record(|w| s.values[4..].iter().for_each(|&v| w.float(v)));
+    }
+    w.out
+}
+
+/// Per block of VTK's multi-block output: points, visible cells (IBLANK hides a cell with a
+/// blanked point), and some points' coordinates and values; the count of reader errors.
+const VTK_BLOCKS: &str = r#"
+import vtk, sys, json
+r = vtk.vtkMultiBlockPLOT3DReader()
+errors = []
+r.AddObserver('ErrorEvent', lambda o, e: errors.append(e))
+r.AutoDetectFormatOn()
+r.SetXYZFileName(sys.argv[1])
+r.SetQFileName(sys.argv[2])
+r.Update()
+o = r.GetOutput()
+s = lambda v: [repr(x) for x in v]
+blocks = []
+for k in range(o.GetNumberOfBlocks()):
+    b = o.GetBlock(k)
+    n = b.GetNumberOfPoints()
+    ids = [0, 1, 777, n // 2, n - 1]
+    pd = b.GetPointData()
+    blocks.append({"points": n,
+                   "visible": sum(1 for c in range(b.GetNumberOfCells()) if b.IsCellVisible(c)),
+                   "ids": ids, "coords": [s(b.GetPoint(i)) for i in ids],
+                   "density": [repr(pd.GetArray("Density").GetValue(i)) for i in ids],
+                   "energy": [repr(pd.GetArray("StagnationEnergy").GetValue(i)) for i in ids]})
+print(json.dumps({"errors": len(errors), "blocks": blocks}))
+"#;
+
+/// A two-grid file — the LOX post, then the combustor with some points blanked — and its Q
+/// file, with and without record markers (and, with them, bytes after the data): read as one
+/// mesh, the combustor's points and cells after the post's, IBLANK applied to each grid, the
+/// arrays joined, as VTK's reader reads the two blocks; the note says the grids were joined
+/// (multi-grid files were refused).
+#[test]
+fn multi_grid_files_read_as_one_mesh_as_vtk_reads_their_blocks() {
+    let post_grid = parse_grid(&bytes("postxyz.bin"));
+    let mut comb_grid = parse_grid(&bytes("combxyz.bin"));
+    let comb_points = comb_grid.coords.len() / 3;
+    let mut blank = vec![1i32; comb_points];
+    for p in [0, 5000, 20_000] {
+        blank[p] = 0;
+    }
+    comb_grid.iblank = Some(blank);
+    let post_q = parse_solution(&bytes("postq.bin"));
+    let comb_q = parse_solution(&bytes("combq.bin"));
+    let (post, comb) = (post(), comb());
+    let dir = tempfile::tempdir().unwrap();
+    for opts in [
+        Opts::default(),
+        Opts {
+            markers: true,
+            little: true,
+            ..Opts::default()
+        },
+    ] {
+        let mut xyz = write_grids(&[&post_grid, &comb_grid], opts);
+        let mut q = write_solutions(&[&post_q, &comb_q], opts);
+        if opts.markers {
+            xyz = padded(&xyz, 484, 0);
+            q = padded(&q, 484, 0);
+        }
+        let layout = plot3d::detect_layout(&xyz).unwrap();
+        assert_eq!(layout.grids, [[38, 76, 38], [57, 33, 25]]);
+        let mut notes = Vec::new();
+        let mesh = plot3d::read_logged(&xyz, Some(&q), &mut |n| notes.push(n))
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            notes.contains(
+                &"the grid file: its 2 grids are joined into one mesh, each grid's points and \
+                  cells after those of the grid before it (VTK's reader gives them as 2 blocks)"
+                    .to_string()
+            ),
+            "{notes:?}"
+        );
+        let n_post = post.point_count();
+        assert_eq!(mesh.point_count(), n_post + comb_points);
+        assert_eq!(&mesh.points()[..n_post], post.points());
+        assert_eq!(&mesh.points()[n_post..], comb.points());
+        assert_eq!(&mesh.cells()[..post.cell_count()], post.cells());
+        // A corner point blanks 1 cell, an edge or face point 2 or 4.
+        let comb_cells = &mesh.cells()[post.cell_count()..];
+        assert!(comb_cells.len() < comb.cell_count());
+        for (a, name) in mesh
+            .point_data()
+            .iter()
+            .zip(["Density", "Momentum", "StagnationEnergy"])
+        {
+            assert_eq!(a.name, name);
+            let [p, c] = [&post, &comb].map(|m| {
+                &m.point_data()
+                    .iter()
+                    .find(|b| b.name == name)
+                    .unwrap()
+                    .values
+            });
+            assert_eq!(a.values, [p.as_slice(), c.as_slice()].concat(), "{name}");
+        }
+
+        if !common::vtk_python_available() {
+            continue;
+        }
+        let (xyz_path, q_path) = (dir.path().join("multi.xyz"), dir.path().join("multi.q"));
+        std::fs::write(&xyz_path, &xyz).unwrap();
+        std::fs::write(&q_path, &q).unwrap();
+        let out = common::vtk_python(
+            VTK_BLOCKS,
+            &[xyz_path.to_str().unwrap(), q_path.to_str().unwrap()],
+        );
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["errors"], 0, "VTK's reader reported errors");
+        let blocks = v["blocks"].as_array().unwrap();
+        assert_eq!(blocks.len(), 2);
+        let f = |v: &serde_json::Value| -> f64 { v.as_str().unwrap().parse().unwrap() };
+        let mut base = 0;
+        let mut visible = 0;
+        for b in blocks {
+            let ids: Vec<usize> = b["ids"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|i| i.as_u64().unwrap() as usize)
+                .collect();
+            for (k, &id) in ids.iter().enumerate() {
+                let p: Vec<f64> = b["coords"][k].as_array().unwrap().iter().map(f).collect();
+                assert_eq!(p, mesh.points()[base + id].to_array(), "point {id}");
+                for (key, array) in [("density", 0), ("energy", 2)] {
+                    assert_eq!(
+                        f(&b[key][k]),
+                        mesh.point_data()[array].values[base + id],
+                        "{key} {id}"
+                    );
+                }
+            }
+            base += b["points"].as_u64().unwrap() as usize;
+            visible += b["visible"].as_u64().unwrap() as usize;
+        }
+        assert_eq!(base, mesh.point_count());
+        assert_eq!(visible, mesh.cell_count(), "the cells VTK shows");
+    }
+}
+
+/// A Q file whose grids are not the grid file's: another count, or other dimensions.
+#[test]
+fn multi_grid_q_file_with_other_grids_is_refused() {
+    let g = parse_grid(&bytes("combxyz.bin"));
+    let mut g = g;
+    g.iblank = Some(vec![1; g.coords.len() / 3]);
+    let s = parse_solution(&bytes("combq.bin"));
+    let xyz = write_grids(&[&g, &g], Opts::default());
+    let one = write_solutions(&[&s], Opts::default());
+    let msg = message(plot3d::read(&xyz, Some(&one)));
+    assert!(
+        msg.contains(
+            "the Q file's dimensions 57×33×25 differ from the grid's 2 grids 57×33×25, 57×33×25"
+        ),
+        "{msg}"
+    );
+    assert!(plot3d::read(&xyz, Some(&write_solutions(&[&s, &s], Opts::default()))).is_ok());
 }

@@ -1132,3 +1132,126 @@ fn write_fuzz_seeds() {
         std::fs::write(dir.join(name), write_to_vec(&mesh, &o)).unwrap();
     }
 }
+
+/// A piece-aware source written by VTK in three pieces in one file, without and with a ghost
+/// level: read as the cells VTK's reader gives less those it flags as ghosts (VTK's reader
+/// keeps them for the pipeline to skip), each once, by their corners' mean.
+#[test]
+fn one_file_of_several_pieces_with_ghost_cells_reads_each_cell_once() {
+    if !common::vtk_python_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = r#"
+import sys, os, vtk
+src = vtk.vtkRTAnalyticSource(); src.SetWholeExtent(0, 8, 0, 6, 0, 5)
+sg = vtk.vtkImageDataToPointSet(); sg.SetInputConnection(src.GetOutputPort())
+ug = vtk.vtkAppendFilter(); ug.SetInputConnection(sg.GetOutputPort())
+for ghost in (0, 1):
+    path = os.path.join(sys.argv[1], "pieces%d.vtu" % ghost)
+    w = vtk.vtkXMLUnstructuredGridWriter(); w.SetInputConnection(ug.GetOutputPort())
+    w.SetFileName(path); w.SetNumberOfPieces(3); w.SetGhostLevel(ghost)
+    assert w.Write() == 1
+    r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(path); r.Update(); g = r.GetOutput()
+    flags = g.GetCellData().GetArray("vtkGhostType")
+    for c in range(g.GetNumberOfCells()):
+        if flags is not None and flags.GetValue(c) & 1: continue
+        ids = g.GetCell(c).GetPointIds()
+        pts = [g.GetPoint(ids.GetId(k)) for k in range(ids.GetNumberOfIds())]
+        print(ghost, " ".join(repr(sum(p[a] for p in pts) / len(pts)) for a in range(3)))
+"#;
+    let out = common::vtk_python(script, &[dir.path().to_str().unwrap()]);
+    for ghost in [0, 1] {
+        let path = dir.path().join(format!("pieces{ghost}.vtu"));
+        let text = std::fs::read(&path).unwrap();
+        assert_eq!(text.windows(6).filter(|w| w == b"<Piece").count(), 3);
+        let mesh = vtu::read_file(&path).unwrap();
+        let mut theirs: Vec<[f64; 3]> = out
+            .lines()
+            .filter_map(|l| l.strip_prefix(&format!("{ghost} ")))
+            .map(|l| {
+                let v: Vec<f64> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+                [v[0], v[1], v[2]]
+            })
+            .collect();
+        let mut ours: Vec<[f64; 3]> = (0..mesh.cell_count())
+            .map(|c| {
+                let p = mesh.cell_corners(c);
+                [0, 1, 2].map(|a| p.iter().map(|q| q[a]).sum::<f64>() / 8.0)
+            })
+            .collect();
+        assert_eq!(ours.len(), 8 * 6 * 5, "ghost level {ghost}");
+        theirs.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        ours.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        assert_eq!(ours.len(), theirs.len(), "ghost level {ghost}");
+        for (o, t) in ours.iter().zip(&theirs) {
+            assert!(
+                o.iter().zip(t).all(|(a, b)| (a - b).abs() < 1e-9),
+                "ghost level {ghost}: {o:?} against VTK's {t:?}"
+            );
+        }
+    }
+}
+
+/// A blanked structured grid made unstructured by VTK (vtkAppendFilter, as ParaView's Merge
+/// Blocks makes it) has VTK's empty cells (type 0, no points) where the blanked cells were;
+/// VTK writes them to VTU and legacy files and reads them back. Both read as the grid's other
+/// cells, the cell data of the empty ones dropped with them, and the load notes say how many
+/// (they were refused: "unsupported cell types: 2 × empty cell").
+#[test]
+fn empty_cells_vtk_writes_are_dropped_with_their_cell_data_and_said() {
+    if !common::vtk_python_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = r#"
+import sys, os, vtk
+ni, nj, nk = 4, 3, 3
+pts = vtk.vtkPoints()
+for k in range(nk):
+    for j in range(nj):
+        for i in range(ni):
+            pts.InsertNextPoint(i, j + 0.2 * i, k)
+g = vtk.vtkStructuredGrid(); g.SetDimensions(ni, nj, nk); g.SetPoints(pts)
+c = vtk.vtkDoubleArray(); c.SetName('c')
+for n in range(g.GetNumberOfCells()): c.InsertNextValue(n)
+g.GetCellData().AddArray(c)
+g.BlankCell(2); g.BlankCell(7)
+a = vtk.vtkAppendFilter(); a.AddInputData(g); a.Update()
+u = vtk.vtkUnstructuredGrid(); u.DeepCopy(a.GetOutput())
+print(' '.join(str(u.GetCellType(i)) for i in range(u.GetNumberOfCells())))
+w = vtk.vtkXMLUnstructuredGridWriter(); w.SetInputData(u)
+w.SetFileName(os.path.join(sys.argv[1], 'merged.vtu')); w.Write()
+w = vtk.vtkUnstructuredGridWriter(); w.SetInputData(u); w.SetFileTypeToBinary()
+w.SetFileName(os.path.join(sys.argv[1], 'merged.vtk')); w.Write()
+"#;
+    let types = common::vtk_python(script, &[dir.path().to_str().unwrap()]);
+    let types: Vec<u8> = types
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(
+        types.iter().filter(|&&t| t == 0).count(),
+        2,
+        "VTK wrote empty cells"
+    );
+    let kept: Vec<f64> = (0..12)
+        .filter(|&c| types[c] != 0)
+        .map(|c| c as f64)
+        .collect();
+    for name in ["merged.vtu", "merged.vtk"] {
+        let path = dir.path().join(name);
+        let mut notes = Vec::new();
+        let mesh = cylvol::io::read_file_logged(&path, &Default::default(), &mut |n| notes.push(n))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(mesh.cell_count(), 10, "{name}");
+        let c = mesh.cell_data().iter().find(|a| a.name == "c").unwrap();
+        assert_eq!(c.values, kept, "{name}: the other cells' values, in order");
+        let note = format!(
+            "{}: 2 empty cells were dropped (VTK type 0, without points, as blanked cells \
+             become in an unstructured grid) with their cell data",
+            path.display()
+        );
+        assert!(notes.contains(&note), "{name}: {notes:?}");
+    }
+}

@@ -105,7 +105,7 @@ pub fn study(
 ) -> Result<AccuracyResult, Error> {
     let kind = accel.kind();
     let volume = Volume::new(mesh, accel)?;
-    let transfer = scene::transfer(mesh, volume.scalar_range());
+    let transfer = scene::transfer(mesh, scene::transfer_range(volume.scalar_range()));
     let camera = scene::camera(mesh, size, size, view);
     let base = mean_cell_size(mesh);
     let mut options = RenderOptions::new(size, size, base);

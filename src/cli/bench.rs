@@ -188,7 +188,7 @@ pub fn bench_mesh(
     // Every structure and path's renderer, made before any frame is timed.
     let mut runs = Vec::new();
     for volume in &volumes {
-        let range = volume.scalar_range();
+        let range = scene::transfer_range(volume.scalar_range());
         let transfer =
             setup
                 .transfer

@@ -1,4 +1,5 @@
-//! `cylvol info INPUT [--json]`: counts, cell types, scalars, bounds and the machine axis.
+//! `cylvol info INPUT [--json]`: counts, cell types, scalars (and which hold NaN or infinite
+//! values, how many), bounds and the machine axis.
 
 use serde::Serialize;
 
@@ -30,6 +31,8 @@ pub struct Info {
     active_scalar: Option<String>,
     active_association: Option<String>,
     scalar_range: Option<[f64; 2]>,
+    /// The arrays holding NaN or infinite values, which cannot be drawn.
+    non_finite: Vec<NonFiniteJson>,
     bounds: [f64; 6],
     axis: AxisJson,
     periodic: PeriodicJson,
@@ -94,6 +97,15 @@ impl PeriodicJson {
     }
 }
 
+/// An array holding NaN or infinite values: `count` of its `values` values.
+#[derive(Serialize, Debug)]
+struct NonFiniteJson {
+    association: String,
+    name: String,
+    count: usize,
+    values: usize,
+}
+
 #[derive(Serialize, Debug)]
 struct AxisJson {
     origin: [f64; 3],
@@ -135,6 +147,16 @@ pub fn describe(mesh: &Mesh, axis: Axis, clear: Option<bool>) -> Info {
             .map(|a| a.selector(mesh.point_data(), mesh.cell_data())),
         active_association: mesh.active_scalar().map(|a| a.association.to_string()),
         scalar_range: mesh.scalar_range(),
+        non_finite: mesh
+            .non_finite_arrays()
+            .into_iter()
+            .map(|a| NonFiniteJson {
+                association: a.association.to_string(),
+                name: a.name,
+                count: a.count,
+                values: a.values,
+            })
+            .collect(),
         bounds: mesh.bounds(),
         axis: AxisJson {
             origin: axis.origin.to_array(),
@@ -175,6 +197,16 @@ pub fn run(args: &InfoArgs) -> Result<(), Error> {
             show(hi)
         ),
         _ => outln!("  active scalar  none"),
+    }
+    for a in &info.non_finite {
+        outln!(
+            "  non-finite     {} array '{}': {} of {} values {} NaN or infinite (not drawable)",
+            a.association,
+            a.name,
+            a.count,
+            a.values,
+            if a.count == 1 { "is" } else { "are" }
+        );
     }
     let b = info.bounds.map(show);
     outln!(

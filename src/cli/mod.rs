@@ -57,8 +57,8 @@ enum Command {
 /// Options every command that loads an `INPUT` shares.
 #[derive(clap::Args, Debug, Clone)]
 pub struct InputArgs {
-    /// A mesh file (.vtk, .vtu, .pvtu, PLOT3D *xyz.bin) or a dataset NAME[:CELLS], e.g.
-    /// pump-rotor:200000.
+    /// A mesh file (.vtk, .vtu, .pvtu, .vts, .pvts, PLOT3D *xyz.bin) or a dataset
+    /// NAME[:CELLS], e.g. pump-rotor:200000.
     pub input: String,
     /// PLOT3D Q file to use instead of the one found beside the grid by name.
     #[arg(long = "q", value_name = "FILE")]

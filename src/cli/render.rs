@@ -286,7 +286,10 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
     let step = scene::step(&mesh, args.step)?;
-    let range = volume.scalar_range();
+    if let Some(warning) = scene::constant_field_warning(&mesh, volume.scalar_range()) {
+        log(format_args!("warning: {warning}"));
+    }
+    let range = scene::transfer_range(volume.scalar_range());
     let transfer =
         args.transfer
             .apply(scene::transfer(&mesh, range), range, scene::diagonal(&mesh))?;
@@ -306,6 +309,13 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     // seams too); the paper path locates every sample from scratch and needs none.
     let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh, &accel));
     let mut renderer = Renderer::new(&volume, &transfer, &options)?;
+    if renderer.table().transparent_everywhere() {
+        let [lo, hi] = volume.scalar_range().map(show);
+        log(format_args!(
+            "warning: the transfer function's opacity is zero at every value of the scalar \
+             (over [{lo}, {hi}]): the image is empty; give --opacity a non-zero opacity there"
+        ));
+    }
     if let Some(n) = &neighbours {
         renderer = renderer.with_neighbours(n);
     }

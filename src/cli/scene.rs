@@ -95,20 +95,92 @@ pub fn structure(choice: StructureChoice, mesh: &Mesh, axis: &Axis) -> Structure
 }
 
 /// The mesh to render, refused before anything is built for it where it holds no point or
-/// cell array (the renderer's own refusal comes only after the structure's build).
+/// cell array, or where the array to draw holds NaN or infinite values
+/// ([`Mesh::drawn_scalars`]; the renderer's own refusal comes only after the structure's
+/// build).
 pub fn renderable(mesh: Mesh) -> Result<Mesh, Error> {
-    match mesh.active_scalars() {
-        Some(_) => Ok(mesh),
-        None => Err(Error::Invalid(
-            "the mesh has no point or cell array to render".into(),
-        )),
+    match mesh.drawn_scalars() {
+        Ok(_) => Ok(mesh),
+        Err(e) if mesh.active_scalar().is_none() => Err(e),
+        Err(e) => {
+            let finite: Vec<String> = drawable_arrays(&mesh);
+            let choice = if finite.is_empty() {
+                "; no array of this mesh is finite everywhere".to_string()
+            } else {
+                format!(" with --scalar ({})", finite.join(", "))
+            };
+            Err(Error::Invalid(format!("{e}{choice}")))
+        }
     }
+}
+
+/// The arrays whose values are all finite, each as `--scalar` names it.
+fn drawable_arrays(mesh: &Mesh) -> Vec<String> {
+    let bad = mesh.non_finite_arrays();
+    let is_bad = |association, name: &str| {
+        bad.iter()
+            .any(|b| b.association == association && b.name == name)
+    };
+    let (point, cell) = (mesh.point_data(), mesh.cell_data());
+    let tagged = point
+        .iter()
+        .enumerate()
+        .map(|(i, a)| (cylvol::Association::Point, i, a))
+        .chain(
+            cell.iter()
+                .enumerate()
+                .map(|(i, a)| (cylvol::Association::Cell, i, a)),
+        );
+    tagged
+        .filter(|(association, _, a)| !is_bad(*association, &a.name))
+        .map(|(association, array, a)| {
+            cylvol::mesh::ActiveScalar {
+                association,
+                array,
+                component: a.default_component(),
+            }
+            .selector(point, cell)
+        })
+        .collect()
 }
 
 /// The length of the mesh's bounding-box diagonal.
 pub fn diagonal(mesh: &Mesh) -> f64 {
     let b = mesh.bounds();
     ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt()
+}
+
+/// The range a transfer function is laid over (the default one, and `--opacity` and
+/// `--color` percentages) for the scalar range `[lo, hi]`: the range itself, or for a
+/// constant field, whose range is empty, `[v − d, v + d]` with `d = max(10⁻⁶, 10⁻⁶ |v|)`,
+/// as vtkCylVolMapper samples a caller's transfer function over a constant array: the value
+/// then takes the function's middle, and the field is drawn as that, not left out.
+pub fn transfer_range([lo, hi]: [f64; 2]) -> [f64; 2] {
+    if hi > lo {
+        return [lo, hi];
+    }
+    let d = (lo.abs() * 1e-6).max(1e-6);
+    [lo - d, lo + d]
+}
+
+/// What a user should know of a constant field before it is drawn (its one value, the
+/// empty range, what the picture shows and how to choose otherwise); `None` for a field
+/// that varies.
+pub fn constant_field_warning(mesh: &Mesh, [lo, hi]: [f64; 2]) -> Option<String> {
+    if hi > lo {
+        return None;
+    }
+    let active = mesh.active_scalar()?;
+    let scalar = active.selector(mesh.point_data(), mesh.cell_data());
+    let [a, b] = transfer_range([lo, hi]).map(show);
+    let v = show(lo);
+    Some(format!(
+        "the scalar {scalar} is {v} everywhere: its range [{v}, {v}] is empty, so the \
+         transfer function is laid over [{a}, {b}] and every sample takes its middle (the \
+         colour and opacity at 50 %): the picture shows where the mesh is, not a field; give \
+         --opacity and --color with values rather than percentages (e.g. --opacity {v}:0.05) \
+         to choose how it looks, or render a varying array with --scalar"
+    ))
 }
 
 /// The default transfer function over the scalar range `[lo, hi]`

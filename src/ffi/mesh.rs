@@ -98,8 +98,6 @@ pub unsafe fn read_scalars(
             .map(|t| t.iter().map(|v| v * v).sum::<f64>().sqrt())
             .collect()
     };
-    // A magnitude of huge finite components can overflow.
-    arrays::finite(&scalars, "the magnitude of values")?;
     let name = if name.is_null() {
         "scalars".to_string()
     } else {
@@ -108,6 +106,17 @@ pub unsafe fn read_scalars(
             .to_string_lossy()
             .into_owned()
     };
+    // Only the scalars drawn must be finite (a NaN in another component is not drawn), as
+    // for a mesh read from a file: the same refusal, naming how many and the first. A
+    // magnitude of huge finite components can overflow, and is refused alike.
+    let what = match (n_components, component) {
+        (1, _) => format!("{association} array '{name}'"),
+        (_, -1) => format!("the magnitude of {association} array '{name}'"),
+        (_, k) => format!("component {k} of {association} array '{name}'"),
+    };
+    if let Some(refusal) = crate::mesh::non_finite_refusal(&what, association, &scalars) {
+        return Err(Failure::invalid(refusal));
+    }
     Ok(Scalars {
         association,
         array: DataArray::scalar(name, scalars),
@@ -214,8 +223,10 @@ pub unsafe extern "C" fn cylvol_mesh_new(
 /// (or cell) count. `component`: which component to use, or -1 for the magnitude (for a
 /// one-component array 0 and -1 both mean the value). `name` may be NULL.
 ///
-/// Errors: NULL_POINTER, INVALID_ARGUMENT (a NaN or infinite value, a bad enum value,
-/// `n_components == 0`), LENGTH_MISMATCH (`n_tuples`), OUT_OF_RANGE (`component`).
+/// Errors: NULL_POINTER, INVALID_ARGUMENT (a NaN or infinite value among the scalars drawn:
+/// the component chosen, or the magnitude; other components may hold them, as a mesh read
+/// from a file may; a bad enum value, `n_components == 0`), LENGTH_MISMATCH (`n_tuples`),
+/// OUT_OF_RANGE (`component`).
 ///
 /// # Safety
 /// `mesh` a live handle; `values` `n_tuples × n_components` readable values; `name` NULL or

@@ -117,9 +117,7 @@ impl Failure {
 pub fn mesh_status(e: &MeshError) -> CylvolStatus {
     match e {
         MeshError::Empty { .. } | MeshError::InvertedCells { .. } => CylvolStatus::InvalidMesh,
-        MeshError::NonFinitePoint { .. } | MeshError::NonFiniteScalar { .. } => {
-            CylvolStatus::InvalidArgument
-        }
+        MeshError::NonFinitePoint { .. } => CylvolStatus::InvalidArgument,
         MeshError::IndexOutOfRange { .. } | MeshError::CellArrays(_) => CylvolStatus::OutOfRange,
         MeshError::UnsupportedCellTypes { .. } => CylvolStatus::UnsupportedCell,
         MeshError::WrongVertexCount { .. } | MeshError::ArrayLength { .. } => {

@@ -7,15 +7,19 @@
 //! | legacy VTK (`.vtk`), ASCII and BINARY, `UNSTRUCTURED_GRID` and `STRUCTURED_GRID` | [`legacy::read`], [`legacy::read_file`] | [`legacy::write`] (BINARY unstructured grid) |
 //! | VTU (`.vtu`), ascii, base64, raw appended, zlib, LZ4 or LZMA compression, 32/64-bit headers | [`vtu::read`], [`vtu::read_file`] | [`vtu::write`] (zlib or none) |
 //! | parallel VTU (`.pvtu`): an index and one `.vtu` a piece | [`vtu::read_parallel`], [`vtu::read_parallel_file`] | — |
-//! | PLOT3D whole single-grid `*xyz.bin` + `*q.bin` | [`plot3d::read`] | — |
+//! | VTK XML structured grid (`.vts`), one or several pieces, blanking | [`vts::read`], [`vts::read_file`] | — |
+//! | parallel VTS (`.pvts`): an index and one `.vts` a piece | [`vts::read_parallel_file`] | — |
+//! | PLOT3D whole 3-D grids, one or several, `*xyz.bin` + `*q.bin` | [`plot3d::read`], [`plot3d::read_logged`] | — |
 //! | VTK image data (`.vti`), one array over a 2-D image (a render's depth) | [`vti::read_point_scalars`] | [`vti::write_point_scalars`] (`Float32`) |
 
 mod elements;
+mod empty;
 mod ghost;
 pub mod legacy;
 pub mod plot3d;
 pub mod structured;
 pub mod vti;
+pub mod vts;
 pub mod vtu;
 
 use std::path::{Path, PathBuf};
@@ -39,6 +43,10 @@ pub enum Format {
     Vtu,
     /// VTK XML parallel unstructured grid index (`.pvtu`) and its pieces.
     Pvtu,
+    /// VTK XML structured grid (`.vts`).
+    Vts,
+    /// VTK XML parallel structured grid index (`.pvts`) and its pieces.
+    Pvts,
     /// PLOT3D grid (`*.bin`, `*.xyz`, `*.x`, `*.g`).
     Plot3d,
 }
@@ -51,6 +59,8 @@ impl Format {
             "vtk" => Some(Format::LegacyVtk),
             "vtu" => Some(Format::Vtu),
             "pvtu" => Some(Format::Pvtu),
+            "vts" => Some(Format::Vts),
+            "pvts" => Some(Format::Pvts),
             "bin" | "xyz" | "x" | "g" | "p3d" => Some(Format::Plot3d),
             _ => None,
         }
@@ -62,6 +72,8 @@ impl Format {
             Format::LegacyVtk => Some("a legacy VTK file"),
             Format::Vtu => Some("a VTU file"),
             Format::Pvtu => Some("a parallel VTU index"),
+            Format::Vts => Some("a VTS file"),
+            Format::Pvts => Some("a parallel VTS index"),
             Format::Plot3d => None,
         }
     }
@@ -213,12 +225,25 @@ pub(crate) fn read_exact_at(
 }
 
 /// Reads a mesh file, choosing the reader from its extension. Errors name the file. A Q file
-/// in `options` is an error for any file but a PLOT3D grid.
+/// in `options` is an error for any file but a PLOT3D grid. Says nothing of what was done
+/// beyond reading; [`read_file_logged`] does.
 pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
+    read_file_logged(path, options, &mut |_| {})
+}
+
+/// [`read_file`], giving `log` what a user should know of the read, each note naming its
+/// file: cells dropped (empty cells, ghost cells, blanked cells) with how many, bytes after a
+/// PLOT3D file's data that were ignored, PLOT3D grids joined into one mesh (see
+/// [`plot3d::read_logged`]).
+pub fn read_file_logged(
+    path: &Path,
+    options: &ReadOptions,
+    log: &mut dyn FnMut(String),
+) -> Result<Mesh, Error> {
     let format = Format::from_path(path).ok_or_else(|| {
         Error::Invalid(format!(
-            "{}: unknown file type (expected .vtk, .vtu, .pvtu, or a PLOT3D *xyz.bin / .xyz / .x \
-             grid)",
+            "{}: unknown file type (expected .vtk, .vtu, .pvtu, .vts, .pvts, or a PLOT3D *xyz.bin \
+             / .xyz / .x grid)",
             path.display()
         ))
     })?;
@@ -229,10 +254,14 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
             path.display()
         )));
     }
+    // Each note of a file's reader names the file.
+    let mut noting = |note: String| log(format!("{}: {note}", path.display()));
     match format {
-        Format::LegacyVtk => legacy::read_file(path),
-        Format::Vtu => vtu::read_file(path),
-        Format::Pvtu => vtu::read_parallel_file(path),
+        Format::LegacyVtk => legacy::read_file_logged(path, &mut noting),
+        Format::Vtu => vtu::read_file_logged(path, &mut noting),
+        Format::Pvtu => vtu::read_parallel_file_logged(path, &mut noting),
+        Format::Vts => vts::read_file_logged(path, &mut noting),
+        Format::Pvts => vts::read_parallel_file_logged(path, &mut noting),
         Format::Plot3d => {
             let bytes = read_bytes(path)?;
             let q_path = match &options.q_file {
@@ -240,10 +269,15 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Mesh, Error> {
                 None => plot3d_q_file_for(path),
             };
             let q = q_path.as_deref().map(read_bytes).transpose()?;
-            plot3d::read_blaming(&bytes, q.as_deref()).map_err(|(kind, e)| match (kind, &q_path) {
-                (plot3d::FileKind::Solution, Some(q_path)) => e.in_file(q_path),
-                _ => e.in_file(path),
-            })
+            let file_of = |kind| match (kind, &q_path) {
+                (plot3d::FileKind::Solution, Some(q_path)) => q_path.as_path(),
+                _ => path,
+            };
+            let mut note = |kind, note: String| {
+                log(format!("{}: {note}", file_of(kind).display()));
+            };
+            plot3d::read_blaming(&bytes, q.as_deref(), &mut note)
+                .map_err(|(kind, e)| e.in_file(file_of(kind)))
         }
     }
 }

@@ -42,6 +42,10 @@ pub const VTK_WEDGE: u8 = 13;
 pub const VTK_PYRAMID: u8 = 14;
 /// VTK cell type code of a tetrahedron.
 pub const VTK_TETRA: u8 = 10;
+/// VTK cell type code of an empty cell: no points, no volume. VTK writes them where the
+/// blanked cells of a structured grid become an unstructured grid's (`vtkAppendFilter`,
+/// ParaView's Merge Blocks).
+pub const VTK_EMPTY_CELL: u8 = 0;
 
 impl CellKind {
     /// All kinds, in the order reports list them.

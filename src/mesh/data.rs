@@ -89,15 +89,98 @@ impl DataArray {
             .collect()
     }
 
-    /// `[min, max]` of the scalars the component choice takes (`None` for an empty array).
+    /// `[min, max]` of the finite scalars the component choice takes, NaN and infinities
+    /// left out as VTK's `GetFiniteRange` leaves them (`None` when no scalar is finite).
+    ///
+    /// ```
+    /// use cylvol::{Component, DataArray};
+    /// let t = DataArray::scalar("T", vec![2.0, f64::NAN, -1.0, f64::INFINITY]);
+    /// assert_eq!(t.range(Component::Index(0)), Some([-1.0, 2.0]));
+    /// assert_eq!(DataArray::scalar("T", vec![f64::NAN]).range(Component::Index(0)), None);
+    /// ```
     pub fn range(&self, component: Component) -> Option<[f64; 2]> {
         (0..self.tuples())
             .map(|i| self.scalar_at(i, component))
+            .filter(|v| v.is_finite())
             .fold(None, |acc, v| match acc {
                 None => Some([v, v]),
                 Some([lo, hi]) => Some([lo.min(v), hi.max(v)]),
             })
     }
+
+    /// How many of the array's values (all components) are NaN or infinite.
+    pub fn non_finite_count(&self) -> usize {
+        self.values.iter().filter(|v| !v.is_finite()).count()
+    }
+}
+
+/// What a non-finite scalar is called in messages: `NaN`, `+inf` or `-inf`.
+fn non_finite_name(v: f64) -> &'static str {
+    if v.is_nan() {
+        "NaN"
+    } else if v > 0.0 {
+        "+inf"
+    } else {
+        "-inf"
+    }
+}
+
+/// An array holding NaN or infinite values, as [`super::Mesh::non_finite_arrays`] lists it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NonFiniteArray {
+    /// Point or cell data.
+    pub association: Association,
+    /// The array's name.
+    pub name: String,
+    /// How many of its values (all components) are NaN or infinite.
+    pub count: usize,
+    /// How many values it has (tuples × components).
+    pub values: usize,
+}
+
+impl fmt::Display for NonFiniteArray {
+    /// `point array 'T': 3 of 1200 values are NaN or infinite`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (count, values) = (self.count, self.values);
+        let verb = if count == 1 { "is" } else { "are" };
+        write!(
+            f,
+            "{} array '{}': {count} of {values} values {verb} NaN or infinite",
+            self.association, self.name
+        )
+    }
+}
+
+/// The refusal of scalars a render would draw where any is NaN or infinite; `None` when all
+/// are finite. `what` names them (`point array 'T'`, `the magnitude of point array 'U'`);
+/// `association` says what an index counts. One message for every interface (the command
+/// line, the library's renderer and the C ABI), naming how many and the first.
+///
+/// ```
+/// use cylvol::mesh::non_finite_refusal;
+/// use cylvol::Association;
+/// let m = non_finite_refusal("point array 'T'", Association::Point, &[1.0, f64::NAN, f64::NAN]);
+/// assert_eq!(
+///     m.as_deref(),
+///     Some("point array 'T' cannot be drawn: 2 of its 3 values are NaN or infinite (the \
+///           first, NaN, at point 1); draw another array")
+/// );
+/// assert!(non_finite_refusal("point array 'p'", Association::Point, &[0.5]).is_none());
+/// ```
+pub fn non_finite_refusal(what: &str, association: Association, scalars: &[f64]) -> Option<String> {
+    let first = scalars.iter().position(|v| !v.is_finite())?;
+    let count = scalars[first..].iter().filter(|v| !v.is_finite()).count();
+    let values = scalars.len();
+    let (count_text, verb) = if count == 1 {
+        ("1 of its".to_string(), "is")
+    } else {
+        (format!("{count} of its"), "are")
+    };
+    Some(format!(
+        "{what} cannot be drawn: {count_text} {values} values {verb} NaN or infinite (the \
+         first, {}, at {association} {first}); draw another array",
+        non_finite_name(scalars[first])
+    ))
 }
 
 /// The scalar a render uses: which array, where, and which component.
@@ -136,6 +219,24 @@ pub(crate) fn selectors(point: &[DataArray], cell: &[DataArray]) -> Vec<String> 
 }
 
 impl ActiveScalar {
+    /// The scalars this selection takes, as messages name them: `point array 'T'`,
+    /// `component 2 of point array 'U'`, `the magnitude of cell array 'U'`.
+    pub fn describe(&self, point: &[DataArray], cell: &[DataArray]) -> String {
+        let arrays = match self.association {
+            Association::Point => point,
+            Association::Cell => cell,
+        };
+        let Some(array) = arrays.get(self.array) else {
+            return String::new();
+        };
+        let whole = format!("{} array '{}'", self.association, array.name);
+        match self.component {
+            _ if array.components == 1 => whole,
+            Component::Index(k) => format!("component {k} of {whole}"),
+            Component::Magnitude => format!("the magnitude of {whole}"),
+        }
+    }
+
     /// This selection as [`super::Mesh::set_active_scalar`] (and `cylvol --scalar`) takes it,
     /// given the mesh's point and cell arrays: the array's name (`p`), with `cell:` before it
     /// where a point array has the same name (the bare name picks the point array:

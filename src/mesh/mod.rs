@@ -2,6 +2,11 @@
 //! cell data arrays with one active scalar. A [`Mesh`] is always valid: the only way to make one
 //! is [`Mesh::from_parts`], which checks everything the renderer relies on.
 //!
+//! Data arrays may hold NaN or infinite values, as VTK's arrays may (a diverged variable, a
+//! masked region): the mesh keeps them as they are, [`Mesh::non_finite_arrays`] says which
+//! arrays hold them and how many, and only the scalars a render draws must be finite
+//! ([`Mesh::drawn_scalars`] refuses them, naming the array and the count).
+//!
 //! Points are stored in `f64` so a mesh placed 10⁶ units from the origin keeps its cells' shape
 //! to well below a micro-unit (an `f32` there resolves only 0.06 units).
 
@@ -13,9 +18,12 @@ pub mod validate;
 mod vtk_cells;
 
 pub use cell_kind::{
-    vtk_type_name, CellKind, VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_VOXEL, VTK_WEDGE,
+    vtk_type_name, CellKind, VTK_EMPTY_CELL, VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_VOXEL,
+    VTK_WEDGE,
 };
-pub use data::{ActiveScalar, Association, Component, DataArray};
+pub use data::{
+    non_finite_refusal, ActiveScalar, Association, Component, DataArray, NonFiniteArray,
+};
 pub use refine::{physical_memory, refined_bytes, MAX_REFINEMENT};
 pub(crate) use vtk_cells::cells_from_ids;
 pub use vtk_cells::{cells_from_vtk, ConvertedCells, OffsetStyle};
@@ -52,11 +60,13 @@ pub struct Mesh {
 
 impl Mesh {
     /// Validates the parts and makes a mesh, choosing the default active scalar: the first point
-    /// array whose range is not constant, else the first non-constant cell array, else the first
-    /// point array, else the first cell array.
+    /// array whose values are all finite and not all equal, else the first such cell array,
+    /// else the first all-finite point array, else the first all-finite cell array, else the
+    /// first point array, else the first cell array.
     ///
-    /// Errors: empty mesh, non-finite coordinates or values, out-of-range indices, arrays of
-    /// the wrong length, inverted cells (see [`MeshError`]).
+    /// Errors: empty mesh, non-finite coordinates, out-of-range indices, arrays of the wrong
+    /// length, inverted cells (see [`MeshError`]). NaN and infinite array values are kept
+    /// ([`Mesh::non_finite_arrays`]).
     pub fn from_parts(parts: MeshParts) -> Result<Mesh, MeshError> {
         validate::validate(&parts)?;
         let MeshParts {
@@ -79,7 +89,7 @@ impl Mesh {
     }
 
     /// Replaces the point and cell data arrays, the geometry kept as it is (and not checked
-    /// again): each array must have one tuple per point (or cell) and finite values, as for
+    /// again): each array must have one tuple per point (or cell), as for
     /// [`Mesh::from_parts`]. The active scalar becomes the default one of the new arrays. On
     /// an error the mesh is unchanged.
     ///
@@ -120,21 +130,95 @@ impl Mesh {
     }
 
     fn default_active(&self) -> Option<ActiveScalar> {
-        let pick = |association: Association, arrays: &[DataArray], need_varying: bool| {
+        // What an array must be to be picked, most wanted first: finite and varying, finite,
+        // anything.
+        #[derive(Clone, Copy)]
+        enum Need {
+            Varying,
+            Finite,
+            Nothing,
+        }
+        let pick = |association: Association, arrays: &[DataArray], need: Need| {
             arrays.iter().enumerate().find_map(|(i, a)| {
                 let component = a.default_component();
-                let varying = a.range(component).is_some_and(|[lo, hi]| hi > lo);
-                (varying || !need_varying).then_some(ActiveScalar {
+                let finite = || a.non_finite_count() == 0;
+                let fits = match need {
+                    Need::Varying => finite() && a.range(component).is_some_and(|[lo, hi]| hi > lo),
+                    Need::Finite => finite(),
+                    Need::Nothing => true,
+                };
+                fits.then_some(ActiveScalar {
                     association,
                     array: i,
                     component,
                 })
             })
         };
-        pick(Association::Point, &self.point_data, true)
-            .or_else(|| pick(Association::Cell, &self.cell_data, true))
-            .or_else(|| pick(Association::Point, &self.point_data, false))
-            .or_else(|| pick(Association::Cell, &self.cell_data, false))
+        [Need::Varying, Need::Finite, Need::Nothing]
+            .into_iter()
+            .find_map(|need| {
+                pick(Association::Point, &self.point_data, need)
+                    .or_else(|| pick(Association::Cell, &self.cell_data, need))
+            })
+    }
+
+    /// The arrays holding NaN or infinite values, point arrays first, each with how many.
+    ///
+    /// ```
+    /// use cylvol::{CellKind, DataArray, Mesh, MeshParts};
+    /// let corner = |i: i32| glam::DVec3::new((i & 1).into(), (i >> 1 & 1).into(), (i >> 2).into());
+    /// let mut t = vec![300.0; 8];
+    /// t[3] = f64::NAN;
+    /// let mesh = Mesh::from_parts(MeshParts {
+    ///     points: (0..8).map(corner).collect(),
+    ///     cells: vec![[0, 1, 3, 2, 4, 5, 7, 6]],
+    ///     kinds: vec![CellKind::Hexahedron],
+    ///     point_data: vec![DataArray::scalar("T", t), DataArray::scalar("p", vec![1.0; 8])],
+    ///     cell_data: vec![],
+    /// })
+    /// .unwrap();
+    /// let bad = mesh.non_finite_arrays();
+    /// assert_eq!((bad.len(), bad[0].name.as_str(), bad[0].count), (1, "T", 1));
+    /// assert_eq!(bad[0].to_string(), "point array 'T': 1 of 8 values is NaN or infinite");
+    /// // The default scalar is an array that can be drawn.
+    /// assert_eq!(mesh.active_array().unwrap().name, "p");
+    /// ```
+    pub fn non_finite_arrays(&self) -> Vec<NonFiniteArray> {
+        let tagged = self
+            .point_data
+            .iter()
+            .map(|a| (Association::Point, a))
+            .chain(self.cell_data.iter().map(|a| (Association::Cell, a)));
+        tagged
+            .filter_map(|(association, a)| {
+                let count = a.non_finite_count();
+                (count > 0).then(|| NonFiniteArray {
+                    association,
+                    name: a.name.clone(),
+                    count,
+                    values: a.values.len(),
+                })
+            })
+            .collect()
+    }
+
+    /// The active scalar's values as a render draws them (per point or per cell): an error
+    /// where the mesh has no array, or where any of them is NaN or infinite (naming the
+    /// array, how many and the first: [`non_finite_refusal`]). Every renderer takes its
+    /// scalars through this, so that an array with such values is refused alike everywhere.
+    pub fn drawn_scalars(&self) -> Result<(Association, Vec<f64>), Error> {
+        let (association, scalars) = self.active_scalars().ok_or_else(|| {
+            Error::Invalid("the mesh has no point or cell array to render".into())
+        })?;
+        let what = self
+            .active
+            .as_ref()
+            .map(|a| a.describe(&self.point_data, &self.cell_data))
+            .unwrap_or_default();
+        match non_finite_refusal(&what, association, &scalars) {
+            Some(refusal) => Err(Error::Invalid(refusal)),
+            None => Ok((association, scalars)),
+        }
     }
 
     /// Point coordinates.
@@ -338,7 +422,7 @@ impl Mesh {
         ))
     }
 
-    /// `[min, max]` of the active scalar.
+    /// `[min, max]` of the active scalar's finite values ([`DataArray::range`]).
     pub fn scalar_range(&self) -> Option<[f64; 2]> {
         let a = self.active.as_ref()?;
         self.arrays(a.association)[a.array].range(a.component)

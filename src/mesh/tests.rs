@@ -88,7 +88,7 @@ fn the_first_out_of_range_index_of_many_is_named() {
 }
 
 #[test]
-fn wrong_array_length_and_non_finite_values_are_errors() {
+fn wrong_array_length_is_an_error() {
     let mut p = unit_cube();
     p.point_data[0].values.pop();
     assert!(matches!(
@@ -99,13 +99,69 @@ fn wrong_array_length_and_non_finite_values_are_errors() {
             ..
         }
     ));
+}
+
+/// NaN and infinite values are kept and listed with their counts; the default scalar is an
+/// array without them; drawing one that has them is refused, naming it, the count and the
+/// first, whatever component is drawn, while a component without them draws.
+#[test]
+fn non_finite_values_are_kept_listed_and_refused_only_when_drawn() {
     let mut p = unit_cube();
-    p.cell_data
-        .push(DataArray::scalar("c", vec![f64::NEG_INFINITY]));
-    assert!(matches!(
-        Mesh::from_parts(p).unwrap_err(),
-        MeshError::NonFiniteScalar { index: 0, .. }
-    ));
+    let mut t = vec![1.0; 8];
+    t[2] = f64::NAN;
+    t[6] = f64::INFINITY;
+    let mut u: Vec<f64> = (0..24).map(f64::from).collect();
+    u[3 * 5 + 2] = f64::NEG_INFINITY;
+    p.point_data = vec![
+        DataArray::scalar("T", t.clone()),
+        DataArray::vector("U", u),
+        DataArray::scalar("p", (0..8).map(f64::from).collect()),
+    ];
+    p.cell_data = vec![DataArray::scalar("c", vec![f64::NAN])];
+    let mut mesh = Mesh::from_parts(p).unwrap();
+    assert_eq!(mesh.point_data()[0].values[2].to_bits(), f64::NAN.to_bits());
+    let listed: Vec<(Association, String, usize, usize)> = mesh
+        .non_finite_arrays()
+        .into_iter()
+        .map(|a| (a.association, a.name, a.count, a.values))
+        .collect();
+    let want = [
+        (Association::Point, "T", 2, 8),
+        (Association::Point, "U", 1, 24),
+        (Association::Cell, "c", 1, 1),
+    ]
+    .map(|(a, n, c, v)| (a, n.to_string(), c, v));
+    assert_eq!(listed, want);
+    assert_eq!(mesh.active_array().unwrap().name, "p");
+    assert!(mesh.drawn_scalars().is_ok());
+    mesh.set_active_scalar("T").unwrap();
+    assert_eq!(
+        mesh.scalar_range(),
+        Some([1.0, 1.0]),
+        "the finite values' range"
+    );
+    let refusal = mesh.drawn_scalars().unwrap_err().to_string();
+    assert_eq!(
+        refusal,
+        "point array 'T' cannot be drawn: 2 of its 8 values are NaN or infinite (the first, \
+         NaN, at point 2); draw another array"
+    );
+    for (name, refused) in [
+        ("U", true),
+        ("U[2]", true),
+        ("U[1]", false),
+        ("cell:c", true),
+    ] {
+        mesh.set_active_scalar(name).unwrap();
+        assert_eq!(mesh.drawn_scalars().is_err(), refused, "{name}");
+    }
+    mesh.set_active_scalar("U[2]").unwrap();
+    let refusal = mesh.drawn_scalars().unwrap_err().to_string();
+    assert!(
+        refusal.starts_with("component 2 of point array 'U' cannot be drawn: 1 of its 8")
+            && refusal.contains("-inf, at point 5"),
+        "{refusal}"
+    );
 }
 
 #[test]

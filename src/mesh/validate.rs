@@ -65,7 +65,8 @@ pub(super) fn validate(parts: &MeshParts) -> Result<(), MeshError> {
     check_orientation(parts)
 }
 
-/// Checks that each array has `tuples` tuples and finite values.
+/// Checks that each array has `tuples` tuples. NaN and infinite values are kept: only the
+/// scalars a render draws must be finite ([`super::Mesh::drawn_scalars`]).
 pub(super) fn check_arrays(
     arrays: &[DataArray],
     association: Association,
@@ -79,14 +80,6 @@ pub(super) fn check_arrays(
                 association,
                 expected,
                 got: a.values.len(),
-            });
-        }
-        if let Some(index) = a.values.iter().position(|v| !v.is_finite()) {
-            return Err(MeshError::NonFiniteScalar {
-                name: a.name.clone(),
-                association,
-                index,
-                value: a.values[index],
             });
         }
     }

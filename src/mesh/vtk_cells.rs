@@ -6,7 +6,8 @@ use std::collections::BTreeMap;
 use rayon::prelude::*;
 
 use super::cell_kind::{
-    vtk_type_name, CellKind, VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_VOXEL, VTK_WEDGE,
+    vtk_type_name, CellKind, VTK_EMPTY_CELL, VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA, VTK_VOXEL,
+    VTK_WEDGE,
 };
 use crate::error::MeshError;
 
@@ -17,6 +18,10 @@ pub struct ConvertedCells {
     pub cells: Vec<[u32; 8]>,
     /// The kind of each cell.
     pub kinds: Vec<CellKind>,
+    /// Where VTK's empty cells ([`VTK_EMPTY_CELL`]: no points, no volume) stood among the
+    /// cells given, in increasing order. They are not in `cells`: a reader drops their cell
+    /// data tuples too. Always empty from [`cells_from_vtk`], which refuses them.
+    pub empty: Vec<usize>,
 }
 
 /// The kind a VTK type code is read as, and the slot order of its VTK vertices.
@@ -47,8 +52,9 @@ fn collapse(code: u8, ids: &[u32]) -> [u32; 8] {
 ///
 /// `offsets` has either one entry per cell (the start of each cell, legacy style) or one more
 /// (VTK ≥ 9 style, the last being `connectivity.len()`); VTU files give the *end* of each cell,
-/// so pass `OffsetStyle::Ends` for them. Unsupported types are counted and reported together;
-/// ids are checked against `points`.
+/// so pass `OffsetStyle::Ends` for them. Unsupported types (empty cells included, whose cell
+/// data a caller would have to drop with them) are counted and reported together; ids are
+/// checked against `points`.
 ///
 /// ```
 /// use cylvol::mesh::{cells_from_vtk, OffsetStyle};
@@ -62,6 +68,7 @@ pub fn cells_from_vtk(
     types: &[u8],
     points: usize,
 ) -> Result<ConvertedCells, MeshError> {
+    check_types(types, Empty::Refused)?;
     cells_from_ids(
         connectivity.len(),
         |k| connectivity[k],
@@ -83,7 +90,9 @@ const CELLS_PER_TASK: usize = 1 << 14;
 /// and the offsets are where each count stands; 0 otherwise). Converts in parallel (the cheap
 /// checks of types and spans come first, in one sequential pass each); the error is the one a
 /// sequential pass would meet first (unsupported types, then spans, then vertex counts and
-/// ids in cell order).
+/// ids in cell order). Empty cells ([`VTK_EMPTY_CELL`]) are left out and listed in
+/// [`ConvertedCells::empty`], whatever ids they list (VTK's `vtkAppendFilter` keeps a blanked
+/// cell's ids on the empty cell it makes of it; VTK's readers read them and ignore them).
 pub(crate) fn cells_from_ids(
     len: usize,
     id: impl Fn(usize) -> i64 + Sync,
@@ -94,7 +103,7 @@ pub(crate) fn cells_from_ids(
     points: usize,
 ) -> Result<ConvertedCells, MeshError> {
     let n = types.len();
-    check_types(types)?;
+    check_types(types, Empty::Dropped)?;
     let bounds = Bounds::new(len, offsets, style, n, skip)?;
     if let Some(cell) = (0..n).find(|&c| bounds.span(c).is_none()) {
         let (b, e) = (bounds.at(cell), bounds.at(cell + 1));
@@ -106,6 +115,7 @@ pub(crate) fn cells_from_ids(
     let mut out = ConvertedCells {
         cells: vec![[0; 8]; n],
         kinds: vec![CellKind::Hexahedron; n],
+        empty: Vec::new(),
     };
     let convert_task = |task: usize, cells: &mut [[u32; 8]], kinds: &mut [CellKind]| {
         let mut ids = [0u32; 8];
@@ -114,6 +124,9 @@ pub(crate) fn cells_from_ids(
             let code = types[cell];
             let kind = kind_of(code).unwrap_or(CellKind::Hexahedron);
             // Checked above.
+            if code == VTK_EMPTY_CELL {
+                continue;
+            }
             let (begin, end) = bounds.span(cell).unwrap_or((0, 0));
             let expected = kind.vertex_count();
             let got = end - begin;
@@ -147,20 +160,35 @@ pub(crate) fn cells_from_ids(
         .zip(out.kinds.par_chunks_mut(CELLS_PER_TASK))
         .enumerate()
         .find_map_first(|(task, (cells, kinds))| convert_task(task, cells, kinds).err());
-    match first_error {
-        Some(e) => Err(e),
-        None => Ok(out),
+    if let Some(e) = first_error {
+        return Err(e);
     }
+    out.empty = (0..n).filter(|&c| types[c] == VTK_EMPTY_CELL).collect();
+    if !out.empty.is_empty() {
+        let keep = |c: &usize| types[*c] != VTK_EMPTY_CELL;
+        out.cells = (0..n).filter(keep).map(|c| out.cells[c]).collect();
+        out.kinds = (0..n).filter(keep).map(|c| out.kinds[c]).collect();
+    }
+    Ok(out)
+}
+
+/// Whether empty cells ([`VTK_EMPTY_CELL`]) are taken (and dropped) or refused.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Empty {
+    Dropped,
+    Refused,
 }
 
 /// Reports every unsupported type code with its count.
-fn check_types(types: &[u8]) -> Result<(), MeshError> {
-    if types.iter().all(|&code| kind_of(code).is_some()) {
+fn check_types(types: &[u8], empty: Empty) -> Result<(), MeshError> {
+    let supported =
+        |code: u8| kind_of(code).is_some() || (code == VTK_EMPTY_CELL && empty == Empty::Dropped);
+    if types.iter().all(|&code| supported(code)) {
         return Ok(());
     }
     let mut unsupported: BTreeMap<u8, usize> = BTreeMap::new();
     for &code in types {
-        if kind_of(code).is_none() {
+        if !supported(code) {
             *unsupported.entry(code).or_default() += 1;
         }
     }
@@ -276,6 +304,32 @@ mod tests {
         }
     }
 
+    /// Empty cells are left out and listed by the readers' conversion, with no ids or with
+    /// ids (as vtkAppendFilter leaves them), refused by the public one (whose caller has no
+    /// way to drop their cell data).
+    #[test]
+    fn empty_cells_are_dropped_and_listed_or_refused() {
+        let connectivity = [0, 1, 2, 3, 1, 2, 3, 4];
+        let types = [VTK_TETRA, VTK_EMPTY_CELL, VTK_EMPTY_CELL, VTK_TETRA];
+        let ends = [4, 4, 4, 8];
+        let id = |k: usize| connectivity[k];
+        let c = cells_from_ids(8, id, &ends, OffsetStyle::Ends, 0, &types, 5).unwrap();
+        assert_eq!(c.empty, [1, 2]);
+        assert_eq!(c.kinds, [CellKind::Tetrahedron; 2]);
+        assert_eq!(c.cells[1], CellKind::Tetrahedron.collapse(&[1, 2, 3, 4]));
+        match cells_from_vtk(&connectivity, &ends, OffsetStyle::Ends, &types, 5) {
+            Err(MeshError::UnsupportedCellTypes { types }) => {
+                assert_eq!(types, [(0, "empty cell", 2)])
+            }
+            other => panic!("{other:?}"),
+        }
+        let connectivity = [0, 1, 2, 3, 9, 9, 1, 2, 3, 4];
+        let ends = [4, 5, 6, 10];
+        let id = |k: usize| connectivity[k];
+        let with_ids = cells_from_ids(10, id, &ends, OffsetStyle::Ends, 0, &types, 5).unwrap();
+        assert_eq!(with_ids, c);
+    }
+
     /// The conversion as a plain sequential loop over the cells, checking types, then spans,
     /// then each cell's vertex count and ids: what the parallel one must equal, result and
     /// first error alike.
@@ -286,7 +340,7 @@ mod tests {
         types: &[u8],
         points: usize,
     ) -> Result<ConvertedCells, MeshError> {
-        check_types(types)?;
+        check_types(types, Empty::Refused)?;
         let n = types.len();
         let bounds: Vec<i64> = match (style, offsets.len()) {
             (OffsetStyle::Starts, l) if l == n + 1 => offsets.to_vec(),

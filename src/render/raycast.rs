@@ -640,11 +640,10 @@ pub struct ScalarField {
 }
 
 impl ScalarField {
-    /// Gathers the active scalar of `mesh` (an error if it has none) and each cell's range.
+    /// Gathers the active scalar of `mesh` (an error if it has none, or if any of its values
+    /// is NaN or infinite: [`Mesh::drawn_scalars`]) and each cell's range.
     pub fn gather(mesh: &Mesh) -> Result<ScalarField, Error> {
-        let (association, scalars) = mesh
-            .active_scalars()
-            .ok_or_else(|| Error::Invalid("the mesh has no scalar array to render".into()))?;
+        let (association, scalars) = mesh.drawn_scalars()?;
         let range = mesh
             .scalar_range()
             .ok_or_else(|| Error::Invalid("the mesh has no scalar array to render".into()))?;

@@ -99,7 +99,7 @@ pub struct LegacyOptions {
 /// assert_eq!(mesh.scalar_range(), Some([0.0, 3.0]));
 /// ```
 pub fn read(bytes: &[u8]) -> Result<Mesh, Error> {
-    read::read(bytes)
+    read::read(bytes, &mut |_| {})
 }
 
 /// Bytes of text the file reader scans at a time between binary blocks.
@@ -124,6 +124,12 @@ const TEXT_CHUNK: usize = 64 << 10;
 /// assert_eq!(cylvol::io::legacy::read_file(&path).unwrap(), mesh);
 /// ```
 pub fn read_file(path: &Path) -> Result<Mesh, Error> {
+    read_file_logged(path, &mut |_| {})
+}
+
+/// [`read_file`], giving `log` what was done beyond reading: empty cells (VTK type 0) dropped
+/// with their cell data, ghost and blanked cells dropped (see [`crate::io::read_file_logged`]).
+pub fn read_file_logged(path: &Path, log: &mut dyn FnMut(String)) -> Result<Mesh, Error> {
     let file = std::fs::File::open(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
@@ -131,12 +137,12 @@ pub fn read_file(path: &Path) -> Result<Mesh, Error> {
     #[cfg(unix)]
     if let Ok(meta) = file.metadata() {
         if let (true, Ok(len)) = (meta.is_file(), usize::try_from(meta.len())) {
-            if let Some(result) = read::read_file(&file, len, TEXT_CHUNK) {
+            if let Some(result) = read::read_file(&file, len, TEXT_CHUNK, log) {
                 return result.map_err(|e| e.in_file(path));
             }
         }
     }
-    read(&crate::io::read_open_file(&file, path)?).map_err(|e| e.in_file(path))
+    read::read(&crate::io::read_open_file(&file, path)?, log).map_err(|e| e.in_file(path))
 }
 
 /// Writes a mesh as a BINARY legacy VTK unstructured grid (classic `CELLS` layout).

@@ -9,7 +9,8 @@ use super::cursor::{show, Cursor, Shortfall, Token};
 use super::values::{parse_f64, parse_i64, ArrayType, ValueType};
 use crate::error::{Error, ReadError};
 use crate::io::elements::{to_f64, to_tuples, Integers, ScalarType};
-use crate::io::ghost::drop_ghost_cells;
+use crate::io::empty::{self, drop_tuples};
+use crate::io::ghost::{drop_ghost_cells, Blanking};
 use crate::io::structured::hexahedra;
 use crate::mesh::{cells_from_ids, Association, CellKind, DataArray, Mesh, MeshParts, OffsetStyle};
 
@@ -91,15 +92,16 @@ struct Parser<'a> {
 
 type Result<T> = std::result::Result<T, ReadError>;
 
-/// Reads a legacy VTK file's bytes into a mesh (see [`super::read`]).
-pub(super) fn read(bytes: &[u8]) -> std::result::Result<Mesh, Error> {
+/// Reads a legacy VTK file's bytes into a mesh (see [`super::read`]), giving `log` what was
+/// done beyond reading (cells dropped, and why).
+pub(super) fn read(bytes: &[u8], log: &mut dyn FnMut(String)) -> std::result::Result<Mesh, Error> {
     let mut parser = Parser {
         c: Cursor::new(bytes),
         binary: false,
     };
     let dataset = parser.header()?;
     let parsed = parser.parse(dataset)?;
-    parser.build_mesh(parsed)
+    parser.build_mesh(parsed, log)
 }
 
 /// Reads a BINARY legacy VTK file of `len` bytes from disk as it is parsed: each binary block
@@ -112,6 +114,7 @@ pub(super) fn read_file(
     file: &std::fs::File,
     len: usize,
     chunk: usize,
+    log: &mut dyn FnMut(String),
 ) -> Option<std::result::Result<Mesh, Error>> {
     let mut parser = Parser {
         c: Cursor::over_file(file, len, chunk),
@@ -126,7 +129,7 @@ pub(super) fn read_file(
         parser
             .parse(dataset)
             .map_err(Error::from)
-            .and_then(|parsed| parser.build_mesh(parsed)),
+            .and_then(|parsed| parser.build_mesh(parsed, log)),
     )
 }
 
@@ -888,16 +891,22 @@ impl<'a> Parser<'a> {
         Ok(array.filter(|_| keep))
     }
 
-    /// Checks the sections against each other and builds the mesh.
-    fn build_mesh(&self, p: Parsed<'a>) -> std::result::Result<Mesh, Error> {
+    /// Checks the sections against each other and builds the mesh, giving `log` what was
+    /// dropped: empty cells (with their cell data), ghost and blanked cells.
+    fn build_mesh(
+        &self,
+        p: Parsed<'a>,
+        log: &mut dyn FnMut(String),
+    ) -> std::result::Result<Mesh, Error> {
         let end = self.c.len();
         let points = p
             .points
             .ok_or_else(|| self.err(end, "the file has no POINTS section"))?;
         let n_points = points.value.len();
-        let (cells, kinds) = match p.dataset {
+        let dataset = p.dataset;
+        let (cells, kinds, empty) = match p.dataset {
             Dataset::Unstructured => match p.cells {
-                None => (Vec::new(), Vec::new()),
+                None => (Vec::new(), Vec::new(), Vec::new()),
                 Some(cells) => {
                     let CellList { starts, skip, ids } = &cells.value;
                     let ids = ids.view();
@@ -926,7 +935,7 @@ impl<'a> Parser<'a> {
                         &types.value,
                         n_points,
                     )?;
-                    (converted.cells, converted.kinds)
+                    (converted.cells, converted.kinds, converted.empty)
                 }
             },
             Dataset::Structured => {
@@ -949,12 +958,14 @@ impl<'a> Parser<'a> {
                 }
                 let cells = hexahedra(dims.value, &points.value);
                 let kinds = vec![CellKind::Hexahedron; cells.len()];
-                (cells, kinds)
+                (cells, kinds, Vec::new())
             }
         };
+        // The file's cells, empty ones included: the cell data's tuples.
+        let file_cells = cells.len() + empty.len();
         for (declared, actual, keyword, what) in [
             (&p.point_count, n_points, "POINT_DATA", "points"),
-            (&p.cell_count, cells.len(), "CELL_DATA", "cells"),
+            (&p.cell_count, file_cells, "CELL_DATA", "cells"),
         ] {
             if let Some(d) = declared {
                 if d.value != actual {
@@ -977,7 +988,14 @@ impl<'a> Parser<'a> {
             point_data: p.point_data,
             cell_data: p.cell_data,
         };
-        drop_ghost_cells(&mut parts);
+        drop_tuples(&mut parts.cell_data, &empty, file_cells);
+        let blanking = match dataset {
+            Dataset::Unstructured => Blanking::Cells,
+            Dataset::Structured => Blanking::CellsAndPoints,
+        };
+        let dropped = drop_ghost_cells(&mut parts, blanking);
+        empty::note(empty.len()).into_iter().for_each(&mut *log);
+        dropped.notes().into_iter().for_each(&mut *log);
         let mesh = Mesh::from_parts(parts)?;
         Ok(mesh)
     }
@@ -1095,9 +1113,9 @@ mod tests {
         let check = |bytes: &[u8], what: &str| {
             file.set_len(0).unwrap();
             file.write_all_at(bytes, 0).unwrap();
-            let want = outcome(read(bytes));
+            let want = outcome(read(bytes, &mut |_| {}));
             for chunk in [1, 7, 64, 1 << 16] {
-                let got = read_file(&file, bytes.len(), chunk).expect("binary");
+                let got = read_file(&file, bytes.len(), chunk, &mut |_| {}).expect("binary");
                 assert_eq!(outcome(got), want, "{what}, chunk {chunk}");
             }
             want.is_ok()
@@ -1126,7 +1144,7 @@ mod tests {
         crate::io::legacy::write_ascii(&mesh, &mut ascii).unwrap();
         file.set_len(0).unwrap();
         file.write_all_at(&ascii, 0).unwrap();
-        assert!(read_file(&file, ascii.len(), 64).is_none());
+        assert!(read_file(&file, ascii.len(), 64, &mut |_| {}).is_none());
     }
 
     /// A binary file's unit tetrahedron after its `POINTS 4 float` (or `double`) line: the
@@ -1169,7 +1187,7 @@ mod tests {
     /// header's size; the numeric array after them is read right.
     #[test]
     fn strings_and_variants_are_skipped() {
-        let mesh = read(&strings_binary()).unwrap();
+        let mesh = read(&strings_binary(), &mut |_| {}).unwrap();
         assert_eq!(mesh.point_data().len(), 1);
         assert_eq!(mesh.point_data()[0].name, "t");
         assert_eq!(mesh.point_data()[0].values, [0.5, 1.5, 2.5, 3.5]);
@@ -1192,7 +1210,7 @@ mod tests {
     /// Bit arrays are read as 0 and 1, high bit first, where VTK's reader keeps them.
     #[test]
     fn bits_are_read_high_bit_first() {
-        let mesh = read(&bits_binary()).unwrap();
+        let mesh = read(&bits_binary(), &mut |_| {}).unwrap();
         let [wet, v] = mesh.point_data() else {
             panic!("{:?}", mesh.point_data());
         };

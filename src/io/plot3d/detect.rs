@@ -8,9 +8,21 @@
 //! grid count lie in `1..=`[`MAX_DIMENSION`] (2²⁴), the file can hold that many grids'
 //! dimensions, and its record markers (if any) hold the lengths the records must have. Each plausible
 //! reading predicts a file size for every precision (`f32`, `f64`) and, for grids, with and
-//! without IBLANK; the layout is the one whose prediction equals the file's size exactly. None
-//! or several → an error listing what was tried and the size each expects. A match that is 2-D
-//! or has more than one grid → an error saying so (this reader takes 3-D single grids only).
+//! without IBLANK; the layout is the one whose prediction equals the file's size exactly.
+//!
+//! **Bytes after the data.** Where no prediction equals the size, a layout whose data the file
+//! holds with bytes after it (padding that Fortran writers and tools leave) is taken when the
+//! layout does not rest on the size alone, as VTK's `vtkMultiBlockPLOT3DReader` takes it:
+//! its record markers hold every record's length, or it is a Q file read in its grid's byte
+//! order and precision, as VTK reads a Q file with its grid file's settings, where they are
+//! fewer than one block of values or 4 KiB, whichever is more (more is a file cut short in
+//! another layout, not padding).
+//! The bytes after are ignored, and [`Layout::trailing_bytes`] says how many. A grid file without record
+//! markers has no measure of its layout but its size, so it must match exactly (VTK's
+//! reader cannot tell its settings either).
+//!
+//! None or several layouts → an error listing what was tried and the size each expects. A
+//! match that is 2-D → an error saying so (this reader takes 3-D grids only).
 
 use crate::error::{Error, ReadError};
 
@@ -42,7 +54,7 @@ impl Precision {
     }
 }
 
-/// The detected layout of a PLOT3D whole, single-grid, 3-D file (grid or Q).
+/// The detected layout of a PLOT3D whole 3-D file (grid or Q) of one or several grids.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Layout {
     /// Byte order of every integer and float.
@@ -54,19 +66,25 @@ pub struct Layout {
     pub iblank: bool,
     /// Whether records are wrapped in Fortran unformatted record markers (4-byte lengths).
     pub record_markers: bool,
-    /// Whether the file starts with a grid count (which must be 1).
+    /// Whether the file starts with a grid count.
     pub grid_count: bool,
-    /// Points along i, j, k (i varies fastest in every block).
+    /// Points along i, j, k of the first grid, the only one of a single-grid file (i varies
+    /// fastest in every block).
     pub dims: [usize; 3],
-    /// Byte offset of the first value after the header, past any record marker: the x block
-    /// of a grid, the four-float header (Mach, alpha, Reynolds, time) of a Q file.
+    /// Every grid's points along i, j, k, in file order (one entry for a single grid).
+    pub grids: Vec<[usize; 3]>,
+    /// Byte offset of the first value after the header, past any record marker: the first
+    /// grid's x block in a grid file, its four-float header (Mach, alpha, Reynolds, time) in
+    /// a Q file.
     pub data_offset: usize,
+    /// Bytes after the last record, ignored (see the module documentation).
+    pub trailing_bytes: usize,
 }
 
 impl Layout {
-    /// Number of points, `dims[0] · dims[1] · dims[2]` (checked at detection not to overflow).
+    /// Number of points of all grids (checked at detection not to overflow).
     pub fn points(&self) -> usize {
-        self.dims.iter().product()
+        self.grids.iter().map(|d| d.iter().product::<usize>()).sum()
     }
 }
 
@@ -80,6 +98,14 @@ pub(crate) enum FileKind {
 }
 
 impl FileKind {
+    /// What the file is called in notes: `grid file`, `Q file`.
+    pub(crate) fn file_name(self) -> &'static str {
+        match self {
+            FileKind::Grid => "grid file",
+            FileKind::Solution => "Q file",
+        }
+    }
+
     /// The `format` of the errors this file kind reports.
     pub(crate) fn format(self) -> &'static str {
         match self {
@@ -201,6 +227,10 @@ fn read_u32(bytes: &[u8], pos: u64, order: ByteOrder) -> Option<u32> {
 /// bits of most floats read as integers; no real grid has 16 million points along one index.
 pub const MAX_DIMENSION: u64 = 1 << 24;
 
+/// Bytes after a Q file's data taken for padding (without record markers) even where they
+/// are more than a block of its values: a disk block's worth, for tiny grids.
+pub const MAX_PADDING: u64 = 4096;
+
 /// An integer in `1..=MAX_DIMENSION` at `pos`.
 fn read_positive(bytes: &[u8], pos: u64, order: ByteOrder) -> Option<u64> {
     let v = u64::from(read_u32(bytes, pos, order)?);
@@ -299,27 +329,32 @@ fn predicted_size(
     Some(total)
 }
 
-/// For a single grid with record markers: do the body's markers hold the record lengths?
+/// With record markers: do the markers of every grid's records hold their lengths? (True
+/// without markers: nothing to check.)
 fn body_markers_agree(bytes: &[u8], c: &Candidate, kind: FileKind) -> bool {
     let h = &c.header;
-    if !h.reading.markers || h.grids.len() != 1 {
+    if !h.reading.markers {
         return true;
     }
-    let Some(lengths) = records(kind, h.reading.ndim, &h.grids[0], c.precision, c.iblank) else {
-        return false;
-    };
     let mut pos = h.body;
-    for length in lengths {
-        let expected = Some(length).filter(|&l| l <= i32::MAX as u64);
-        let Some(expected) = expected else {
+    for dims in &h.grids {
+        let Some(lengths) = records(kind, h.reading.ndim, dims, c.precision, c.iblank) else {
             return false;
         };
-        let head = read_u32(bytes, pos, h.reading.order).map(u64::from);
-        let tail = read_u32(bytes, pos + 4 + length, h.reading.order).map(u64::from);
-        if head != Some(expected) || tail != Some(expected) {
-            return false;
+        for length in lengths {
+            if length > i32::MAX as u64 {
+                return false;
+            }
+            let head = read_u32(bytes, pos, h.reading.order).map(u64::from);
+            let tail = pos
+                .checked_add(4 + length)
+                .and_then(|at| read_u32(bytes, at, h.reading.order))
+                .map(u64::from);
+            if head != Some(length) || tail != Some(length) {
+                return false;
+            }
+            pos += length + 8;
         }
-        pos += length + 8;
     }
     true
 }
@@ -366,6 +401,17 @@ fn candidates(bytes: &[u8], kind: FileKind) -> Vec<Candidate> {
 
 /// Detects the layout of a grid (`kind = Grid`) or Q file. See the module documentation.
 pub(crate) fn detect(bytes: &[u8], kind: FileKind) -> Result<Layout, Error> {
+    detect_for(bytes, kind, None)
+}
+
+/// [`detect`], for a Q file whose grid file has the layout `grid`: where its data is followed
+/// by other bytes, it may be read without record markers in the grid's byte order and
+/// precision, as VTK reads a Q file with its grid's settings.
+pub(crate) fn detect_for(
+    bytes: &[u8],
+    kind: FileKind,
+    grid: Option<&Layout>,
+) -> Result<Layout, Error> {
     let format = kind.format();
     let len = bytes.len() as u64;
     if len < 12 {
@@ -396,39 +442,80 @@ pub(crate) fn detect(bytes: &[u8], kind: FileKind) -> Result<Layout, Error> {
         .filter(|c| c.size == Some(len) && body_markers_agree(bytes, c, kind))
         .collect();
     match matches.as_slice() {
-        [one] => accept(one, kind),
-        [] => Err(no_match(&all, len, kind)),
-        many => Err(ReadError::new(
-            format,
-            0,
-            format!(
-                "ambiguous layout: the file's {len} bytes fit {} readings: {}",
-                many.len(),
-                many.iter()
-                    .map(|c| c.describe())
-                    .collect::<Vec<_>>()
-                    .join("; ")
-            ),
-        )
-        .into()),
+        [one] => accept(one, kind, 0),
+        [] => match padded(bytes, &all, kind, grid).as_slice() {
+            [one] => accept(one, kind, one.size.map_or(0, |s| len - s)),
+            [] => Err(no_match(&all, len, kind)),
+            many => Err(ambiguous(many, len, kind, "with bytes after their data")),
+        },
+        many => Err(ambiguous(many, len, kind, "")),
     }
 }
 
-fn accept(c: &Candidate, kind: FileKind) -> Result<Layout, Error> {
+/// The error for several readings that fit a file of `len` bytes (`how` they fit).
+fn ambiguous(many: &[&Candidate], len: u64, kind: FileKind, how: &str) -> Error {
+    let how = if how.is_empty() {
+        String::new()
+    } else {
+        format!(" {how}")
+    };
+    ReadError::new(
+        kind.format(),
+        0,
+        format!(
+            "ambiguous layout: the file's {len} bytes fit {} readings{how}: {}",
+            many.len(),
+            many.iter()
+                .map(|c| c.describe())
+                .collect::<Vec<_>>()
+                .join("; ")
+        ),
+    )
+    .into()
+}
+
+/// The readings whose data the file holds with bytes after it, where the reading does not
+/// rest on the file's size: its record markers hold every record's length, or (a Q file)
+/// it has the byte order, precision and grid count of its grid's layout `grid`, without
+/// markers as the grid has none, and fewer bytes after its data than one block of values
+/// (a variable of its smallest grid) or [`MAX_PADDING`], whichever is more: padding is
+/// shorter, and more is a file cut short in another layout (a Q file of `f64` values for an
+/// `f32` grid) rather than padding.
+fn padded<'c>(
+    bytes: &[u8],
+    all: &'c [Candidate],
+    kind: FileKind,
+    grid: Option<&Layout>,
+) -> Vec<&'c Candidate> {
+    let len = bytes.len() as u64;
+    let as_its_grid = |c: &Candidate| {
+        let r = &c.header.reading;
+        let block = c.header.grids.iter().map(|d| d[0] * d[1] * d[2]).min();
+        let block = block.map_or(0, |n| n.saturating_mul(c.precision.bytes() as u64));
+        let block = block.max(MAX_PADDING);
+        let padding = c.size.map_or(0, |s| len - s) < block;
+        kind == FileKind::Solution
+            && r.ndim == 3
+            && padding
+            && grid.is_some_and(|g| {
+                !g.record_markers
+                    && !r.markers
+                    && g.byte_order == r.order
+                    && g.precision == c.precision
+                    && g.grid_count == r.count
+            })
+    };
+    all.iter()
+        .filter(|c| c.size.is_some_and(|s| s < len))
+        .filter(|c| {
+            (c.header.reading.markers && body_markers_agree(bytes, c, kind)) || as_its_grid(c)
+        })
+        .collect()
+}
+
+fn accept(c: &Candidate, kind: FileKind, trailing: u64) -> Result<Layout, Error> {
     let format = kind.format();
     let h = &c.header;
-    if h.grids.len() > 1 {
-        return Err(ReadError::new(
-            format,
-            0,
-            format!(
-                "multi-grid PLOT3D files are not supported: {} grids ({})",
-                h.grids.len(),
-                c.describe()
-            ),
-        )
-        .into());
-    }
     if h.reading.ndim != 3 {
         return Err(ReadError::new(
             format,
@@ -440,12 +527,21 @@ fn accept(c: &Candidate, kind: FileKind) -> Result<Layout, Error> {
         )
         .into());
     }
-    let [ni, nj, nk] = h.grids.first().copied().unwrap_or([0; 3]);
     let to_usize = |v: u64| usize::try_from(v).ok();
-    let (Some(ni), Some(nj), Some(nk), Some(mut data_offset)) =
-        (to_usize(ni), to_usize(nj), to_usize(nk), to_usize(h.body))
+    let too_large =
+        || -> Error { ReadError::new(format, 0, "dimensions too large for this machine").into() };
+    let grids = h
+        .grids
+        .iter()
+        .map(|d| {
+            let [ni, nj, nk] = d.map(to_usize);
+            Some([ni?, nj?, nk?])
+        })
+        .collect::<Option<Vec<[usize; 3]>>>()
+        .ok_or_else(too_large)?;
+    let (Some(mut data_offset), Some(trailing_bytes)) = (to_usize(h.body), to_usize(trailing))
     else {
-        return Err(ReadError::new(format, 0, "dimensions too large for this machine").into());
+        return Err(too_large());
     };
     if h.reading.markers {
         data_offset += 4;
@@ -456,8 +552,10 @@ fn accept(c: &Candidate, kind: FileKind) -> Result<Layout, Error> {
         iblank: c.iblank,
         record_markers: h.reading.markers,
         grid_count: h.reading.count,
-        dims: [ni, nj, nk],
+        dims: grids.first().copied().unwrap_or([0; 3]),
+        grids,
         data_offset,
+        trailing_bytes,
     })
 }
 
@@ -486,7 +584,24 @@ fn no_match(all: &[Candidate], len: u64, kind: FileKind) -> Error {
              expected: {tried}"
         )
     } else {
-        format!("the file has {len} bytes, which matches no layout; expected: {tried}")
+        // The 3-D layout with the least bytes after its data, the one padding would leave.
+        let nearest = all
+            .iter()
+            .filter(|c| c.header.reading.ndim == 3)
+            .filter_map(|c| c.size.filter(|&s| s < len).map(|s| (s, c)))
+            .max_by_key(|&(s, _)| s);
+        let why = match (kind, nearest) {
+            (FileKind::Grid, Some((size, c))) => format!(
+                "; a grid file without record markers has no measure of its layout but its \
+                 size, so bytes after its data are not told from a larger layout's (with \
+                 record markers they are ignored); if its last {} bytes are padding, it \
+                 reads as {}, a file of {size} bytes (truncate -s {size} FILE)",
+                len - size,
+                c.variant()
+            ),
+            _ => String::new(),
+        };
+        format!("the file has {len} bytes, which matches no layout{why}; expected: {tried}")
     };
     ReadError::new(kind.format(), len, message).into()
 }

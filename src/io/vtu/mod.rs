@@ -32,9 +32,11 @@ mod write;
 mod xml;
 
 pub use parallel::read_parallel;
+pub(crate) use parallel::{read_index_with, Indexed};
 
-/// The XML walker and decoders also read VTK images' point arrays, for [`super::vti`].
-pub(crate) use read::read_image_points;
+/// The XML walker and decoders also read VTK images' point arrays, for [`super::vti`], and
+/// structured grids, for [`super::vts`].
+pub(crate) use read::{mesh_with_active, read_image_points, read_structured_parts};
 pub use write::{ByteOrder, Encoding, HeaderType, VtuOptions};
 /// XML attribute escaping, shared with the other VTK XML writer ([`super::vti`]).
 pub(crate) use xml::escape as xml_escape;
@@ -86,22 +88,40 @@ pub fn read(bytes: &[u8]) -> Result<Mesh, Error> {
 /// assert_eq!(vtu::read_file(&path).unwrap(), mesh);
 /// ```
 pub fn read_file(path: &Path) -> Result<Mesh, Error> {
-    let (parts, active) = file_parts(path)?;
-    read::mesh_with_active(parts, active.as_deref()).map_err(|e| e.in_file(path))
+    read_file_logged(path, &mut |_| {})
+}
+
+/// [`read_file`], giving `log` what was done beyond reading: empty cells (VTK type 0) dropped
+/// with their cell data, ghost and blanked cells dropped (see [`crate::io::read_file_logged`]).
+pub fn read_file_logged(path: &Path, log: &mut dyn FnMut(String)) -> Result<Mesh, Error> {
+    let file = file_parts(path)?;
+    file.notes.into_iter().for_each(&mut *log);
+    read::mesh_with_active(file.parts, file.active.as_deref()).map_err(|e| e.in_file(path))
 }
 
 /// Reads a parallel VTU index file and its pieces (named relative to the index's folder),
 /// each piece as [`read_file`] reads a file: the mesh [`read_parallel`] gives.
 pub fn read_parallel_file(index: &Path) -> Result<Mesh, Error> {
-    let bytes = crate::io::read_bytes(index)?;
-    let folder = index.parent().unwrap_or(Path::new(""));
-    parallel::read_parallel_with(&bytes, |source| file_parts(&folder.join(source)))
-        .map_err(|e| e.in_file(index))
+    read_parallel_file_logged(index, &mut |_| {})
 }
 
-/// A VTU file's joined parts and active scalar: I/O errors are [`Error::Io`] with the path,
-/// the others are wrapped with it.
-fn file_parts(path: &Path) -> Result<(crate::mesh::MeshParts, Option<String>), Error> {
+/// [`read_parallel_file`], giving `log` what was done beyond reading (as
+/// [`read_file_logged`], for all pieces together).
+pub fn read_parallel_file_logged(index: &Path, log: &mut dyn FnMut(String)) -> Result<Mesh, Error> {
+    let bytes = crate::io::read_bytes(index)?;
+    let folder = index.parent().unwrap_or(Path::new(""));
+    parallel::read_index_with(
+        &bytes,
+        Indexed::UnstructuredGrid,
+        |source| file_parts(&folder.join(source)),
+        log,
+    )
+    .map_err(|e| e.in_file(index))
+}
+
+/// A VTU file's joined parts, active scalar and notes: I/O errors are [`Error::Io`] with the
+/// path, the others are wrapped with it.
+fn file_parts(path: &Path) -> Result<read::FileParts, Error> {
     #[cfg(unix)]
     {
         let file = std::fs::File::open(path).map_err(|source| Error::Io {

@@ -5,17 +5,50 @@
 //! (a ghost level above 0 repeats each piece's neighbours in it, flagged in `vtkGhostType`).
 //! Points the pieces share are repeated, one copy per piece, as VTK's own reader keeps them;
 //! the face adjacency welds the faces between pieces by position, as it welds a mesh's seams.
+//!
+//! The index of a parallel structured grid (`.pvts`, `vtkXMLPStructuredGridWriter`) is read
+//! alike, its pieces as `.vts` files ([`crate::io::vts`]).
 
 use rayon::prelude::*;
 
-use super::read::{join_pieces, mesh_with_active, read_parts};
+use super::read::{join_pieces, mesh_with_active, read_parts, FileParts};
 use super::xml::{attr, check_file_type, Event, OpenElements, Scanner};
 use crate::error::{Error, ReadError};
-use crate::mesh::MeshParts;
 use crate::Mesh;
 
-/// The format named in index errors.
-const FORMAT: &str = "parallel VTU";
+/// The datasets a parallel index may hold the pieces of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Indexed {
+    /// `PUnstructuredGrid` (`.pvtu`) of `.vtu` pieces.
+    UnstructuredGrid,
+    /// `PStructuredGrid` (`.pvts`) of `.vts` pieces.
+    StructuredGrid,
+}
+
+impl Indexed {
+    /// The `VTKFile` type and the element that holds the pieces.
+    fn element(self) -> &'static str {
+        match self {
+            Indexed::UnstructuredGrid => "PUnstructuredGrid",
+            Indexed::StructuredGrid => "PStructuredGrid",
+        }
+    }
+
+    /// The format named in index errors.
+    fn format(self) -> &'static str {
+        match self {
+            Indexed::UnstructuredGrid => "parallel VTU",
+            Indexed::StructuredGrid => "parallel VTS",
+        }
+    }
+
+    fn extension(self) -> &'static str {
+        match self {
+            Indexed::UnstructuredGrid => ".pvtu",
+            Indexed::StructuredGrid => ".pvts",
+        }
+    }
+}
 
 /// What an index says: its pieces' file names, in order, and the active scalar it names.
 #[derive(Debug, Default, PartialEq)]
@@ -24,15 +57,14 @@ struct Index {
     active: Option<String>,
 }
 
-fn err(offset: usize, message: impl Into<String>) -> ReadError {
-    ReadError::new(FORMAT, offset as u64, message)
-}
-
-/// Parses an index: a `VTKFile` of type `PUnstructuredGrid` whose `PUnstructuredGrid`
-/// element holds one `Piece` with a `Source` per piece.
-fn parse_index(bytes: &[u8]) -> Result<Index, ReadError> {
+/// Parses an index: a `VTKFile` of type `PUnstructuredGrid` (or `PStructuredGrid`) whose
+/// element of that name holds one `Piece` with a `Source` per piece.
+fn parse_index(bytes: &[u8], kind: Indexed) -> Result<Index, ReadError> {
+    let format = kind.format();
+    let err = |offset: usize, message: String| ReadError::new(format, offset as u64, message);
+    let grid = kind.element();
     let mut sc = Scanner::document(bytes);
-    let mut open = OpenElements::new(FORMAT);
+    let mut open = OpenElements::new(format);
     let mut index = Index::default();
     let (mut active_point, mut active_cell) = (None, None);
     let mut seen_root = false;
@@ -53,12 +85,13 @@ fn parse_index(bytes: &[u8]) -> Result<Index, ReadError> {
             } => {
                 match (open.innermost(), name) {
                     (None, "VTKFile") => {
-                        check_file_type(&attrs, "PUnstructuredGrid").map_err(|what| {
+                        check_file_type(&attrs, grid).map_err(|what| {
                             err(
                                 offset,
                                 format!(
-                                    "the index holds {what}; a .pvtu file indexes the pieces \
-                                     of a PUnstructuredGrid"
+                                    "the index holds {what}; a {} file indexes the pieces of \
+                                     a {grid}",
+                                    kind.extension()
                                 ),
                             )
                         })?;
@@ -70,16 +103,16 @@ fn parse_index(bytes: &[u8]) -> Result<Index, ReadError> {
                             format!("not a VTK XML file: the root element is <{other}>"),
                         ))
                     }
-                    (Some("PUnstructuredGrid"), "PPointData") => {
+                    (Some(parent), "PPointData") if parent == grid => {
                         active_point = attr(&attrs, "Scalars").map(str::to_string);
                     }
-                    (Some("PUnstructuredGrid"), "PCellData") => {
+                    (Some(parent), "PCellData") if parent == grid => {
                         active_cell = attr(&attrs, "Scalars").map(str::to_string);
                     }
-                    (Some("PUnstructuredGrid"), "Piece") => {
+                    (Some(parent), "Piece") if parent == grid => {
                         let source = attr(&attrs, "Source")
                             .filter(|s| !s.trim().is_empty())
-                            .ok_or_else(|| err(offset, "<Piece> has no Source file"))?;
+                            .ok_or_else(|| err(offset, "<Piece> has no Source file".into()))?;
                         index.sources.push(source.trim().to_string());
                     }
                     _ => {}
@@ -91,10 +124,13 @@ fn parse_index(bytes: &[u8]) -> Result<Index, ReadError> {
         }
     }
     if !seen_root {
-        return Err(err(0, "not a VTK XML file: no <VTKFile> element"));
+        return Err(err(0, "not a VTK XML file: no <VTKFile> element".into()));
     }
     if index.sources.is_empty() {
-        return Err(err(0, "the index names no piece (<Piece Source=\"…\"/>)"));
+        return Err(err(
+            0,
+            "the index names no piece (<Piece Source=\"…\"/>)".into(),
+        ));
     }
     index.active = active_point
         .map(|n| format!("point:{n}"))
@@ -123,29 +159,39 @@ pub fn read_parallel(
     index: &[u8],
     load: impl Fn(&str) -> Result<Vec<u8>, Error> + Sync,
 ) -> Result<Mesh, Error> {
-    read_parallel_with(index, |source| {
+    let read_piece = |source: &str| {
         let bytes = load(source)?;
         read_parts(&bytes).map_err(|e| e.in_file(source))
-    })
+    };
+    read_index_with(index, Indexed::UnstructuredGrid, read_piece, &mut |_| {})
 }
 
-/// [`read_parallel`] with each piece's parts (and the active scalar it names) from
-/// `read_piece`, given the piece's `Source`.
-pub(super) fn read_parallel_with(
+/// Reads an index of `kind`, each piece's parts (with the active scalar it names, and its
+/// notes) from `read_piece`, given the piece's `Source`: the pieces read in parallel, joined
+/// in index order; `log` is given every piece's notes, each naming its piece.
+pub(crate) fn read_index_with(
     index: &[u8],
-    read_piece: impl Fn(&str) -> Result<(MeshParts, Option<String>), Error> + Sync,
+    kind: Indexed,
+    read_piece: impl Fn(&str) -> Result<FileParts, Error> + Sync,
+    log: &mut dyn FnMut(String),
 ) -> Result<Mesh, Error> {
-    let index = parse_index(index)?;
-    let pieces: Vec<_> = index
+    let index = parse_index(index, kind)?;
+    let pieces: Vec<FileParts> = index
         .sources
         .par_iter()
         .map(|source| read_piece(source))
         .collect::<Result<_, _>>()?;
     let active = index
         .active
-        .or_else(|| pieces.iter().find_map(|(_, active)| active.clone()));
-    let parts =
-        join_pieces(pieces.into_iter().map(|(parts, _)| parts).collect()).map_err(|m| err(0, m))?;
+        .or_else(|| pieces.iter().find_map(|p| p.active.clone()));
+    let mut all_parts = Vec::with_capacity(pieces.len());
+    for (piece, source) in pieces.into_iter().zip(&index.sources) {
+        for note in piece.notes {
+            log(format!("{source}: {note}"));
+        }
+        all_parts.push(piece.parts);
+    }
+    let parts = join_pieces(all_parts).map_err(|m| ReadError::new(kind.format(), 0, m))?;
     mesh_with_active(parts, active.as_deref())
 }
 
@@ -165,7 +211,7 @@ mod tests {
     <Piece Source=" sub/run_1.vtu "/>
   </PUnstructuredGrid>
 </VTKFile>"#;
-        let parsed = parse_index(index).unwrap();
+        let parsed = parse_index(index, Indexed::UnstructuredGrid).unwrap();
         assert_eq!(parsed.sources, ["run_0.vtu", "sub/run_1.vtu"]);
         assert_eq!(parsed.active.as_deref(), Some("point:p"));
     }
@@ -192,7 +238,7 @@ mod tests {
             (b"<Foo/>", "<Foo>"),
             (b"", "no <VTKFile>"),
         ] {
-            let e = parse_index(bytes).unwrap_err();
+            let e = parse_index(bytes, Indexed::UnstructuredGrid).unwrap_err();
             assert!(e.message.contains(needle), "{needle}: {e}");
         }
     }

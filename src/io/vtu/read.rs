@@ -17,10 +17,9 @@ use crate::io::elements::{is_integer, to_f64, to_i64, to_tuples, Integers, Scala
 use super::xml::{attr, check_file_type, is_blank, Attr, Event, OpenElements, Scanner};
 use super::FORMAT;
 use crate::error::{Error, ReadError};
-use crate::io::ghost::drop_ghost_cells;
-use crate::mesh::{
-    cells_from_ids, cells_from_vtk, ConvertedCells, DataArray, MeshParts, OffsetStyle,
-};
+use crate::io::empty::{self, drop_tuples};
+use crate::io::ghost::{drop_ghost_cells, Blanking};
+use crate::mesh::{cells_from_ids, ConvertedCells, DataArray, MeshParts, OffsetStyle};
 use crate::Mesh;
 
 fn err(offset: usize, message: impl Into<String>) -> ReadError {
@@ -64,7 +63,7 @@ enum Section {
 struct PieceDesc {
     points: usize,
     cells: usize,
-    /// An image piece's `Extent` (`None` for an unstructured grid's).
+    /// An image's or a structured grid's piece's `Extent` (`None` for an unstructured grid's).
     extent: Option<[i64; 6]>,
     at: usize,
     coords: Option<ArrayDesc>,
@@ -115,12 +114,14 @@ impl<'a> RawData<'a> {
     }
 }
 
-/// The dataset types the XML walker reads: unstructured grids for meshes, images (such as a
-/// render's depth image) for their point arrays.
+/// The dataset types the XML walker reads: unstructured and structured grids for meshes,
+/// images (such as a render's depth image) for their point arrays.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum XmlDataset {
     /// `UnstructuredGrid` (`.vtu`).
     UnstructuredGrid,
+    /// `StructuredGrid` (`.vts`): pieces of an extent, points given, cells implied.
+    StructuredGrid,
     /// `ImageData` (`.vti`).
     ImageData,
 }
@@ -130,6 +131,7 @@ impl XmlDataset {
     fn element(self) -> &'static str {
         match self {
             XmlDataset::UnstructuredGrid => "UnstructuredGrid",
+            XmlDataset::StructuredGrid => "StructuredGrid",
             XmlDataset::ImageData => "ImageData",
         }
     }
@@ -137,6 +139,7 @@ impl XmlDataset {
     fn extension(self) -> &'static str {
         match self {
             XmlDataset::UnstructuredGrid => ".vtu",
+            XmlDataset::StructuredGrid => ".vts",
             XmlDataset::ImageData => ".vti",
         }
     }
@@ -184,6 +187,39 @@ fn parse_extent(
         return Err(bad());
     }
     Ok(extent)
+}
+
+/// A structured piece's `Extent`: six integers; an empty extent (a high end below its low
+/// end on some axis, as writers give a piece with nothing in it) holds no points.
+fn parse_piece_extent(attrs: &[Attr<'_>], at: usize) -> Result<PieceDesc, ReadError> {
+    let v = attr(attrs, "Extent").ok_or_else(|| err(at, "<Piece> has no Extent"))?;
+    let values: Option<Vec<i64>> = v
+        .split_ascii_whitespace()
+        .map(|x| x.parse::<i64>().ok())
+        .collect();
+    let extent: [i64; 6] = values
+        .and_then(|v| v.try_into().ok())
+        .ok_or_else(|| err(at, format!("<Piece> Extent=\"{v}\" is not six integers")))?;
+    if extent[0] > extent[1] || extent[2] > extent[3] || extent[4] > extent[5] {
+        return Ok(PieceDesc {
+            at,
+            ..PieceDesc::default()
+        });
+    }
+    let too_many = || err(at, "<Piece> Extent holds too many points");
+    let points = extent_points(&extent).ok_or_else(too_many)?;
+    // As VTK counts a structured extent's cells: a flat axis counts once.
+    let cells = extent.chunks_exact(2).try_fold(1usize, |n, e| {
+        let span = usize::try_from(e[1] - e[0]).ok()?.max(1);
+        n.checked_mul(span)
+    });
+    Ok(PieceDesc {
+        points,
+        cells: cells.ok_or_else(too_many)?,
+        extent: Some(extent),
+        at,
+        ..PieceDesc::default()
+    })
 }
 
 /// The points of an image extent (`None` if they do not fit a `usize`).
@@ -355,6 +391,7 @@ fn parse_structure(bytes: &[u8], dataset: XmlDataset) -> Result<Parsed<'_>, Read
                             at: offset,
                             ..PieceDesc::default()
                         },
+                        XmlDataset::StructuredGrid => parse_piece_extent(&attrs, offset)?,
                         XmlDataset::ImageData => {
                             let extent = parse_extent(&attrs, "Extent", "Piece", offset)?;
                             PieceDesc {
@@ -697,7 +734,15 @@ impl<'a> Decoder<'a> {
             Data::Text(t, at) => {
                 let what = format!("DataArray \"{}\"", desc.name);
                 let ids = ascii_i64(&t, at, len, ty, &what)?;
-                cells_from_vtk(&ids, offsets, OffsetStyle::Ends, types, points)?
+                cells_from_ids(
+                    ids.len(),
+                    |k| ids[k],
+                    offsets,
+                    OffsetStyle::Ends,
+                    0,
+                    types,
+                    points,
+                )?
             }
         })
     }
@@ -797,7 +842,8 @@ fn data_arrays(
     Ok(out)
 }
 
-fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error> {
+/// A piece's parts, and how many empty cells it had (left out, with their cell data).
+fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<(MeshParts, usize), Error> {
     let coords = piece
         .coords
         .as_ref()
@@ -810,6 +856,9 @@ fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error
         .into());
     }
     let points = dec.points(coords, piece.points)?;
+    if let Some(extent) = piece.extent {
+        return Ok((structured_piece(dec, piece, extent, points)?, 0));
+    }
 
     let types_desc = cell_array(piece, "types")?;
     let offsets_desc = cell_array(piece, "offsets")?;
@@ -832,13 +881,45 @@ fn decode_piece(dec: &Decoder<'_>, piece: &PieceDesc) -> Result<MeshParts, Error
     let conn_len = usize::try_from(conn_len)
         .map_err(|_| err(offsets_desc.at, format!("the last cell ends at {conn_len}")))?;
     let converted = dec.cells(conn_desc, conn_len, &offsets, &types, piece.points)?;
-
-    Ok(MeshParts {
+    let mut cell_data = data_arrays(dec, &piece.cell_data, piece.cells)?;
+    drop_tuples(&mut cell_data, &converted.empty, piece.cells);
+    let parts = MeshParts {
         points,
         cells: converted.cells,
         kinds: converted.kinds,
         point_data: data_arrays(dec, &piece.point_data, piece.points)?,
+        cell_data,
+    };
+    Ok((parts, converted.empty.len()))
+}
+
+/// A structured grid's piece: the hexahedra of its extent over its points (i fastest, as
+/// [`crate::io::structured::hexahedra`] takes them), and its arrays. A piece flat along an
+/// axis has no volume cells, and is an error saying so.
+fn structured_piece(
+    dec: &Decoder<'_>,
+    piece: &PieceDesc,
+    extent: [i64; 6],
+    points: Vec<DVec3>,
+) -> Result<MeshParts, Error> {
+    let dims = [0, 2, 4].map(|a| (extent[a + 1] - extent[a] + 1) as usize);
+    if dims.contains(&1) {
+        return Err(err(
+            piece.at,
+            format!(
+                "the piece's Extent {extent:?} is flat along an axis: its cells are not \
+                 volumes, and cylvol renders volume cells only"
+            ),
+        )
+        .into());
+    }
+    let cells = crate::io::structured::hexahedra(dims, &points);
+    Ok(MeshParts {
+        kinds: vec![crate::mesh::CellKind::Hexahedron; cells.len()],
+        cells,
+        point_data: data_arrays(dec, &piece.point_data, piece.points)?,
         cell_data: data_arrays(dec, &piece.cell_data, piece.cells)?,
+        points,
     })
 }
 
@@ -894,12 +975,34 @@ pub(super) fn join_pieces(pieces: Vec<MeshParts>) -> Result<MeshParts, String> {
     Ok(parts)
 }
 
+/// A file's pieces joined, not yet validated, with the scalar the file names as active
+/// (`point:NAME` or `cell:NAME`), if any, and what was done beyond reading, for the user.
+#[derive(Debug)]
+pub(crate) struct FileParts {
+    /// The joined pieces, their empty, ghost and blanked cells dropped.
+    pub parts: MeshParts,
+    /// The active scalar the file names.
+    pub active: Option<String>,
+    /// Notes: which cells were dropped, how many, and why.
+    pub notes: Vec<String>,
+}
+
 /// A VTU file's pieces joined, ghost cells dropped, not yet validated, with the scalar the
 /// file names as active (`point:NAME` or `cell:NAME`), if any.
-pub(super) fn read_parts(bytes: &[u8]) -> Result<(MeshParts, Option<String>), Error> {
+pub(super) fn read_parts(bytes: &[u8]) -> Result<FileParts, Error> {
     let parsed = parse_structure(bytes, XmlDataset::UnstructuredGrid)?;
     let dec = decoder_checked(bytes, &parsed)?;
-    decode_parts(&dec, &parsed)
+    decode_parts(&dec, &parsed, Blanking::Cells)
+}
+
+/// [`read_parts`] of a VTK structured grid (`.vts`): each piece's hexahedra over its extent,
+/// the pieces joined (the points on the faces they share are each piece's own), ghost and
+/// blanked cells dropped, a hidden point hiding its cells as VTK's structured grids hide
+/// them.
+pub(crate) fn read_structured_parts(bytes: &[u8]) -> Result<FileParts, Error> {
+    let parsed = parse_structure(bytes, XmlDataset::StructuredGrid)?;
+    let dec = decoder_checked(bytes, &parsed)?;
+    decode_parts(&dec, &parsed, Blanking::CellsAndPoints)
 }
 
 /// The decoder of a file read whole, once the XML after its appended data (if any) is
@@ -984,7 +1087,7 @@ pub(super) const HEAD_BYTES: usize = 1 << 16;
 pub(super) fn read_file_parts(
     file: &std::fs::File,
     head: usize,
-) -> Result<Option<(MeshParts, Option<String>)>, Error> {
+) -> Result<Option<FileParts>, Error> {
     let Some(len) = file
         .metadata()
         .ok()
@@ -1025,7 +1128,7 @@ pub(super) fn read_file_parts(
         e.offset += trailer_at as u64;
         e
     })?;
-    decode_parts(&dec, &parsed).map(Some)
+    decode_parts(&dec, &parsed, Blanking::Cells).map(Some)
 }
 
 /// Where (within the raw appended block) the last of the file's appended arrays ends.
@@ -1040,11 +1143,12 @@ fn appended_end(dec: &Decoder<'_>, parsed: &Parsed<'_>) -> Result<usize, ReadErr
     Ok(end)
 }
 
-/// Decodes the non-empty pieces, joins them and drops ghost cells.
+/// Decodes the non-empty pieces, joins them and drops ghost cells (and what `blanking` hides).
 fn decode_parts(
     dec: &Decoder<'_>,
     parsed: &Parsed<'_>,
-) -> Result<(MeshParts, Option<String>), Error> {
+    blanking: Blanking,
+) -> Result<FileParts, Error> {
     // Empty pieces (parallel writers leave them) may lack arrays altogether: skip them.
     let pieces: Vec<&PieceDesc> = parsed
         .pieces
@@ -1052,8 +1156,11 @@ fn decode_parts(
         .filter(|p| p.points > 0 || p.cells > 0)
         .collect();
     let mut decoded = Vec::with_capacity(pieces.len());
+    let mut empty_cells = 0;
     for piece in &pieces {
-        decoded.push(decode_piece(dec, piece)?);
+        let (parts, empty) = decode_piece(dec, piece)?;
+        decoded.push(parts);
+        empty_cells += empty;
     }
     let mut parts = if decoded.len() == 1 {
         // One piece (the usual case): move, do not copy.
@@ -1062,7 +1169,7 @@ fn decode_parts(
         let at = pieces.first().map_or(0, |p| p.at);
         join_pieces(decoded).map_err(|m| err(at, m))?
     };
-    drop_ghost_cells(&mut parts);
+    let dropped = drop_ghost_cells(&mut parts, blanking);
     let active = pieces.first().and_then(|first| {
         first
             .active_point
@@ -1070,12 +1177,20 @@ fn decode_parts(
             .map(|n| format!("point:{n}"))
             .or_else(|| first.active_cell.as_ref().map(|n| format!("cell:{n}")))
     });
-    Ok((parts, active))
+    let notes = empty::note(empty_cells)
+        .into_iter()
+        .chain(dropped.notes())
+        .collect();
+    Ok(FileParts {
+        parts,
+        active,
+        notes,
+    })
 }
 
 /// A validated mesh from joined parts, with `active` (`point:NAME` or `cell:NAME`) as its
 /// active scalar where that array survived the join.
-pub(super) fn mesh_with_active(parts: MeshParts, active: Option<&str>) -> Result<Mesh, Error> {
+pub(crate) fn mesh_with_active(parts: MeshParts, active: Option<&str>) -> Result<Mesh, Error> {
     let mut mesh = Mesh::from_parts(parts)?;
     if let Some(name) = active {
         let _ = mesh.set_active_scalar(name);
@@ -1085,8 +1200,8 @@ pub(super) fn mesh_with_active(parts: MeshParts, active: Option<&str>) -> Result
 
 /// Reads a VTU file's bytes into a validated mesh.
 pub(super) fn read(bytes: &[u8]) -> Result<Mesh, Error> {
-    let (parts, active) = read_parts(bytes)?;
-    mesh_with_active(parts, active.as_deref())
+    let file = read_parts(bytes)?;
+    mesh_with_active(file.parts, file.active.as_deref())
 }
 
 #[cfg(all(test, unix))]
@@ -1096,7 +1211,7 @@ mod tests {
     use crate::io::vtu::{write_with, ByteOrder, Encoding, HeaderType, VtuOptions};
 
     /// What a read gave, comparable: the parts or the error's message.
-    fn outcome(r: Result<(MeshParts, Option<String>), Error>) -> Result<String, String> {
+    fn outcome(r: Result<FileParts, Error>) -> Result<String, String> {
         r.map(|p| format!("{p:?}")).map_err(|e| e.to_string())
     }
 
