@@ -46,7 +46,7 @@
 //! let camera = Camera::view(mesh.bounds(), width, height, 30.0, 20.0, 1.0);
 //! // The fast path walks from cell to cell through the face neighbours.
 //! let neighbours = face_neighbours(&mesh, &accel);
-//! let renderer = Renderer::new(&volume, &transfer, &options)?.with_neighbours(&neighbours);
+//! let renderer = Renderer::new(&volume, &transfer, &options)?.with_topology(&neighbours);
 //! let (image, stats) = renderer.render(&camera, None)?;
 //! assert!(stats.samples_located > 0 && image.rgba.iter().any(|p| p[3] > 0.0));
 //! // image.write_png(std::path::Path::new("rotor.png"), Some([0.0; 3]))?;

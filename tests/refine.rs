@@ -12,7 +12,7 @@ use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::geometry::trilinear::{map, weights};
 use cylvol::mesh::topology::{FaceNeighbors, EDGES, FACES};
 use cylvol::mesh::MAX_REFINEMENT;
-use cylvol::render::boundary::BISECTIONS;
+use cylvol::render::BISECTIONS;
 use cylvol::render::{face_neighbours, Camera, RenderOptions, Renderer, TransferFunction, Volume};
 use cylvol::{CellKind, DataArray, Error, Mesh};
 use glam::DVec3;
@@ -167,7 +167,7 @@ fn a_refined_volume_renders_the_same_picture() {
         options.boundary_segments = segments;
         let renderer = Renderer::new(&volume, &tf, &options)
             .unwrap()
-            .with_neighbours(&neighbours);
+            .with_topology(&neighbours);
         let densest = (0..=1000)
             .map(|k| renderer.table().lookup(lo + (hi - lo) * k as f64 / 1000.0)[3])
             .fold(0.0f64, f64::max);

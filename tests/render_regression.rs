@@ -25,8 +25,8 @@ use cylvol::io::ReadOptions;
 use cylvol::mesh::topology::FaceNeighbors;
 use cylvol::render::{
     default_step, face_neighbours, Blend, Camera, ClipPlanes, GradientOpacity, Image,
-    Interpolation, Neighbours, NoNeighbours, RayGenerator, RaySource, RenderOptions, RenderPath,
-    RenderStats, Renderer, Shading, Topology, TransferFunction, Volume,
+    Interpolation, NoNeighbours, RayGenerator, RaySource, RenderOptions, RenderPath, RenderStats,
+    Renderer, Shading, Topology, TransferFunction, Volume,
 };
 use cylvol::Mesh;
 use glam::DVec3;
@@ -230,18 +230,16 @@ fn scenes_of(setup: &Setup, all_variants: bool) -> Vec<(usize, Scene)> {
 /// Renders a scene: its image and counters.
 fn render(setup: &Setup, structure: usize, scene: &Scene) -> (Image, RenderStats) {
     let volume = Volume::new(&setup.mesh, &setup.accels[structure]).expect("volume");
+    let renderer = Renderer::new(&volume, &scene.transfer, &scene.options).expect("renderer");
     let plain;
-    let neighbours: &dyn Neighbours = match scene.walk {
-        Walk::Topology => &setup.topology,
+    let renderer = match scene.walk {
+        Walk::Topology => renderer.with_topology(&setup.topology),
         Walk::Plain => {
             plain = FaceNeighbors::build(&setup.mesh);
-            &plain
+            renderer.with_neighbours(&plain)
         }
-        Walk::Nothing => &NoNeighbours,
+        Walk::Nothing => renderer.with_neighbours(&NoNeighbours),
     };
-    let renderer = Renderer::new(&volume, &scene.transfer, &scene.options)
-        .expect("renderer")
-        .with_neighbours(neighbours);
     let rays = RayGenerator::new(&scene.camera, WIDTH, HEIGHT).expect("rays");
     let depth = scene.depth_in.as_deref();
     if scene.unprojected {

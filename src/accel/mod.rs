@@ -12,6 +12,7 @@ pub mod bvh;
 pub mod choose;
 pub mod grid;
 pub mod probe;
+pub(crate) mod skip;
 pub mod space;
 
 use std::fmt;
@@ -101,6 +102,20 @@ impl AddAssign for Counters {
         self.internal_visits += o.internal_visits;
         self.leaf_visits += o.leaf_visits;
     }
+}
+
+/// A ray as the structures take it for skipping ([`skip`]): the points `origin + t dir`
+/// (`dir` a unit vector) for `t` in `[t0, t1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct RaySpan {
+    /// Where the ray starts.
+    pub(crate) origin: DVec3,
+    /// Its unit direction.
+    pub(crate) dir: DVec3,
+    /// The start of the span.
+    pub(crate) t0: f64,
+    /// Its end.
+    pub(crate) t1: f64,
 }
 
 /// One of the four structures, built.

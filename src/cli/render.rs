@@ -307,7 +307,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh, &accel));
     let mut renderer = Renderer::new(&volume, &transfer, &options)?;
     if let Some(n) = &neighbours {
-        renderer = renderer.with_neighbours(n);
+        renderer = renderer.with_topology(n);
     }
     let camera = args.camera.camera(&mesh, width, height)?;
     let started = Instant::now();

@@ -522,7 +522,7 @@ pub unsafe extern "C" fn cylvol_render(
             let volume = Volume::with_field(mesh, &v.accel, field)?;
             let mut renderer = Renderer::new(&volume, &tf, &options)?;
             if options.path == RenderPath::Fast {
-                renderer = renderer.with_neighbours(&v.neighbours);
+                renderer = renderer.with_topology(&v.neighbours);
             }
             // The last frame's transparent cells and visible nodes, where its table is this
             // one's (a mapper's next frame): same volume, since they are dropped with the

@@ -45,8 +45,8 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::camera::{Camera, RayGenerator};
-use super::raycast::{default_step, Neighbours, RenderOptions, RenderStats, Renderer, Volume};
 use super::transfer::TransferFunction;
+use super::{default_step, RenderOptions, RenderStats, Renderer, Topology, Volume};
 use crate::error::show_number;
 use crate::{Error, Mesh};
 
@@ -174,7 +174,7 @@ pub struct Scene<'a> {
     /// Everything but the step.
     pub options: RenderOptions,
     /// Face neighbours for the fast path.
-    pub neighbours: &'a dyn Neighbours,
+    pub neighbours: &'a Topology,
     /// The view.
     pub camera: &'a Camera,
 }
@@ -187,7 +187,7 @@ impl Scene<'_> {
             ..self.options
         };
         let renderer =
-            Renderer::new(self.volume, self.transfer, &options)?.with_neighbours(self.neighbours);
+            Renderer::new(self.volume, self.transfer, &options)?.with_topology(self.neighbours);
         let started = Instant::now();
         let (image, stats) = render_f64(&renderer, self.camera)?;
         Ok((image, stats, started.elapsed().as_secs_f64()))

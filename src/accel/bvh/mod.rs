@@ -58,6 +58,7 @@
 
 mod binned_build;
 mod bounds;
+mod first_hit;
 mod mask;
 mod near;
 mod node_ray_tests;
