@@ -544,7 +544,7 @@ pub unsafe extern "C" fn cylvol_render(
                 }
             }
             v.derived = derived;
-            v.render = (started.elapsed().as_secs_f64(), stats).into();
+            v.last_render = (started.elapsed().as_secs_f64(), stats);
             Ok(())
         })
     }
@@ -615,6 +615,6 @@ pub unsafe extern "C" fn cylvol_volume_render_stats(
     super::status::status("cylvol_volume_render_stats", || {
         // SAFETY: the caller vouches for the pointers.
         let v = unsafe { arrays::handle(volume, "volume")? };
-        unsafe { arrays::write(stats, v.render, "stats") }
+        unsafe { arrays::write(stats, CylvolRenderStats::from(v.last_render), "stats") }
     })
 }

@@ -26,6 +26,27 @@ use crate::render::ray::{End, Ray};
 use crate::render::stats::Work;
 use crate::render::walk::Cells;
 
+/// The part of a ray from a point known to be in the mesh (at `t_inside`) to a point tested
+/// (at `t`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Stretch<'r> {
+    /// The ray.
+    pub(crate) ray: &'r Ray<'r>,
+    /// Where it is in the mesh.
+    pub(crate) t_inside: f64,
+    /// The point tested.
+    pub(crate) t: f64,
+    /// The cell the inside end was located in.
+    pub(crate) inside_cell: u32,
+}
+
+impl Stretch<'_> {
+    /// The ends' `t`, in increasing order.
+    pub(crate) fn range(&self) -> (f64, f64) {
+        (self.t_inside.min(self.t), self.t_inside.max(self.t))
+    }
+}
+
 /// What the boundary questions of a render need: the mesh's cells and face neighbours, the
 /// structure, the box of the mesh's points, the boundary surface (where the neighbours came
 /// with one), and whether the render takes the fast path and cuts samples' segments at the

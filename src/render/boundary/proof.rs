@@ -15,11 +15,10 @@ use glam::DVec3;
 
 use super::search::Local;
 use super::surface::{face_corners, BoundarySurface};
-use super::Boundary;
+use super::{Boundary, Stretch};
 use crate::accel::Counters;
 use crate::geometry::bounds::cell_bounds;
 use crate::geometry::patch::{segment_crossings, Crossings};
-use crate::render::ray::Ray;
 use crate::render::stats::Work;
 use crate::Mesh;
 
@@ -27,34 +26,13 @@ use crate::Mesh;
 /// of a boundary face does not count for a proof by parity.
 pub(crate) const PARITY_MARGIN: f64 = 1e-6;
 
-/// The part of a ray from a point known to be in the mesh (at `t_inside`) to a point tested
-/// (at `t`).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Segment<'r> {
-    /// The ray.
-    pub(crate) ray: &'r Ray<'r>,
-    /// Where it is in the mesh.
-    pub(crate) t_inside: f64,
-    /// The point tested.
-    pub(crate) t: f64,
-    /// The cell the inside end was located in.
-    pub(crate) inside_cell: u32,
-}
-
-impl Segment<'_> {
-    /// The ends' `t`, in increasing order.
-    fn range(&self) -> (f64, f64) {
-        (self.t_inside.min(self.t), self.t_inside.max(self.t))
-    }
-}
-
 /// A proof by parity under way ([`Boundary::proven_outside`]): the boundary surface, and the
 /// segment with the margin from its ends within which a crossing does not count, and where
 /// it crosses the face it leaves the mesh by.
 struct Parity<'r> {
     surface: &'r BoundarySurface,
     mesh: &'r Mesh,
-    seg: Segment<'r>,
+    stretch: Stretch<'r>,
     margin: f64,
     crossing: f64,
 }
@@ -63,12 +41,12 @@ impl Parity<'_> {
     /// Where the segment crosses the boundary face `(cell, face)`, where that is told
     /// robustly ([`segment_crossings`]).
     fn crossings(&self, (cell, face): (u32, u8)) -> Option<Crossings> {
-        let (lo, hi) = self.seg.range();
+        let (lo, hi) = self.stretch.range();
         let patch = face_corners(self.mesh, cell, face);
         segment_crossings(
             &patch,
-            self.seg.ray.origin,
-            self.seg.ray.dir,
+            self.stretch.ray.origin,
+            self.stretch.ray.dir,
             lo,
             hi,
             self.margin,
@@ -98,53 +76,54 @@ pub(crate) enum Exit {
 }
 
 impl Boundary<'_> {
-    /// Whether the point at `seg.t` is outside the mesh, proved by parity from the point at
-    /// `seg.t_inside`, which is in it (see the module documentation): the segment crosses the
+    /// Whether the point at `stretch.t` is outside the mesh, proved by parity from the point at
+    /// `stretch.t_inside`, which is in it (see the module documentation): the segment crosses the
     /// boundary face `face` (`(cell, face)`) exactly once, with a margin of [`PARITY_MARGIN`]
-    /// of the size of `seg.inside_cell` (far above the containment tolerance by which the
+    /// of the size of `stretch.inside_cell` (far above the containment tolerance by which the
     /// inside end may lie outside it), and may cross no other
     /// ([`BoundarySurface::may_cross_other`], then the count of crossings). Fast path only
     /// (the paper path asks the structure); the surface's node visits are counted in
     /// `surface_visits`.
     pub(crate) fn proven_outside(
         &self,
-        seg: Segment<'_>,
+        stretch: Stretch<'_>,
         face: (u32, u8),
         work: &mut Work,
     ) -> bool {
-        let Some(parity) = self.parity(seg, face) else {
+        let Some(parity) = self.parity(stretch, face) else {
             return false;
         };
         let mut c = Counters::default();
-        let crosses = parity
-            .surface
-            .may_cross_other(seg.ray, seg.range(), face, &mut c, |f| {
-                parity.crossings(f).map_or(true, |c| c.count() > 0)
-            });
+        let crosses =
+            parity
+                .surface
+                .may_cross_other(stretch.ray, stretch.range(), face, &mut c, |f| {
+                    parity.crossings(f).map_or(true, |c| c.count() > 0)
+                });
         work.surface(&c);
         !crosses
     }
 
     /// [`Boundary::proven_outside`] for a segment ahead of its inside end, with where it
     /// crosses `face` (the exit from the mesh, exactly) and the next boundary crossing from
-    /// `seg.t` on (up to `t_end`), found in the same traversal of the surface
+    /// `stretch.t` on (up to `t_end`), found in the same traversal of the surface
     /// ([`BoundarySurface::sole_crossing_then_next`]). `None` where the point is not proved
     /// outside.
     pub(crate) fn proven_outside_until(
         &self,
-        seg: Segment<'_>,
+        stretch: Stretch<'_>,
         face: (u32, u8),
         t_end: f64,
         work: &mut Work,
     ) -> Option<ProvedExit> {
-        if seg.t <= seg.t_inside {
+        if stretch.t <= stretch.t_inside {
             return None;
         }
-        let parity = self.parity(seg, face)?;
+        let parity = self.parity(stretch, face)?;
         let mut c = Counters::default();
         let next = parity.surface.sole_crossing_then_next(
-            seg.ray,
-            (seg.t_inside, seg.t),
+            stretch.ray,
+            (stretch.t_inside, stretch.t),
             t_end,
             face,
             &mut c,
@@ -160,22 +139,22 @@ impl Boundary<'_> {
     /// The common part of the proofs by parity: where `face` is crossed exactly once by the
     /// segment (and the path is the fast one, with a boundary surface), what the rest of the
     /// proof needs.
-    fn parity<'s>(&'s self, seg: Segment<'s>, face: (u32, u8)) -> Option<Parity<'s>> {
+    fn parity<'s>(&'s self, stretch: Stretch<'s>, face: (u32, u8)) -> Option<Parity<'s>> {
         if !self.fast {
             return None;
         }
         let surface = self.surface?;
         let mesh = self.cells.mesh;
         let n = mesh.cell_count();
-        if seg.inside_cell as usize >= n || face.0 as usize >= n || face.1 >= 6 {
+        if stretch.inside_cell as usize >= n || face.0 as usize >= n || face.1 >= 6 {
             return None;
         }
-        let margin =
-            PARITY_MARGIN * cell_bounds(&mesh.cell_corners(seg.inside_cell as usize)).diagonal();
+        let margin = PARITY_MARGIN
+            * cell_bounds(&mesh.cell_corners(stretch.inside_cell as usize)).diagonal();
         let mut parity = Parity {
             surface,
             mesh,
-            seg,
+            stretch,
             margin,
             crossing: f64::NAN,
         };
@@ -188,7 +167,7 @@ impl Boundary<'_> {
         }
     }
 
-    /// Where the sample at `seg.t` lies when the march from the sample at `seg.t_inside` left
+    /// Where the sample at `stretch.t` lies when the march from the sample at `stretch.t_inside` left
     /// the mesh by the plane of the boundary face `face` (`(cell, face)`): outside where that
     /// is proved by parity ([`Boundary::proven_outside_until`], no cell tested), with the next
     /// boundary crossing up to `t_end`; else by a local boundary search from the cell (with
@@ -196,7 +175,7 @@ impl Boundary<'_> {
     /// proved the same way.
     pub(crate) fn past_exit(
         &self,
-        seg: Segment<'_>,
+        stretch: Stretch<'_>,
         face: (u32, u8),
         guess: DVec3,
         t_end: f64,
@@ -206,14 +185,14 @@ impl Boundary<'_> {
         if !self.cells.on_boundary(face.0, face.1 as usize) {
             return Exit::Undecided;
         }
-        if let Some(next) = self.proven_outside_until(seg, face, t_end, work) {
+        if let Some(next) = self.proven_outside_until(stretch, face, t_end, work) {
             return Exit::Outside(next);
         }
-        let p = seg.ray.at(seg.t);
+        let p = stretch.ray.at(stretch.t);
         match self.local_locate(p, face.0, guess, &mut None, &mut work.counters) {
             Local::Inside(c, q) => Exit::Inside(c, q),
             Local::Outside(f) | Local::Beyond(f) if f != face => self
-                .proven_outside_until(seg, f, t_end, work)
+                .proven_outside_until(stretch, f, t_end, work)
                 .map_or(Exit::Undecided, Exit::Outside),
             _ => Exit::Undecided,
         }

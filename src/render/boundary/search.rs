@@ -35,8 +35,7 @@
 
 use glam::DVec3;
 
-use super::proof::Segment;
-use super::Boundary;
+use super::{Boundary, Stretch};
 use crate::accel::Counters;
 use crate::geometry::bounds::cell_bounds;
 use crate::geometry::containment::{locate_in_cell, param_inside, CONTAINMENT_TOLERANCE};
@@ -105,8 +104,8 @@ fn interpolate_crossing(t_out: f64, q_out: DVec3, t_in: f64, q_in: DVec3, f: usi
 }
 
 impl Boundary<'_> {
-    /// For a boundary search: the cell holding the point at `seg.t` if it lies in the mesh,
-    /// where `seg.t_inside` is in `cell` at about `guess` (which warm-starts Newton). `cell` is
+    /// For a boundary search: the cell holding the point at `stretch.t` if it lies in the mesh,
+    /// where `stretch.t_inside` is in `cell` at about `guess` (which warm-starts Newton). `cell` is
     /// tested first. With complete face neighbours the search then goes on locally: across the
     /// face the point lies farthest beyond (by `cell`'s parametric coordinates) that has a
     /// neighbour, until a cell holds it or it lies beyond boundary faces only. That answer,
@@ -121,13 +120,13 @@ impl Boundary<'_> {
     /// typically, past a last sample in a cell whose face lies on the box.
     pub(crate) fn locate(
         &self,
-        seg: Segment<'_>,
+        stretch: Stretch<'_>,
         cell: u32,
         guess: DVec3,
         work: &mut Work,
     ) -> Option<(u32, DVec3)> {
         let mut in_start = None;
-        self.locate_from(seg, cell, guess, true, &mut in_start, work)
+        self.locate_from(stretch, cell, guess, true, &mut in_start, work)
     }
 
     /// [`Boundary::locate`], also giving the parametric coordinates of the point in `cell`
@@ -135,7 +134,7 @@ impl Boundary<'_> {
     /// outside by the local search is confirmed only where `confirm`.
     fn locate_from(
         &self,
-        seg: Segment<'_>,
+        stretch: Stretch<'_>,
         cell: u32,
         guess: DVec3,
         confirm: bool,
@@ -143,14 +142,16 @@ impl Boundary<'_> {
         work: &mut Work,
     ) -> Option<(u32, DVec3)> {
         let before = work.counters.hex_tests;
-        let p = seg.ray.at(seg.t);
+        let p = stretch.ray.at(stretch.t);
         if p.is_finite() && !self.bounds.contains(p) {
             return None;
         }
         let found = match self.local_locate(p, cell, guess, in_start, &mut work.counters) {
             Local::Inside(c, q) => Some((c, q)),
             Local::Outside(_) if !confirm => None,
-            Local::Outside(face) | Local::Beyond(face) if self.proven_outside(seg, face, work) => {
+            Local::Outside(face) | Local::Beyond(face)
+                if self.proven_outside(stretch, face, work) =>
+            {
                 None
             }
             _ => self.accel.locate(self.cells.mesh, p, &mut work.counters),
@@ -276,13 +277,13 @@ impl Boundary<'_> {
             None => b.inside.1,
         };
         let mut in_start = None;
-        let seg = Segment {
+        let stretch = Stretch {
             ray,
             t_inside: b.t_inside,
             t,
             inside_cell: b.inside.0,
         };
-        match self.locate_from(seg, b.inside.0, guess, false, &mut in_start, work) {
+        match self.locate_from(stretch, b.inside.0, guess, false, &mut in_start, work) {
             Some(f) => {
                 if f.0 != b.inside.0 {
                     b.outside_q = None;

@@ -47,7 +47,8 @@ use steps::Steps;
 
 use super::accumulate::{Accumulate, AccumulatorKind, Open, RayResult, Sample, Segment};
 use super::boundary::chords::{Between, Chord};
-use super::boundary::proof::{ProvedExit, Segment as RaySegment};
+use super::boundary::proof::ProvedExit;
+use super::boundary::Stretch;
 use super::frame::Frame;
 use super::locate::{Locate, LocatorKind, Next};
 use super::ray::{End, Ray};
@@ -259,7 +260,7 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
         let t_prev = self.steps.before_last();
         // An earlier sample not located is outside; one jumped over or the ray's start may be
         // either.
-        let seg = RaySegment {
+        let stretch = Stretch {
             ray: self.ray,
             t_inside: t,
             t: t_prev,
@@ -267,7 +268,7 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
         };
         let outside = (self.steps.has_earlier() && !after_jump)
             || boundary
-                .locate(seg, inside.0, inside.1, &mut self.work)
+                .locate(stretch, inside.0, inside.1, &mut self.work)
                 .is_none();
         outside.then(|| boundary.crossing(self.ray, t_prev, t, inside, &mut self.work))
     }
@@ -282,14 +283,14 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
         if let Some(open) = self.open.take() {
             let boundary = &self.frame.boundary;
             let t_next = self.steps.next().min(self.ray.t_out);
-            let seg = RaySegment {
+            let stretch = Stretch {
                 ray: self.ray,
                 t_inside: t,
                 t: t_next,
                 inside_cell: inside.0,
             };
             if boundary
-                .locate(seg, inside.0, inside.1, &mut self.work)
+                .locate(stretch, inside.0, inside.1, &mut self.work)
                 .is_none()
             {
                 let e = boundary.crossing(self.ray, t_next, t, open.inside, &mut self.work);
@@ -332,14 +333,14 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
         } else if let Some(open) = self.open.take() {
             if t_out.is_finite() {
                 let boundary = &self.frame.boundary;
-                let seg = RaySegment {
+                let stretch = Stretch {
                     ray,
                     t_inside: open.t,
                     t: t_out,
                     inside_cell: open.inside.0,
                 };
                 if boundary
-                    .locate(seg, open.inside.0, open.inside.1, &mut self.work)
+                    .locate(stretch, open.inside.0, open.inside.1, &mut self.work)
                     .is_none()
                 {
                     let e = boundary.crossing(ray, t_out, open.t, open.inside, &mut self.work);

@@ -29,7 +29,8 @@ use super::{Locate, Next};
 use crate::accel::RaySpan;
 use crate::render::accumulate::Accumulate;
 use crate::render::boundary::chords::Chord;
-use crate::render::boundary::proof::{Exit, ProvedExit, Segment};
+use crate::render::boundary::proof::{Exit, ProvedExit};
+use crate::render::boundary::Stretch;
 use crate::render::frame::Frame;
 use crate::render::ray::{End, Ray};
 use crate::render::stats::Work;
@@ -177,7 +178,7 @@ impl<'f> CellWalk<'f> {
     ) -> Option<Option<(u32, DVec3)>> {
         self.prev = None;
         self.crossed = true;
-        let seg = Segment {
+        let stretch = Stretch {
             ray: self.ray,
             t_inside: self.prev_t,
             t,
@@ -192,7 +193,7 @@ impl<'f> CellWalk<'f> {
         match self
             .frame
             .boundary
-            .past_exit(seg, face, guess, self.ray.t_out, work)
+            .past_exit(stretch, face, guess, self.ray.t_out, work)
         {
             Exit::Inside(c, q) => Some(Some((c, q))),
             Exit::Outside(exit) => {
