@@ -28,7 +28,6 @@
 //! ```
 
 mod accumulate;
-pub mod accuracy;
 mod boundary;
 mod camera;
 mod cast;
@@ -39,7 +38,6 @@ mod frame;
 mod image;
 mod locate;
 mod options;
-pub mod plot;
 mod ray;
 mod renderer;
 mod shading;
