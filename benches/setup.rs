@@ -24,7 +24,7 @@ use cylvol::accel::choose::{cylindrical_area_ratio, structure_for_ratio};
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::detect_with_report;
 use cylvol::io::ReadOptions;
-use cylvol::mesh::topology::FaceNeighbors;
+use cylvol::mesh::topology::FaceNeighbours;
 use cylvol::render::{
     default_step, face_neighbours, Camera, RaySource, RenderOptions, RenderPath, Renderer,
     ScalarField, Topology, TransferFunction, Volume,
@@ -75,9 +75,9 @@ fn main() {
     });
     table.row(&format!("structure ({})", kind.name()), t, true);
 
-    let tolerance = FaceNeighbors::seam_tolerance(&mesh);
+    let tolerance = FaceNeighbours::seam_tolerance(&mesh);
     let (t, faces) = best(repeats, || {
-        FaceNeighbors::build_with_tolerance(&mesh, tolerance)
+        FaceNeighbours::build_with_tolerance(&mesh, tolerance)
     });
     table.row("face adjacency", t, true);
     let (t, unchecked) = best(repeats, || Topology::new(&mesh, faces.clone()));

@@ -22,7 +22,7 @@ use cylvol::axis::Axis;
 use cylvol::datasets::{generate, Dataset};
 use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::io::structured::hexahedra;
-use cylvol::mesh::topology::FaceNeighbors;
+use cylvol::mesh::topology::FaceNeighbours;
 use cylvol::render::{
     default_step, Camera, Image, RayResult, RenderOptions, RenderPath, RenderStats, Renderer,
     Topology, TransferFunction, Volume,
@@ -42,7 +42,7 @@ impl Walk for Topology {
     }
 }
 
-impl Walk for FaceNeighbors {
+impl Walk for FaceNeighbours {
     fn onto<'a>(&'a self, renderer: Renderer<'a>) -> Renderer<'a> {
         renderer.with_neighbours(self)
     }
@@ -112,7 +112,7 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
             // without it, the same samples located, and no surface visited. Only the surface
             // finds the pieces of rays in the mesh that hold no sample (chords): they are the
             // whole difference between the two, and neither path finds one without it.
-            let faces: &FaceNeighbors = &neighbours;
+            let faces: &FaceNeighbours = &neighbours;
             let (walk_only, ws) =
                 render(mesh, &accel, faces, RenderPath::Fast, step, &camera, size);
             let (paper_walk_only, pws) =
@@ -409,7 +409,7 @@ fn the_boundary_surface_skips_outside_samples_without_location() {
     let mut totals = [0u64; 2];
     each_single_ray_volume(&mesh, step, |kind, volume, tf, options| {
         let cast = |n: &dyn Walk, o: DVec3, d: DVec3| cast_one(volume, tf, options, n, o, d);
-        let faces: &FaceNeighbors = &topology;
+        let faces: &FaceNeighbours = &topology;
         let [a, b] = slanted_rays();
         for (o, d) in [(DVec3::new(-2.0, 0.003, 0.5), DVec3::X), a, b] {
             let (with, ws) = cast(&topology, o, d);
@@ -453,7 +453,7 @@ fn exits_from_the_mesh_are_proved_outside_without_the_structure() {
             ..tf.clone()
         };
         let cast = |n: &dyn Walk, o: DVec3, d: DVec3| cast_one(volume, tf, options, n, o, d);
-        let faces: &FaceNeighbors = &topology;
+        let faces: &FaceNeighbours = &topology;
         let [a, b] = slanted_rays();
         for (o, d) in [(DVec3::new(-2.0, 0.013, 0.41), DVec3::X), a, b] {
             let (with, ws) = cast(&topology, o, d);
@@ -478,7 +478,7 @@ fn exits_from_the_mesh_are_proved_outside_without_the_structure() {
 #[test]
 fn an_unwelded_seam_is_not_taken_for_the_mesh_boundary() {
     let mesh = sector(&frame(), [0.5, 1.0], [-PI, PI], 1.0, [4, 48, 4], false);
-    let unwelded = Topology::new(&mesh, FaceNeighbors::build(&mesh));
+    let unwelded = Topology::new(&mesh, FaceNeighbours::build(&mesh));
     let welded = common::closed_neighbours(&mesh);
     assert!(
         unwelded.surface().face_count() > welded.surface().face_count(),
@@ -615,7 +615,7 @@ fn jumps_over_transparent_space_cross_fewer_cells_for_the_same_image() {
 /// a second render (a new renderer, as every frame of the C ABI and the VTK mapper makes)
 /// finds the same table, one entry a node; other structures have none.
 #[test]
-fn node_ray_tests_are_made_once_per_structure_and_kept_across_frames() {
+fn node_shapes_are_made_once_per_structure_and_kept_across_frames() {
     let mesh = generate(Dataset::PumpRotor, 3000).expect("rotor");
     let axis = cylvol::axis::detect(&mesh);
     let frame = |accel: &Accel| {
@@ -632,14 +632,14 @@ fn node_ray_tests_are_made_once_per_structure_and_kept_across_frames() {
     let cyl = Accel::build(&mesh, StructureKind::CylBvh, &axis, &AccelParams::default())
         .expect("cyl-bvh");
     frame(&cyl);
-    let first = cyl.node_ray_tests().tests().as_ptr();
+    let first = cyl.node_shapes().all().as_ptr();
     let nodes = match cyl.stats() {
         cylvol::accel::StructureStats::Bvh(b) => b.nodes,
         other => panic!("{other:?}"),
     };
-    assert_eq!(cyl.node_ray_tests().tests().len(), nodes);
+    assert_eq!(cyl.node_shapes().all().len(), nodes);
     frame(&cyl);
-    assert_eq!(cyl.node_ray_tests().tests().as_ptr(), first, "made again");
+    assert_eq!(cyl.node_shapes().all().as_ptr(), first, "made again");
     let cart = Accel::build(
         &mesh,
         StructureKind::CartBvh,
@@ -648,7 +648,7 @@ fn node_ray_tests_are_made_once_per_structure_and_kept_across_frames() {
     )
     .expect("cart-bvh");
     frame(&cart);
-    assert!(cart.node_ray_tests().tests().is_empty());
+    assert!(cart.node_shapes().all().is_empty());
 }
 
 /// A renderer takes over the transparent cells and visible nodes an earlier renderer of the

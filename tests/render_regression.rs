@@ -22,7 +22,7 @@ use std::collections::BTreeMap;
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::datasets::{generate, Dataset};
 use cylvol::io::ReadOptions;
-use cylvol::mesh::topology::FaceNeighbors;
+use cylvol::mesh::topology::FaceNeighbours;
 use cylvol::render::{
     default_step, face_neighbours, Blend, Camera, ClipPlanes, GradientOpacity, Image,
     Interpolation, NoNeighbours, RayGenerator, RaySource, RenderOptions, RenderPath, RenderStats,
@@ -235,7 +235,7 @@ fn render(setup: &Setup, structure: usize, scene: &Scene) -> (Image, RenderStats
     let renderer = match scene.walk {
         Walk::Topology => renderer.with_topology(&setup.topology),
         Walk::Plain => {
-            plain = FaceNeighbors::build(&setup.mesh);
+            plain = FaceNeighbours::build(&setup.mesh);
             renderer.with_neighbours(&plain)
         }
         Walk::Nothing => renderer.with_neighbours(&NoNeighbours),

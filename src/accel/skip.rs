@@ -182,7 +182,7 @@ impl Accel {
         match (self.structure(), self.coordinates()) {
             (Structure::CartBvh(b), _) => Some(b.first_kept(span, node, cell, counters)),
             (Structure::CylBvh(b), Coordinates::Cylindrical(frame)) => {
-                let tests = self.node_ray_tests().tests();
+                let tests = self.node_shapes().all();
                 Some(b.first_kept_sector((&frame, tests), span, node, cell, counters))
             }
             _ => None,
@@ -193,7 +193,7 @@ impl Accel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::bvh::NodeRayTest;
+    use crate::accel::bvh::NodeShape;
     use crate::accel::grid::GridMask;
     use crate::accel::{AccelParams, StructureKind};
     use crate::datasets::{generate, Dataset};
@@ -253,10 +253,10 @@ mod tests {
                 let accel =
                     Accel::build(&mesh, kind, &axis, &AccelParams::default()).expect("structure");
                 if kind == StructureKind::CylBvh {
-                    let tests = accel.node_ray_tests().tests();
+                    let tests = accel.node_shapes().all();
                     let boxes = tests
                         .iter()
-                        .filter(|t| matches!(t, NodeRayTest::Box(_)))
+                        .filter(|t| matches!(t, NodeShape::Box(_)))
                         .count();
                     assert!(0 < boxes && boxes < tests.len(), "{dataset:?}: {boxes}");
                 }

@@ -1,31 +1,31 @@
 //! The mesh's faces as the fast path walks them ([`Topology`]): the face neighbours
-//! ([`FaceNeighbors`]) and the boundary surface (the faces without a neighbour, in a BVH),
+//! ([`FaceNeighbours`]) and the boundary surface (the faces without a neighbour, in a BVH),
 //! built once per mesh and structure by [`face_neighbours`].
 
 use std::ops::Deref;
 
 use super::boundary::surface::BoundarySurface;
 use crate::accel::Accel;
-use crate::mesh::topology::FaceNeighbors;
+use crate::mesh::topology::FaceNeighbours;
 use crate::Mesh;
 
 /// Face neighbours with the boundary surface they bound (dereferences to the neighbours):
 /// what [`crate::render::Renderer::with_topology`] walks.
 #[derive(Clone, Debug)]
 pub struct Topology {
-    faces: FaceNeighbors,
+    faces: FaceNeighbours,
     surface: BoundarySurface,
 }
 
 impl Topology {
     /// The boundary surface of `faces` over `mesh`, kept with them.
-    pub fn new(mesh: &Mesh, faces: FaceNeighbors) -> Topology {
+    pub fn new(mesh: &Mesh, faces: FaceNeighbours) -> Topology {
         let surface = BoundarySurface::new(mesh, &faces);
         Topology { faces, surface }
     }
 
     /// Checks the faces without a neighbour against `accel` (built over `mesh`), as
-    /// [`face_neighbours`] does ([`FaceNeighbors::check_boundary_near`], the probes near no
+    /// [`face_neighbours`] does ([`FaceNeighbours::check_boundary_near`], the probes near no
     /// other such face passed by the surface), so that the boundary searches trust them only
     /// when they really bound the mesh. Returns the number of hanging faces.
     ///
@@ -41,7 +41,7 @@ impl Topology {
     }
 
     /// The face neighbours.
-    pub fn faces(&self) -> &FaceNeighbors {
+    pub fn faces(&self) -> &FaceNeighbours {
         &self.faces
     }
 
@@ -52,16 +52,16 @@ impl Topology {
 }
 
 impl Deref for Topology {
-    type Target = FaceNeighbors;
-    fn deref(&self) -> &FaceNeighbors {
+    type Target = FaceNeighbours;
+    fn deref(&self) -> &FaceNeighbours {
         &self.faces
     }
 }
 
 /// The face neighbours the fast path should walk, with their boundary surface: seams of
-/// coincident points welded ([`FaceNeighbors::build_with_tolerance`] with
-/// [`FaceNeighbors::seam_tolerance`]), the faces left without a neighbour checked against
-/// `accel` ([`FaceNeighbors::check_boundary_near`], the probes near no other such face passed
+/// coincident points welded ([`FaceNeighbours::build_with_tolerance`] with
+/// [`FaceNeighbours::seam_tolerance`]), the faces left without a neighbour checked against
+/// `accel` ([`FaceNeighbours::check_boundary_near`], the probes near no other such face passed
 /// by the surface) so that the boundary searches trust them only when they really bound the
 /// mesh, and those faces in a boundary surface for skipping the space outside the mesh
 /// (give it to the renderer with [`crate::render::Renderer::with_topology`]).
@@ -76,7 +76,7 @@ pub fn face_neighbours(mesh: &Mesh, accel: &Accel) -> Topology {
 /// The part of [`face_neighbours`] that needs no structure: the neighbours (seams welded)
 /// and their boundary surface, the boundary not checked yet ([`Topology::check_boundary`]).
 pub fn unchecked_neighbours(mesh: &Mesh) -> Topology {
-    let faces = FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
+    let faces = FaceNeighbours::build_with_tolerance(mesh, FaceNeighbours::seam_tolerance(mesh));
     Topology::new(mesh, faces)
 }
 
@@ -153,14 +153,14 @@ mod tests {
         for (kind, expected) in [("hexahedron", 0), ("wedges", 3), ("shifted", 2)] {
             let mesh = stacked(kind);
             let mut plain =
-                FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+                FaceNeighbours::build_with_tolerance(&mesh, FaceNeighbours::seam_tolerance(&mesh));
             assert_eq!(
                 plain.check_boundary(&mesh, |p| brute_force_cell(&mesh, p)),
                 expected,
                 "{kind}"
             );
             let mut filtered =
-                FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+                FaceNeighbours::build_with_tolerance(&mesh, FaceNeighbours::seam_tolerance(&mesh));
             let surface = BoundarySurface::new(&mesh, &filtered);
             let (asked, passed) = (AtomicUsize::new(0), AtomicUsize::new(0));
             let hanging = filtered.check_boundary_near(

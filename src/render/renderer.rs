@@ -432,7 +432,7 @@ impl<'a> Renderer<'a> {
             }
         }
         let accel: &Accel = self.volume.accel();
-        accel.make_node_ray_tests();
+        accel.make_node_shapes();
         if self.options.path == RenderPath::Fast && self.options.march_reach.is_finite() {
             // Measured here once per structure, not by the first ray's thread alone.
             accel.lookup_tests(self.volume.mesh());

@@ -4,8 +4,8 @@
 //! range (16 bytes a cell) and two table positions.
 //!
 //! A cell is transparent when every scalar its corners span maps to zero opacity
-//! ([`TransferTable::transparent_over`] of its range), the same test the fast path made before
-//! this mask, so the mask changes the work, never the image.
+//! ([`TransferTable::transparent_over`] of its range), the same test a look-up of the cell's
+//! range would make, so the mask changes the work, never the image.
 
 use rayon::prelude::*;
 

@@ -9,13 +9,13 @@
 //! cylindrical BVH's nodes whose boxes in the axis frame are nearly as tight as their sectors
 //! are slab-tested as those boxes instead (a quarter of the cost; the box holds the sector, so
 //! the entry is again a lower bound); the others keep their sectors, with their arcs' sines
-//! and cosines. Which is which is decided once per structure ([`super::NodeRayTests`]).
+//! and cosines. Which is which is decided once per structure ([`super::NodeShapes`]).
 
 use glam::DVec3;
 
 use super::ray::{box_span, clip_to_slab, reciprocal};
 use super::{
-    arc_narrower_than_half_turn, arc_trig, ArcTrig, BoxF32, Bvh, BvhBounds, NodeRayTest, SectorF32,
+    arc_narrower_than_half_turn, arc_trig, ArcTrig, BoxF32, Bvh, BvhBounds, NodeShape, SectorF32,
 };
 use crate::accel::{Counters, RaySpan};
 use crate::geometry::bounds::Aabb;
@@ -177,14 +177,14 @@ fn sector_ray(frame: &CylFrame, b: &Bvh<CylBounds>, origin: DVec3, dir: DVec3) -
 
 /// Bounds a [`LocalRay`] can enter.
 trait RayEntry {
-    /// `test`: how to test a sector BVH's node, where known ([`NodeRayTest`]); leaf pieces
+    /// `test`: how to test a sector BVH's node, where known ([`NodeShape`]); leaf pieces
     /// and boxes have none.
-    fn enter(&self, ray: &LocalRay, test: Option<&NodeRayTest>, t0: f64, t1: f64) -> Option<Span>;
+    fn enter(&self, ray: &LocalRay, test: Option<&NodeShape>, t0: f64, t1: f64) -> Option<Span>;
 }
 
 impl RayEntry for BoxF32 {
     #[inline]
-    fn enter(&self, ray: &LocalRay, _: Option<&NodeRayTest>, t0: f64, t1: f64) -> Option<Span> {
+    fn enter(&self, ray: &LocalRay, _: Option<&NodeShape>, t0: f64, t1: f64) -> Option<Span> {
         match *ray {
             LocalRay::Boxes { o, inv, pad } => box_span(o, inv, pad, self.min, self.max, t0, t1),
             LocalRay::Sectors { .. } => Some((t0, t0)),
@@ -194,7 +194,7 @@ impl RayEntry for BoxF32 {
 
 impl RayEntry for SectorF32 {
     #[inline]
-    fn enter(&self, ray: &LocalRay, test: Option<&NodeRayTest>, t0: f64, t1: f64) -> Option<Span> {
+    fn enter(&self, ray: &LocalRay, test: Option<&NodeShape>, t0: f64, t1: f64) -> Option<Span> {
         let LocalRay::Sectors {
             o,
             d,
@@ -207,8 +207,8 @@ impl RayEntry for SectorF32 {
         };
         let trig = match test {
             // The box holds the sector (in the same frame, `h` as stored).
-            Some(NodeRayTest::Box(b)) => return box_span(o, inv, pad, b.min, b.max, t0, t1),
-            Some(NodeRayTest::Sector(trig)) => Some(trig),
+            Some(NodeShape::Box(b)) => return box_span(o, inv, pad, b.min, b.max, t0, t1),
+            Some(NodeShape::Sector(trig)) => Some(trig),
             None => None,
         };
         let ray = SectorRay {
@@ -223,12 +223,12 @@ impl RayEntry for SectorF32 {
 }
 
 /// Closest-hit traversal ([`Bvh::closest_hit`]) of `ray` (with a sector BVH's node tests,
-/// [`NodeRayTest`]; empty if not known, and for boxes) among the nodes `node(index)` keeps
+/// [`NodeShape`]; empty if not known, and for boxes) among the nodes `node(index)` keeps
 /// and the pieces of the cells `cell(id)` keeps: the smallest entry `t ∈ [t0, t1]` into such
 /// a leaf piece's bound, with that piece's exit and cell.
 fn first_hit<B: BvhBounds>(
     bvh: &Bvh<B>,
-    (ray, tests): (LocalRay, &[NodeRayTest]),
+    (ray, tests): (LocalRay, &[NodeShape]),
     (t0, t1): (f64, f64),
     counters: &mut Counters,
     node: impl Fn(usize) -> bool,
@@ -285,7 +285,7 @@ impl Bvh<CylBounds> {
     /// says (ignored unless it has one test a node).
     pub(crate) fn first_kept_sector(
         &self,
-        (frame, tests): (&CylFrame, &[NodeRayTest]),
+        (frame, tests): (&CylFrame, &[NodeShape]),
         span: RaySpan,
         node: impl Fn(usize) -> bool,
         cell: impl Fn(u32) -> bool,

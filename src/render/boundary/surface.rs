@@ -26,7 +26,7 @@ use crate::accel::space::Pieces;
 use crate::accel::Counters;
 use crate::geometry::bounds::Aabb;
 use crate::geometry::patch::segment_crossings;
-use crate::mesh::topology::{FaceKey, FaceNeighbors, FACES};
+use crate::mesh::topology::{FaceKey, FaceNeighbours, FACES};
 use crate::render::ray::{Ray, RayFace};
 use crate::Mesh;
 
@@ -166,14 +166,14 @@ impl Slab {
 impl BoundarySurface {
     /// The faces of `mesh` without a neighbour in `neighbours` (and with three or more
     /// distinct points), in a BVH.
-    pub fn new(mesh: &Mesh, neighbours: &FaceNeighbors) -> BoundarySurface {
+    pub fn new(mesh: &Mesh, neighbours: &FaceNeighbours) -> BoundarySurface {
         use rayon::prelude::*;
         let cells = mesh.cells();
         let faces: Vec<(u32, u8)> = (0..cells.len() as u32)
             .into_par_iter()
             .flat_map_iter(|c| {
                 let ids = cells[c as usize];
-                let nb = neighbours.neighbors(c);
+                let nb = neighbours.neighbours(c);
                 (0..6u8)
                     .filter(move |&f| {
                         if nb[f as usize] != u32::MAX {
@@ -615,7 +615,7 @@ mod tests {
 
     /// A mesh with its boundary surface.
     fn surface_of(mesh: Mesh) -> (Mesh, BoundarySurface) {
-        let n = FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+        let n = FaceNeighbours::build_with_tolerance(&mesh, FaceNeighbours::seam_tolerance(&mesh));
         let surface = BoundarySurface::new(&mesh, &n);
         (mesh, surface)
     }
@@ -624,7 +624,7 @@ mod tests {
     fn the_surface_holds_every_face_without_a_neighbour() {
         let mesh = generate(Dataset::PumpInlet, 2000).unwrap();
         let faces =
-            FaceNeighbors::build_with_tolerance(&mesh, FaceNeighbors::seam_tolerance(&mesh));
+            FaceNeighbours::build_with_tolerance(&mesh, FaceNeighbours::seam_tolerance(&mesh));
         let surface = BoundarySurface::new(&mesh, &faces);
         assert_eq!(
             surface.face_count(),

@@ -10,7 +10,7 @@
 pub(crate) mod march;
 pub(crate) mod point;
 
-use crate::mesh::topology::FaceNeighbors;
+use crate::mesh::topology::FaceNeighbours;
 use crate::Mesh;
 
 /// The face neighbours of a cell, for the fast path: six cell ids, `u32::MAX` for none.
@@ -18,7 +18,7 @@ use crate::Mesh;
 ///
 /// A face without a neighbour is taken for the mesh's boundary by the boundary crossing
 /// searches: the source must pair every shared face, θ-seam faces of coincident but separate
-/// points included (as [`FaceNeighbors::build_with_tolerance`] does), or say it does not with
+/// points included (as [`FaceNeighbours::build_with_tolerance`] does), or say it does not with
 /// [`Neighbours::complete`].
 pub trait Neighbours: Sync {
     /// The cells across the six faces of `cell` (`u32::MAX` where there is none).
@@ -40,12 +40,12 @@ impl<F: Fn(u32) -> [u32; 6] + Sync> Neighbours for F {
     }
 }
 
-impl Neighbours for FaceNeighbors {
+impl Neighbours for FaceNeighbours {
     fn neighbours(&self, cell: u32) -> [u32; 6] {
-        self.neighbors(cell)
+        FaceNeighbours::neighbours(self, cell)
     }
 
-    /// Only once [`FaceNeighbors::check_boundary`] has found no hanging face.
+    /// Only once [`FaceNeighbours::check_boundary`] has found no hanging face.
     fn complete(&self) -> bool {
         self.is_closed()
     }
