@@ -8,13 +8,18 @@
 //! - [`geometry`]: cell geometry — the trilinear map, its Jacobian and inverse, containment,
 //!   Cartesian and cylindrical bounds;
 //! - [`axis`]: detection of the axis a machine turns about;
-//! - [`render`]: the ray caster — camera, transfer function, the `paper` and `fast` paths,
-//!   shading, images;
+//! - [`render`]: the ray caster — camera, transfer function, the renderer and its options
+//!   (the `paper` and `fast` paths, blend modes, shading, clipping planes), images and work
+//!   counters;
 //! - [`io`]: readers and writers for legacy VTK, VTU and PLOT3D files;
 //! - [`datasets`]: the deterministic synthetic pump datasets;
 //! - [`input`]: resolution of a command-line `INPUT` (a file or a synthetic dataset name);
 //! - [`ffi`]: the C ABI (`include/cylvol.h`): meshes from caller arrays, volumes, rendering
 //!   into caller memory.
+//!
+//! `docs/architecture.md` draws the way from a file to a pixel and the parts of the ray caster
+//! with their contracts. The `cylvol` program (`src/main.rs`, the `cli` feature) is a user of
+//! this API.
 //!
 //! # Rendering a mesh
 //!

@@ -6,6 +6,10 @@
 //! ([`Structure::find`]). [`Accel::locate`] supplies the closure that tests a cell with the
 //! inverse trilinear map. Counters record the work: hexahedra tested, internal and leaf nodes
 //! visited (for grids: top-level cells and second-level cells visited).
+//!
+//! The structures also share one ray contract, for the renderer's skipping: the stretches of
+//! a ray that may hold the cells it looks for, each structure by its own traversal (`skip.rs`:
+//! a BVH's closest-hit traversal of its nodes, a grid's walk from grid cell to grid cell).
 
 mod build;
 pub mod bvh;
