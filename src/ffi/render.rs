@@ -439,7 +439,6 @@ fn caller_row(j: u32, height: u32, bottom_up: bool) -> usize {
 /// `volume` a live handle used by this thread only; the structs readable; the arrays of the
 /// lengths stated, `pixels` and `depth_out` writable and not overlapping anything else.
 #[no_mangle]
-#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn cylvol_render(
     volume: *mut CylvolVolume,
     camera: *const CylvolCamera,

@@ -11,7 +11,7 @@ use glam::DVec3;
 
 use super::arrays;
 use super::codes::{AssociationCode, Code, CylvolStructure, StructureCode, ValueTypeCode};
-use super::mesh::{read_scalars, replace_scalars, CylvolMesh};
+use super::mesh::{read_scalars, replace_scalars, CylvolMesh, GivenScalars};
 use super::status::{self, c_string, CylvolStatus, Failure};
 use crate::accel::choose::{cylindrical_area_ratio, structure_for_ratio};
 use crate::accel::{Accel, AccelParams, BvhParams, GridParams, StructureKind};
@@ -292,7 +292,6 @@ pub unsafe extern "C" fn cylvol_volume_free(volume: *mut CylvolVolume) {
 /// # Safety
 /// `volume` a live handle; the arrays as for [`super::cylvol_mesh_set_scalars`].
 #[no_mangle]
-#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn cylvol_volume_set_scalars(
     volume: *mut CylvolVolume,
     name: *const c_char,
@@ -308,7 +307,7 @@ pub unsafe extern "C" fn cylvol_volume_set_scalars(
         on_volume("cylvol_volume_set_scalars", volume, |v| {
             let m = v.mesh();
             let counts = (m.point_count(), m.cell_count());
-            let scalars = read_scalars(
+            let given = GivenScalars {
                 name,
                 association,
                 values,
@@ -316,8 +315,8 @@ pub unsafe extern "C" fn cylvol_volume_set_scalars(
                 n_tuples,
                 n_components,
                 component,
-                counts,
-            )?;
+            };
+            let scalars = read_scalars(given, counts)?;
             replace_scalars(&mut v.mesh, scalars)?;
             v.field = ScalarField::gather(v.mesh()).ok();
             v.derived = None;

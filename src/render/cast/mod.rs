@@ -186,15 +186,14 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
     fn inside(&mut self, t: f64, (cell, param): (u32, DVec3), crossed: bool) -> ControlFlow<bool> {
         let after_jump = std::mem::take(&mut self.jumped);
         let was_in = std::mem::replace(&mut self.was_in, true);
-        let between = match !was_in || crossed {
-            true => {
-                let behind = self.steps.before_taken(self.ray, was_in, after_jump);
-                let here = (t, End::Sample);
-                self.frame
-                    .boundary
-                    .between(self.ray, behind, here, &mut self.work)
-            }
-            false => None,
+        let between = if !was_in || crossed {
+            let behind = self.steps.before_taken(self.ray, was_in, after_jump);
+            let here = (t, End::Sample);
+            self.frame
+                .boundary
+                .between(self.ray, behind, here, &mut self.work)
+        } else {
+            None
         };
         if let Some(b) = &between {
             if b.exit.is_some() && b.entry.is_some() {
