@@ -138,7 +138,7 @@ fn main() {
             }
             let renderer = Renderer::new(&volume, &tf, &options)
                 .expect("renderer")
-                .with_neighbours(&neighbours);
+                .with_topology(&neighbours);
             let mut best = f64::INFINITY;
             let mut best_cpu = f64::INFINITY;
             let mut stats = RenderStats::default();
@@ -194,5 +194,5 @@ fn vtk_comparison_transfer(lo: f64, hi: f64, diagonal: f64) -> TransferFunction 
     ];
     tf.unit_distance = 0.1 * diagonal;
     // Read as vtkCylVolMapper reads it by default (`--opacity-convention attenuation`).
-    tf.attenuation_as_opacity(lo, hi, cylvol::render::transfer::VTK_MAPPER_TABLE_ENTRIES)
+    tf.attenuation_as_opacity(lo, hi, cylvol::render::VTK_MAPPER_TABLE_ENTRIES)
 }

@@ -9,10 +9,10 @@
 //! axis detection, the structure choice (for `auto`), the structure, the three phases of
 //! `render::face_neighbours` (the adjacency, the boundary surface, the check of the faces
 //! without a neighbour), the default step and the scalar gather; then the first frame and a
-//! second one with the fast path at `SIZE × SIZE` (the bench's oblique view), and the frame's
-//! boundary faces sorted to the image (`FaceBins::new`) for the whole image and in four bands of
-//! rows as the VTK mapper renders them, and the transfer table as each band samples it from
-//! the mapper's 1,024-point functions. The phases of
+//! second one with the fast path at `SIZE × SIZE` (the bench's oblique view), the same frame
+//! through VTK-style matrices for the whole image and in four bands of rows as the VTK mapper
+//! renders them (each band sorts the boundary faces to its own rows), and the transfer table
+//! as each band samples it from the mapper's 1,024-point functions. The phases of
 //! `face_neighbours` are also timed together, through the function itself, to show that they
 //! are what it does. Wall and process CPU seconds are printed for each (CPU ≈ 2 × wall on two
 //! cores means the phase is parallel).
@@ -24,11 +24,10 @@ use cylvol::accel::choose::{cylindrical_area_ratio, structure_for_ratio};
 use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::detect_with_report;
 use cylvol::io::ReadOptions;
-use cylvol::mesh::topology::FaceNeighbors;
-use cylvol::render::surface::BoundarySurface;
+use cylvol::mesh::topology::FaceNeighbours;
 use cylvol::render::{
-    default_step, face_neighbours, Camera, RenderOptions, RenderPath, Renderer, ScalarField,
-    TransferFunction, Volume,
+    default_step, face_neighbours, Camera, RaySource, RenderOptions, RenderPath, Renderer,
+    ScalarField, Topology, TransferFunction, Volume,
 };
 use cylvol::{Association, Mesh};
 use timing::best;
@@ -76,22 +75,23 @@ fn main() {
     });
     table.row(&format!("structure ({})", kind.name()), t, true);
 
-    let tolerance = FaceNeighbors::seam_tolerance(&mesh);
+    let tolerance = FaceNeighbours::seam_tolerance(&mesh);
     let (t, faces) = best(repeats, || {
-        FaceNeighbors::build_with_tolerance(&mesh, tolerance)
+        FaceNeighbours::build_with_tolerance(&mesh, tolerance)
     });
     table.row("face adjacency", t, true);
-    let (t, surface) = best(repeats, || BoundarySurface::new(&mesh, &faces));
-    table.row("boundary surface", t, true);
-    let (t, _) = best(repeats, || {
-        let mut checked = faces.clone();
-        checked.check_boundary_near(
-            &mesh,
-            |c, f, probes, r| surface.other_faces_near(&mesh, c, f, probes, r),
-            |p| accel.cell_at(&mesh, p),
-        )
-    });
+    let (t, unchecked) = best(repeats, || Topology::new(&mesh, faces.clone()));
     let (copy, _) = best(repeats, || faces.clone());
+    table.row(
+        "boundary surface (less the copy)",
+        (t.0 - copy.0, t.1 - copy.1),
+        true,
+    );
+    let (t, _) = best(repeats, || {
+        let mut checked = unchecked.clone();
+        checked.check_boundary(&mesh, &accel)
+    });
+    let (copy, _) = best(repeats, || unchecked.clone());
     table.row(
         "boundary check (less the copy)",
         (t.0 - copy.0, t.1 - copy.1),
@@ -115,27 +115,41 @@ fn main() {
     let frame = || {
         let renderer = Renderer::new(&volume, &tf, &options)
             .expect("renderer")
-            .with_neighbours(&topology);
+            .with_topology(&topology);
         renderer.render(&camera, None).expect("render")
     };
     let (t, _) = best(repeats, frame);
     table.row(&format!("fast frame {size}x{size}"), t, true);
     table.row("first frame in all", table.total, false);
-    face_bins(&camera, size, topology.surface(), repeats);
+    let through = |rays: &cylvol::render::MatrixRays| {
+        let options = RenderOptions {
+            height: rays.size().1,
+            ..options
+        };
+        Renderer::new(&volume, &tf, &options)
+            .expect("renderer")
+            .with_topology(&topology)
+            .render_rays(rays, None)
+            .expect("render")
+    };
+    banded_frames(&camera, size, repeats, through);
     transfer_table(repeats);
 
     c_abi(&mesh, repeats);
 }
 
-/// A frame's boundary faces sorted to the image (`FaceBins::new`, part of every fast frame),
-/// for the frame's camera through VTK-style matrices: the whole image, and four bands of rows
-/// rendered one after the other as vtkCylVolMapper renders a frame (each band's projection
-/// narrowed to its rows). Not counted in the totals.
-fn face_bins(camera: &Camera, size: u32, surface: &BoundarySurface, repeats: usize) {
-    use cylvol::render::camera::{band_projection, MatrixRays, Projection};
-    use cylvol::render::ray_faces::FaceBins;
+/// The fast frame through VTK-style matrices (`render` renders the rays of a matrix): the
+/// whole image, and four bands of rows rendered one after the other as vtkCylVolMapper renders
+/// a frame (each band's projection narrowed to its rows, each sorting the boundary faces to
+/// its own rows). Not counted in the totals.
+fn banded_frames<T>(
+    camera: &Camera,
+    size: u32,
+    repeats: usize,
+    render: impl Fn(&cylvol::render::MatrixRays) -> T,
+) {
+    use cylvol::render::{band_projection, MatrixRays, Projection};
     use glam::DMat4;
-    const TILE: u32 = 16;
     let Projection::Perspective(angle) = camera.projection else {
         return;
     };
@@ -152,13 +166,9 @@ fn face_bins(camera: &Camera, size: u32, surface: &BoundarySurface, repeats: usi
         100.0 * distance,
     ));
     let (t, _) = best(repeats, || {
-        let rays = MatrixRays::new(&view, &proj, size, size).expect("rays");
-        FaceBins::new(surface, &rays, TILE)
+        render(&MatrixRays::new(&view, &proj, size, size).expect("rays"))
     });
-    println!(
-        "  face bins ({} boundary faces), not counted:",
-        surface.face_count()
-    );
+    println!("  fast frame through matrices, not counted:");
     let mut table = Table::default();
     table.row(&format!("  whole image {size}x{size}"), t, false);
     let bands = 4;
@@ -167,8 +177,7 @@ fn face_bins(camera: &Camera, size: u32, surface: &BoundarySurface, repeats: usi
             .map(|b| {
                 let (r0, r1) = (size * b / bands, size * (b + 1) / bands);
                 let band = band_projection(&proj, r0, r1, size);
-                let rays = MatrixRays::new(&view, &band, size, r1 - r0).expect("band rays");
-                FaceBins::new(surface, &rays, TILE)
+                render(&MatrixRays::new(&view, &band, size, r1 - r0).expect("band rays"))
             })
             .collect::<Vec<_>>()
     });

@@ -1,4 +1,4 @@
-//! Build time of the face adjacency (`cylvol::mesh::topology::FaceNeighbors`) on the synthetic
+//! Build time of the face adjacency (`cylvol::mesh::topology::FaceNeighbours`) on the synthetic
 //! pump datasets at their default sizes, against two simpler ways of computing the same table:
 //! a `HashMap` from face key to face, and one parallel sort of all faces by key.
 //!
@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use cylvol::datasets::{generate, Dataset};
-use cylvol::mesh::topology::{FaceKey, FaceNeighbors, NONE};
+use cylvol::mesh::topology::{FaceKey, FaceNeighbours, NONE};
 use cylvol::Mesh;
 use rayon::prelude::*;
 
@@ -81,7 +81,7 @@ fn bench(c: &mut Criterion) {
         let cells = (d.default_cells() as f64 * scale) as usize;
         let mesh = generate(d, cells).expect("dataset");
         let start = Instant::now();
-        let adj = FaceNeighbors::build(&mesh);
+        let adj = FaceNeighbours::build(&mesh);
         let first = start.elapsed().as_secs_f64();
         eprintln!(
             "{d}:{cells}: {} cells, {} boundary faces, {:.2} bytes/cell, first build {:.3} s on {} threads",
@@ -92,11 +92,11 @@ fn bench(c: &mut Criterion) {
             rayon::current_num_threads()
         );
         group.bench_function(format!("build/{d}"), |b| {
-            b.iter(|| FaceNeighbors::build(&mesh))
+            b.iter(|| FaceNeighbours::build(&mesh))
         });
-        let tolerance = FaceNeighbors::seam_tolerance(&mesh);
+        let tolerance = FaceNeighbours::seam_tolerance(&mesh);
         group.bench_function(format!("build_with_tolerance/{d}"), |b| {
-            b.iter(|| FaceNeighbors::build_with_tolerance(&mesh, tolerance))
+            b.iter(|| FaceNeighbours::build_with_tolerance(&mesh, tolerance))
         });
         if d == Dataset::PumpRotor {
             assert_eq!(hashmap_table(&mesh), adj.raw());

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crate::mesh::Association;
+use crate::mesh::data::Association;
 
 /// Any error cylvol reports.
 #[derive(Debug, thiserror::Error)]

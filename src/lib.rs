@@ -11,13 +11,18 @@
 //! - [`geometry`]: cell geometry — the trilinear map, its Jacobian and inverse, containment,
 //!   Cartesian and cylindrical bounds;
 //! - [`axis`]: detection of the axis a machine turns about;
-//! - [`render`]: the ray caster — camera, transfer function, the `paper` and `fast` paths,
-//!   shading, images;
+//! - [`render`]: the ray caster — camera, transfer function, the renderer and its options
+//!   (the `paper` and `fast` paths, blend modes, shading, clipping planes), images and work
+//!   counters;
 //! - [`io`]: readers and writers for legacy VTK, VTU and PLOT3D files;
 //! - [`datasets`]: the deterministic synthetic pump datasets;
 //! - [`input`]: resolution of a command-line `INPUT` (a file or a synthetic dataset name);
 //! - [`ffi`]: the C ABI (`include/cylvol.h`): meshes from caller arrays, volumes, rendering
 //!   into caller memory.
+//!
+//! `docs/architecture.md` draws the way from a file to a pixel and the parts of the ray caster
+//! with their contracts. The `cylvol` program (`src/main.rs`, the `cli` feature) is a user of
+//! this API.
 //!
 //! # Rendering a mesh
 //!
@@ -49,7 +54,7 @@
 //! let camera = Camera::view(mesh.bounds(), width, height, 30.0, 20.0, 1.0);
 //! // The fast path walks from cell to cell through the face neighbours.
 //! let neighbours = face_neighbours(&mesh, &accel);
-//! let renderer = Renderer::new(&volume, &transfer, &options)?.with_neighbours(&neighbours);
+//! let renderer = Renderer::new(&volume, &transfer, &options)?.with_topology(&neighbours);
 //! let (image, stats) = renderer.render(&camera, None)?;
 //! assert!(stats.samples_located > 0 && image.rgba.iter().any(|p| p[3] > 0.0));
 //! // image.write_png(std::path::Path::new("rotor.png"), Some([0.0; 3]))?;

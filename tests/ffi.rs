@@ -1191,7 +1191,7 @@ fn rust_image(
     assert_eq!(options.table_size, DEFAULT_TABLE_SIZE);
     let renderer = Renderer::new(&volume, &tables.function(), &options)
         .unwrap()
-        .with_neighbours(&neighbours);
+        .with_topology(&neighbours);
     let (image, stats) = renderer.render(camera, None).unwrap();
     (image.rgba.iter().flatten().copied().collect(), stats)
 }

@@ -10,9 +10,9 @@ use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::datasets::{generate, Dataset};
 use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::geometry::trilinear::{map, weights};
-use cylvol::mesh::topology::{FaceNeighbors, EDGES, FACES};
+use cylvol::mesh::topology::{FaceNeighbours, EDGES, FACES};
 use cylvol::mesh::MAX_REFINEMENT;
-use cylvol::render::boundary::BISECTIONS;
+use cylvol::render::BISECTIONS;
 use cylvol::render::{face_neighbours, Camera, RenderOptions, Renderer, TransferFunction, Volume};
 use cylvol::{CellKind, DataArray, Error, Mesh};
 use glam::DVec3;
@@ -81,7 +81,7 @@ proptest! {
 #[test]
 fn refinement_is_conforming_and_counts_add_up() {
     let mesh = rotor();
-    let coarse = FaceNeighbors::build(&mesh);
+    let coarse = FaceNeighbours::build(&mesh);
     for n in [1, 2, 3] {
         let fine = mesh.refined(n).unwrap();
         assert_eq!(fine.cell_count(), mesh.cell_count() * (n * n * n) as usize);
@@ -93,7 +93,7 @@ fn refinement_is_conforming_and_counts_add_up() {
         assert!(fine.kinds().iter().all(|&k| k == CellKind::Hexahedron));
         // Every original face is cut n × n; only the open ones stay open. A point made twice
         // (once per cell reaching it) would open inner faces.
-        let faces = FaceNeighbors::build(&fine);
+        let faces = FaceNeighbours::build(&fine);
         assert_eq!(
             faces.boundary_face_count(),
             coarse.boundary_face_count() * (n * n) as usize,
@@ -167,7 +167,7 @@ fn a_refined_volume_renders_the_same_picture() {
         options.boundary_segments = segments;
         let renderer = Renderer::new(&volume, &tf, &options)
             .unwrap()
-            .with_neighbours(&neighbours);
+            .with_topology(&neighbours);
         let densest = (0..=1000)
             .map(|k| renderer.table().lookup(lo + (hi - lo) * k as f64 / 1000.0)[3])
             .fold(0.0f64, f64::max);

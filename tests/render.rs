@@ -16,7 +16,7 @@ use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::axis::Axis;
 use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::io::structured::hexahedra;
-use cylvol::render::boundary::BISECTIONS;
+use cylvol::render::BISECTIONS;
 use cylvol::render::{
     Camera, ClipPlanes, Image, RenderOptions, RenderPath, RenderStats, Renderer, Shading,
     TransferFunction, Volume,
@@ -428,7 +428,7 @@ fn check_beer_lambert_with(case: &Case, step: f64, planes: ClipPlanes, march_rea
             let mut far_locates = 0u64;
             let r = Renderer::new(&volume, &tf, &options).expect("renderer");
             let r = if with_neighbours {
-                r.with_neighbours(&neighbours)
+                r.with_topology(&neighbours)
             } else {
                 r
             };

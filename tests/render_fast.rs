@@ -22,13 +22,31 @@ use cylvol::axis::Axis;
 use cylvol::datasets::{generate, Dataset};
 use cylvol::geometry::cylindrical::CylFrame;
 use cylvol::io::structured::hexahedra;
-use cylvol::mesh::topology::FaceNeighbors;
+use cylvol::mesh::topology::FaceNeighbours;
 use cylvol::render::{
-    default_step, Camera, Image, Neighbours, RayResult, RenderOptions, RenderPath, RenderStats,
-    Renderer, TransferFunction, Volume,
+    default_step, Camera, Image, RayResult, RenderOptions, RenderPath, RenderStats, Renderer,
+    Topology, TransferFunction, Volume,
 };
 use cylvol::{CellKind, DataArray, Mesh, MeshParts};
 use glam::DVec3;
+
+/// What a render walks: face neighbours alone, or with their boundary surface.
+trait Walk: Sync {
+    /// `renderer` walking these.
+    fn onto<'a>(&'a self, renderer: Renderer<'a>) -> Renderer<'a>;
+}
+
+impl Walk for Topology {
+    fn onto<'a>(&'a self, renderer: Renderer<'a>) -> Renderer<'a> {
+        renderer.with_topology(self)
+    }
+}
+
+impl Walk for FaceNeighbours {
+    fn onto<'a>(&'a self, renderer: Renderer<'a>) -> Renderer<'a> {
+        renderer.with_neighbours(self)
+    }
+}
 
 fn frame() -> CylFrame {
     CylFrame::new(DVec3::ZERO, DVec3::Z).expect("z axis")
@@ -37,7 +55,7 @@ fn frame() -> CylFrame {
 fn render(
     mesh: &Mesh,
     accel: &Accel,
-    neighbours: &dyn Neighbours,
+    neighbours: &dyn Walk,
     path: RenderPath,
     step: f64,
     camera: &Camera,
@@ -48,9 +66,7 @@ fn render(
     let tf = TransferFunction::default_for_range(lo, hi, 0.6, 0.2);
     let mut options = RenderOptions::new(size, size, step);
     options.path = path;
-    let r = Renderer::new(&volume, &tf, &options)
-        .expect("renderer")
-        .with_neighbours(neighbours);
+    let r = neighbours.onto(Renderer::new(&volume, &tf, &options).expect("renderer"));
     r.render(camera, None).expect("render")
 }
 
@@ -96,7 +112,7 @@ fn fast_equals_paper(name: &str, mesh: &Mesh, axis: &Axis, views: &[(f64, f64, f
             // without it, the same samples located, and no surface visited. Only the surface
             // finds the pieces of rays in the mesh that hold no sample (chords): they are the
             // whole difference between the two, and neither path finds one without it.
-            let faces: &FaceNeighbors = &neighbours;
+            let faces: &FaceNeighbours = &neighbours;
             let (walk_only, ws) =
                 render(mesh, &accel, faces, RenderPath::Fast, step, &camera, size);
             let (paper_walk_only, pws) =
@@ -321,13 +337,11 @@ fn cast_one(
     volume: &Volume,
     tf: &TransferFunction,
     options: &RenderOptions,
-    n: &dyn Neighbours,
+    n: &dyn Walk,
     o: DVec3,
     d: DVec3,
 ) -> (RayResult, RenderStats) {
-    let renderer = Renderer::new(volume, tf, options)
-        .expect("renderer")
-        .with_neighbours(n);
+    let renderer = n.onto(Renderer::new(volume, tf, options).expect("renderer"));
     let mut s = RenderStats::default();
     let r = renderer.cast(o, d, f64::INFINITY, &mut s);
     (r, s)
@@ -357,7 +371,7 @@ fn empty_space_is_skipped_across_the_hub_hole() {
     each_single_ray_volume(&mesh, step, |kind, volume, tf, options| {
         let renderer = Renderer::new(volume, tf, options)
             .expect("renderer")
-            .with_neighbours(&neighbours);
+            .with_topology(&neighbours);
         // Along x through the axis at mid height: the hole is r < 0.5.
         let (o, d) = (DVec3::new(-2.0, 0.003, 0.5), DVec3::X);
         let mut s = RenderStats::default();
@@ -394,8 +408,8 @@ fn the_boundary_surface_skips_outside_samples_without_location() {
     // Cells tested with and without the surface, over every ray and structure.
     let mut totals = [0u64; 2];
     each_single_ray_volume(&mesh, step, |kind, volume, tf, options| {
-        let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| cast_one(volume, tf, options, n, o, d);
-        let faces: &FaceNeighbors = &topology;
+        let cast = |n: &dyn Walk, o: DVec3, d: DVec3| cast_one(volume, tf, options, n, o, d);
+        let faces: &FaceNeighbours = &topology;
         let [a, b] = slanted_rays();
         for (o, d) in [(DVec3::new(-2.0, 0.003, 0.5), DVec3::X), a, b] {
             let (with, ws) = cast(&topology, o, d);
@@ -438,8 +452,8 @@ fn exits_from_the_mesh_are_proved_outside_without_the_structure() {
             opacity: vec![(lo, 0.05), (hi, 0.6)],
             ..tf.clone()
         };
-        let cast = |n: &dyn Neighbours, o: DVec3, d: DVec3| cast_one(volume, tf, options, n, o, d);
-        let faces: &FaceNeighbors = &topology;
+        let cast = |n: &dyn Walk, o: DVec3, d: DVec3| cast_one(volume, tf, options, n, o, d);
+        let faces: &FaceNeighbours = &topology;
         let [a, b] = slanted_rays();
         for (o, d) in [(DVec3::new(-2.0, 0.013, 0.41), DVec3::X), a, b] {
             let (with, ws) = cast(&topology, o, d);
@@ -463,16 +477,15 @@ fn exits_from_the_mesh_are_proved_outside_without_the_structure() {
 /// across the seam, and the pixel is the welded ring's and the paper path's.
 #[test]
 fn an_unwelded_seam_is_not_taken_for_the_mesh_boundary() {
-    use cylvol::render::Topology;
     let mesh = sector(&frame(), [0.5, 1.0], [-PI, PI], 1.0, [4, 48, 4], false);
-    let unwelded = Topology::new(&mesh, FaceNeighbors::build(&mesh));
+    let unwelded = Topology::new(&mesh, FaceNeighbours::build(&mesh));
     let welded = common::closed_neighbours(&mesh);
     assert!(
         unwelded.surface().face_count() > welded.surface().face_count(),
         "the seam's faces are in the unwelded ring's surface"
     );
     each_single_ray_volume(&mesh, 0.01, |kind, volume, tf, options| {
-        let cast = |n: &dyn Neighbours, path: RenderPath, o: DVec3, d: DVec3| {
+        let cast = |n: &dyn Walk, path: RenderPath, o: DVec3, d: DVec3| {
             let mut options = *options;
             options.path = path;
             cast_one(volume, tf, &options, n, o, d)
@@ -545,7 +558,7 @@ fn jumps_over_transparent_space_cross_fewer_cells_for_the_same_image() {
                 let options = RenderOptions { path, ..options };
                 Renderer::new(&volume, &tf, &options)
                     .expect("renderer")
-                    .with_neighbours(&neighbours)
+                    .with_topology(&neighbours)
                     .render(&camera, None)
                     .expect("render")
             };
@@ -602,7 +615,7 @@ fn jumps_over_transparent_space_cross_fewer_cells_for_the_same_image() {
 /// a second render (a new renderer, as every frame of the C ABI and the VTK mapper makes)
 /// finds the same table, one entry a node; other structures have none.
 #[test]
-fn node_ray_tests_are_made_once_per_structure_and_kept_across_frames() {
+fn node_shapes_are_made_once_per_structure_and_kept_across_frames() {
     let mesh = generate(Dataset::PumpRotor, 3000).expect("rotor");
     let axis = cylvol::axis::detect(&mesh);
     let frame = |accel: &Accel| {
@@ -619,14 +632,14 @@ fn node_ray_tests_are_made_once_per_structure_and_kept_across_frames() {
     let cyl = Accel::build(&mesh, StructureKind::CylBvh, &axis, &AccelParams::default())
         .expect("cyl-bvh");
     frame(&cyl);
-    let first = cyl.node_ray_tests().tests().as_ptr();
+    let first = cyl.node_shapes().all().as_ptr();
     let nodes = match cyl.stats() {
         cylvol::accel::StructureStats::Bvh(b) => b.nodes,
         other => panic!("{other:?}"),
     };
-    assert_eq!(cyl.node_ray_tests().tests().len(), nodes);
+    assert_eq!(cyl.node_shapes().all().len(), nodes);
     frame(&cyl);
-    assert_eq!(cyl.node_ray_tests().tests().as_ptr(), first, "made again");
+    assert_eq!(cyl.node_shapes().all().as_ptr(), first, "made again");
     let cart = Accel::build(
         &mesh,
         StructureKind::CartBvh,
@@ -635,7 +648,7 @@ fn node_ray_tests_are_made_once_per_structure_and_kept_across_frames() {
     )
     .expect("cart-bvh");
     frame(&cart);
-    assert!(cart.node_ray_tests().tests().is_empty());
+    assert!(cart.node_shapes().all().is_empty());
 }
 
 /// A renderer takes over the transparent cells and visible nodes an earlier renderer of the
@@ -670,7 +683,7 @@ fn derived_parts_are_taken_over_for_the_same_table_only() {
     let renderer = |v, tf| {
         Renderer::new(v, tf, &options)
             .expect("renderer")
-            .with_neighbours(&neighbours)
+            .with_topology(&neighbours)
     };
     // The frame of a renderer that makes its own parts, and of one handed `derived`.
     let own_and_taken = |v, tf, derived| {
@@ -709,50 +722,4 @@ fn derived_parts_are_taken_over_for_the_same_table_only() {
     assert_eq!(other.scalar_range(), [lo, hi]);
     let ((own, _), (taken, _)) = own_and_taken(&other, &upper_half, derived);
     assert!(own.max_abs_difference(&taken) > 1e-2, "not taken over");
-}
-
-/// The boundary surface finds the same exit as the walk across the cells: from the centres of
-/// cells of a small rotor (a ring with blades: many boundary faces) along rays in many
-/// directions, forwards and backwards, wherever both can tell, the first boundary crossing is
-/// the same `t`, bit for bit (the same face, solved the same way). The surface solves for
-/// fewer faces, so it tells at least as often.
-#[test]
-fn the_boundary_surface_finds_the_exit_the_walk_finds() {
-    use cylvol::accel::Counters;
-    use cylvol::render::march::boundary_face_crossing;
-    let mesh = generate(Dataset::PumpRotor, 3000).expect("rotor");
-    // Every face without a neighbour bounds the mesh (the walk's answer means what it says).
-    let topology = common::closed_neighbours(&mesh);
-    let diag = cylvol::geometry::bounds::Aabb::from_points(mesh.points()).diagonal();
-    let (mut both, mut surface_only, mut walk_only) = (0, 0, 0);
-    for cell in (0..mesh.cell_count()).step_by(7) {
-        let corners = mesh.cell_corners(cell);
-        let o = corners.iter().copied().sum::<DVec3>() / 8.0;
-        for k in 0..6 {
-            let a = 2.0 * PI * (k as f64 + 0.37 * cell as f64) / 6.0;
-            let d = DVec3::new(a.cos(), a.sin(), 0.3 * (a * 3.0).sin()).normalize();
-            for t_to in [2.0 * diag, -2.0 * diag] {
-                let walked = boundary_face_crossing(&mesh, &topology, cell as u32, o, d, 0.0, t_to);
-                let surfaced = topology
-                    .surface()
-                    .first_face_crossing(None, &mesh, o, d, 0.0, t_to, &mut Counters::default())
-                    .flatten()
-                    .map(|(t, _)| t);
-                match (walked, surfaced) {
-                    (Some(w), Some(s)) => {
-                        assert_eq!(w, s, "cell {cell}, direction {k}, towards {t_to}");
-                        both += 1;
-                    }
-                    (None, Some(_)) => surface_only += 1,
-                    (Some(_), None) => walk_only += 1,
-                    (None, None) => {}
-                }
-            }
-        }
-    }
-    assert!(both > 1000, "{both}");
-    assert!(
-        walk_only <= surface_only,
-        "{walk_only} against {surface_only}"
-    );
 }

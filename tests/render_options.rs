@@ -79,7 +79,7 @@ fn render(
     set(&mut options);
     let renderer = Renderer::new(&volume, tf, &options)
         .expect("renderer")
-        .with_neighbours(&neighbours);
+        .with_topology(&neighbours);
     let camera = Camera::view(mesh.bounds(), 24, 24, 30.0, 25.0, 1.0);
     renderer.render(&camera, None).expect("render")
 }

@@ -146,7 +146,7 @@ fn render(
     let mut r = Renderer::new(&volume, tf, &options).expect("renderer");
     if path == RenderPath::Fast {
         // Across the duplicated seam too, as the CLI does.
-        r = r.with_neighbours(&neighbours);
+        r = r.with_topology(&neighbours);
     }
     r.render(camera, None).expect("render").0
 }

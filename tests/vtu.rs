@@ -589,7 +589,7 @@ fn fast_render(mesh: &Mesh) -> (cylvol::render::Image, cylvol::render::RenderSta
     options.path = RenderPath::Fast;
     Renderer::new(&volume, &tf, &options)
         .unwrap()
-        .with_neighbours(&neighbours)
+        .with_topology(&neighbours)
         .render(&camera, None)
         .unwrap()
 }

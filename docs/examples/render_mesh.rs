@@ -31,8 +31,8 @@ fn main() -> Result<(), cylvol::Error> {
     let options = RenderOptions::new(width, height, default_step(&mesh));
     // VTK's ResetCamera, then Azimuth(30), Elevation(20), Zoom(1).
     let camera = Camera::view(mesh.bounds(), width, height, 30.0, 20.0, 1.0);
-    let neighbours = face_neighbours(&mesh, &accel);
-    let renderer = Renderer::new(&volume, &transfer, &options)?.with_neighbours(&neighbours);
+    let topology = face_neighbours(&mesh, &accel);
+    let renderer = Renderer::new(&volume, &transfer, &options)?.with_topology(&topology);
     let (image, stats) = renderer.render(&camera, None)?;
     image.write_png(std::path::Path::new(output), Some([0.0; 3]))?;
     println!(

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use super::bvh::{build_bvh, BvhParams, BvhStats, NodeRayTests};
+use super::bvh::{build_bvh, BvhParams, BvhStats, NodeShapes};
 use super::grid::{build_grid, GridParams, GridStats};
 use super::space::{
     cartesian_pieces, cylindrical_pieces, linear_boxes, seam_frame, Coordinates,
@@ -86,7 +86,7 @@ pub struct Accel {
     build_s: f64,
     /// How skipping rays test a cylindrical BVH's nodes, made by the first ray traversal that needs
     /// them.
-    ray_tests: OnceLock<NodeRayTests>,
+    node_shapes: OnceLock<NodeShapes>,
     /// The hexahedra a look-up tests on average ([`Accel::lookup_tests`]), measured by the
     /// first render that needs it.
     lookup_tests: OnceLock<f64>,
@@ -143,7 +143,7 @@ impl Accel {
             coordinates,
             structure,
             build_s: started.elapsed().as_secs_f64(),
-            ray_tests: OnceLock::new(),
+            node_shapes: OnceLock::new(),
             lookup_tests: OnceLock::new(),
         })
     }
@@ -185,26 +185,26 @@ impl Accel {
     /// How skipping rays test a cylindrical BVH's nodes (as boxes where those are nearly as
     /// tight, else as sectors with their arcs' sines and cosines; empty for the other
     /// structures). Made on the calling thread the first time they are asked for, unless
-    /// [`Accel::make_node_ray_tests`] made them before; then kept with the structure (40
+    /// [`Accel::make_node_shapes`] made them before; then kept with the structure (40
     /// bytes a node), so every later frame has them.
-    pub fn node_ray_tests(&self) -> &NodeRayTests {
-        self.ray_tests.get_or_init(|| match &self.structure {
-            Structure::CylBvh(b) => NodeRayTests::new_sequential(b),
-            _ => NodeRayTests::default(),
+    pub fn node_shapes(&self) -> &NodeShapes {
+        self.node_shapes.get_or_init(|| match &self.structure {
+            Structure::CylBvh(b) => NodeShapes::new_sequential(b),
+            _ => NodeShapes::default(),
         })
     }
 
-    /// Makes the tests of [`Accel::node_ray_tests`] in parallel, if not made yet: for a
+    /// Makes the tests of [`Accel::node_shapes`] in parallel, if not made yet: for a
     /// caller about to start parallel work that needs them. It never waits on another thread
     /// (one making them at the same time makes them too, and one of the equal tables is
     /// kept), so it is safe from inside the thread pool as well.
-    pub fn make_node_ray_tests(&self) {
-        if self.ray_tests.get().is_none() {
+    pub fn make_node_shapes(&self) {
+        if self.node_shapes.get().is_none() {
             let tests = match &self.structure {
-                Structure::CylBvh(b) => NodeRayTests::new(b),
-                _ => NodeRayTests::default(),
+                Structure::CylBvh(b) => NodeShapes::new(b),
+                _ => NodeShapes::default(),
             };
-            let _ = self.ray_tests.set(tests);
+            let _ = self.node_shapes.set(tests);
         }
     }
 
@@ -249,7 +249,7 @@ impl Accel {
     }
 
     /// The cell containing `p`, if any, with no counting (for checks such as
-    /// [`crate::mesh::topology::FaceNeighbors::check_boundary`]).
+    /// [`crate::mesh::topology::FaceNeighbours::check_boundary`]).
     pub fn cell_at(&self, mesh: &Mesh, p: DVec3) -> Option<u32> {
         self.locate(mesh, p, &mut Counters::default())
             .map(|(c, _)| c)

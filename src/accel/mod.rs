@@ -6,12 +6,17 @@
 //! ([`Structure::find`]). [`Accel::locate`] supplies the closure that tests a cell with the
 //! inverse trilinear map. Counters record the work: hexahedra tested, internal and leaf nodes
 //! visited (for grids: top-level cells and second-level cells visited).
+//!
+//! The structures also share one ray contract, for the renderer's skipping: the stretches of
+//! a ray that may hold the cells it looks for, each structure by its own traversal (`skip.rs`:
+//! a BVH's closest-hit traversal of its nodes, a grid's walk from grid cell to grid cell).
 
 mod build;
 pub mod bvh;
 pub mod choose;
 pub mod grid;
 pub mod probe;
+pub(crate) mod skip;
 pub mod space;
 
 use std::fmt;
@@ -101,6 +106,20 @@ impl AddAssign for Counters {
         self.internal_visits += o.internal_visits;
         self.leaf_visits += o.leaf_visits;
     }
+}
+
+/// A ray as the structures take it for skipping ([`skip`]): the points `origin + t dir`
+/// (`dir` a unit vector) for `t` in `[t0, t1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct RaySpan {
+    /// Where the ray starts.
+    pub(crate) origin: DVec3,
+    /// Its unit direction.
+    pub(crate) dir: DVec3,
+    /// The start of the span.
+    pub(crate) t0: f64,
+    /// Its end.
+    pub(crate) t1: f64,
 }
 
 /// One of the four structures, built.

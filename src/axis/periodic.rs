@@ -43,7 +43,7 @@ use glam::DVec3;
 use super::Axis;
 use crate::error::show_number;
 use crate::geometry::cylindrical::{CylFrame, ThetaInterval};
-use crate::mesh::topology::{face_vertices, FaceKey, FaceNeighbors};
+use crate::mesh::topology::{face_vertices, FaceKey, FaceNeighbours};
 use crate::{Error, Mesh};
 
 /// How far `360° / span` may be from a whole number, relative to it.
@@ -375,7 +375,7 @@ impl Sector {
     fn of(mesh: &Mesh, axis: &Axis) -> Result<Sector, NotPeriodic> {
         let rough = Sector::about(mesh, axis)?;
         let neighbours =
-            FaceNeighbors::build_with_tolerance(mesh, FaceNeighbors::seam_tolerance(mesh));
+            FaceNeighbours::build_with_tolerance(mesh, FaceNeighbours::seam_tolerance(mesh));
         let faces = boundary_faces(mesh, &neighbours);
         let mut sector = match rough.sides_meet(mesh, &faces) {
             Some(exact) => Sector::about(mesh, &exact)?,
@@ -651,11 +651,11 @@ impl Face {
     }
 }
 
-fn boundary_faces(mesh: &Mesh, neighbours: &FaceNeighbors) -> Vec<Face> {
+fn boundary_faces(mesh: &Mesh, neighbours: &FaceNeighbours) -> Vec<Face> {
     let mut faces = Vec::new();
     for (c, cell) in mesh.cells().iter().enumerate() {
         for f in 0..6 {
-            if neighbours.neighbor(c as u32, f).is_some() {
+            if neighbours.neighbour(c as u32, f).is_some() {
                 continue;
             }
             let s = face_vertices(f);

@@ -198,7 +198,7 @@ pub fn bench_mesh(
             options.path = path;
             let mut renderer = Renderer::new(volume, &transfer, &options)?;
             if let (RenderPath::Fast, Some(n)) = (path, &neighbours) {
-                renderer = renderer.with_neighbours(n);
+                renderer = renderer.with_topology(n);
             }
             let accel = volume.accel();
             runs.push((accel.kind(), accel.stats().build_s(), path, renderer));

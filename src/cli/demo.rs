@@ -19,10 +19,10 @@ use serde_json::{json, Value};
 
 use super::log;
 use cylvol::accel::probe::{lookup_cost, points_in_cells};
-use cylvol::accel::{AccelParams, StructureKind};
+use cylvol::accel::{Accel, AccelParams, StructureKind};
 use cylvol::datasets::Dataset;
 use cylvol::render::RenderPath;
-use cylvol::Error;
+use cylvol::{Error, Mesh};
 
 /// The dataset and size the demo uses.
 pub const DEMO_DATASET: Dataset = Dataset::PumpRotor;
@@ -114,28 +114,8 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
     ));
     let detection = cylvol::axis::detect_with_report(&mesh);
     let info = super::info::describe(&mesh, detection.axis, Some(detection.clear));
-
     let built = super::stats::build_all(&mesh, &detection.axis, &AccelParams::default())?;
-    let points = points_in_cells(&mesh, 100_000, 0x00C7_1D0F);
-    let mut structures = serde_json::Map::new();
-    for accel in &built {
-        let mut entry = super::stats::stats_json(&accel.stats());
-        let cost = lookup_cost(accel, &mesh, &points);
-        entry["hex_tests"] = json!(cost.hex_tests);
-        entry["internal_visits"] = json!(cost.internal_visits);
-        entry["leaf_visits"] = json!(cost.leaf_visits);
-        structures.insert(accel.kind().name().to_string(), entry);
-    }
-    let ratio = |family: &str, key: &str| -> Option<f64> {
-        let (cart, cyl) = match family {
-            "grid" => ("cart-grid", "cyl-grid"),
-            _ => ("cart-bvh", "cyl-bvh"),
-        };
-        let a = structures[cart][key].as_f64()?;
-        let b = structures[cyl][key].as_f64()?;
-        (a > 0.0).then_some(b / a)
-    };
-
+    let structures = measure_structures(&mesh, &built);
     outln!(
         "{} — {} cells, {} points, scalar '{}', axis {:?}",
         DEMO_DATASET.name(),
@@ -146,119 +126,10 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
             .unwrap_or_else(|| "none".into()),
         detection.axis.direction.to_array()
     );
-    outln!();
-    outln!(
-        "{:<30} {:>14} {:>14}",
-        "cylindrical ÷ Cartesian",
-        "talk (rotor)",
-        "cylvol"
-    );
-    let mut comparison = Vec::new();
-    for (family, key, label, talk) in TALK_ROTOR {
-        let ours = ratio(family, key);
-        outln!(
-            "{:<30} {:>14.2} {:>14}",
-            label,
-            talk,
-            ours.map(|v| format!("{v:.2}"))
-                .unwrap_or_else(|| "-".into())
-        );
-        comparison.push(json!({ "measure": label, "talk": talk, "cylvol": ours }));
-    }
-    outln!();
-    outln!(
-        "(hexahedra tested and nodes visited: per point located, over 100,000 points inside cells)"
-    );
-
-    // Rendering: the same view with each structure, paper and fast paths.
-    let setup = super::bench::BenchSetup {
-        width: DEMO_IMAGE,
-        height: DEMO_IMAGE,
-        frames: 1,
-        view: Some(DEMO_VIEW),
-        step: None,
-        transfer: Default::default(),
-    };
-    let bench = super::bench::bench_mesh(
-        &mesh,
-        &built,
-        DEMO_DATASET.name(),
-        &setup,
-        &[RenderPath::Paper, RenderPath::Fast],
-    )?;
-    let mut images = Vec::new();
-    for (kind, image) in &bench.images {
-        let path = args.out.join(format!("{}.png", kind.name()));
-        super::output::write_replacing(&path, |p| image.write_png(p, Some([0.0; 3])))?;
-        images.push(path.display().to_string());
-    }
-    outln!();
-    super::bench::print_table(&bench.report)?;
-    outln!();
-    outln!(
-        "{:<30} {:>14} {:>10} {:>10}",
-        "per frame, cyl ÷ cart",
-        "talk (rotor)",
-        "paper",
-        "fast"
-    );
-    let mut frame_comparison = Vec::new();
-    for (family, key, label, talk) in TALK_ROTOR_FRAME {
-        let ours = |path: &str| -> Option<f64> {
-            let r = &bench.report["ratios"][family][path];
-            match key {
-                "fps" => r["frame_s"].as_f64().filter(|v| *v > 0.0).map(|v| 1.0 / v),
-                k => r[k].as_f64(),
-            }
-        };
-        let (paper, fast) = (ours("paper"), ours("fast"));
-        let show = |v: Option<f64>| v.map(|v| format!("{v:.2}")).unwrap_or_else(|| "-".into());
-        outln!(
-            "{:<30} {:>14.2} {:>10} {:>10}",
-            label,
-            talk,
-            show(paper),
-            show(fast)
-        );
-        frame_comparison
-            .push(json!({ "measure": label, "talk": talk, "paper": paper, "fast": fast }));
-    }
-    outln!(
-        "(per {}×{} frame of the demo's view; fps = cart frame time ÷ cyl frame time)",
-        DEMO_IMAGE,
-        DEMO_IMAGE
-    );
-
-    // The price of accuracy through the cylindrical BVH.
-    let cyl_bvh = built
-        .iter()
-        .find(|a| a.kind() == StructureKind::CylBvh)
-        .ok_or_else(|| Error::Invalid("demo: the cylindrical BVH is missing".into()))?;
-    let neighbours = super::scene::neighbours(&mesh, cyl_bvh);
-    let accuracy = super::accuracy::study(
-        &mesh,
-        cyl_bvh,
-        &neighbours,
-        DEMO_DATASET.name(),
-        DEMO_ACCURACY_IMAGE,
-        Some(DEMO_VIEW),
-        super::accuracy::Sampling {
-            path: RenderPath::Fast,
-            boundary_segments: true,
-        },
-    )?;
-    let plot_path = args.out.join("accuracy.svg");
-    let svg = super::accuracy::plot(
-        &accuracy.study,
-        &format!(
-            "{} ({} cells): error against time as the step shrinks",
-            DEMO_DATASET.name(),
-            mesh.cell_count()
-        ),
-    );
-    super::output::write_replacing(&plot_path, |p| svg.write(p))?;
-    outln!();
-    super::accuracy::print_table(&accuracy.report, &accuracy.study)?;
+    let comparison = compare_structures(&structures)?;
+    let (bench, images) = render_views(&mesh, &built, &args.out)?;
+    let frame_comparison = compare_frames(&bench.report)?;
+    let (accuracy, plot_path) = price_of_accuracy(&mesh, &built, &args.out)?;
 
     let mesh_path = args.out.join(format!("{}.vtu", DEMO_DATASET.name()));
     cylvol::io::write_file(&mesh, &mesh_path)?;
@@ -285,6 +156,173 @@ pub fn run(args: &DemoArgs) -> Result<(), Error> {
         started.elapsed().as_secs_f64()
     ));
     Ok(())
+}
+
+/// Each structure's figures with the cost of point location through it (per point, over
+/// 100,000 points inside cells), by name.
+fn measure_structures(mesh: &Mesh, built: &[Accel]) -> serde_json::Map<String, Value> {
+    let points = points_in_cells(mesh, 100_000, 0x00C7_1D0F);
+    let mut structures = serde_json::Map::new();
+    for accel in built {
+        let mut entry = super::stats::stats_json(&accel.stats());
+        let cost = lookup_cost(accel, mesh, &points);
+        entry["hex_tests"] = json!(cost.hex_tests);
+        entry["internal_visits"] = json!(cost.internal_visits);
+        entry["leaf_visits"] = json!(cost.leaf_visits);
+        structures.insert(accel.kind().name().to_string(), entry);
+    }
+    structures
+}
+
+/// Prints the talk's cylindrical ÷ Cartesian ratios for the rotor beside the structures'
+/// (`structures`, from [`measure_structures`]); returns them for the report.
+fn compare_structures(structures: &serde_json::Map<String, Value>) -> Result<Vec<Value>, Error> {
+    let ratio = |family: &str, key: &str| -> Option<f64> {
+        let (cart, cyl) = match family {
+            "grid" => ("cart-grid", "cyl-grid"),
+            _ => ("cart-bvh", "cyl-bvh"),
+        };
+        let a = structures[cart][key].as_f64()?;
+        let b = structures[cyl][key].as_f64()?;
+        (a > 0.0).then_some(b / a)
+    };
+    outln!();
+    outln!(
+        "{:<30} {:>14} {:>14}",
+        "cylindrical ÷ Cartesian",
+        "talk (rotor)",
+        "cylvol"
+    );
+    let mut comparison = Vec::new();
+    for (family, key, label, talk) in TALK_ROTOR {
+        let ours = ratio(family, key);
+        outln!(
+            "{:<30} {:>14.2} {:>14}",
+            label,
+            talk,
+            ours.map(|v| format!("{v:.2}"))
+                .unwrap_or_else(|| "-".into())
+        );
+        comparison.push(json!({ "measure": label, "talk": talk, "cylvol": ours }));
+    }
+    outln!();
+    outln!(
+        "(hexahedra tested and nodes visited: per point located, over 100,000 points inside cells)"
+    );
+    Ok(comparison)
+}
+
+/// Renders the same view with each structure along both paths (as `cylvol bench`), writes the
+/// fast path's image per structure into `out` and prints the bench's table; returns the bench
+/// and the images written.
+fn render_views(
+    mesh: &Mesh,
+    built: &[Accel],
+    out: &std::path::Path,
+) -> Result<(super::bench::BenchResult, Vec<String>), Error> {
+    let setup = super::bench::BenchSetup {
+        width: DEMO_IMAGE,
+        height: DEMO_IMAGE,
+        frames: 1,
+        view: Some(DEMO_VIEW),
+        step: None,
+        transfer: Default::default(),
+    };
+    let bench = super::bench::bench_mesh(
+        mesh,
+        built,
+        DEMO_DATASET.name(),
+        &setup,
+        &[RenderPath::Paper, RenderPath::Fast],
+    )?;
+    let mut images = Vec::new();
+    for (kind, image) in &bench.images {
+        let path = out.join(format!("{}.png", kind.name()));
+        super::output::write_replacing(&path, |p| image.write_png(p, Some([0.0; 3])))?;
+        images.push(path.display().to_string());
+    }
+    outln!();
+    super::bench::print_table(&bench.report)?;
+    Ok((bench, images))
+}
+
+/// Prints the talk's per-frame cylindrical ÷ Cartesian ratios beside the bench's (`report`);
+/// returns them for the report.
+fn compare_frames(report: &Value) -> Result<Vec<Value>, Error> {
+    outln!();
+    outln!(
+        "{:<30} {:>14} {:>10} {:>10}",
+        "per frame, cyl ÷ cart",
+        "talk (rotor)",
+        "paper",
+        "fast"
+    );
+    let mut frame_comparison = Vec::new();
+    for (family, key, label, talk) in TALK_ROTOR_FRAME {
+        let ours = |path: &str| -> Option<f64> {
+            let r = &report["ratios"][family][path];
+            match key {
+                "fps" => r["frame_s"].as_f64().filter(|v| *v > 0.0).map(|v| 1.0 / v),
+                k => r[k].as_f64(),
+            }
+        };
+        let (paper, fast) = (ours("paper"), ours("fast"));
+        let show = |v: Option<f64>| v.map(|v| format!("{v:.2}")).unwrap_or_else(|| "-".into());
+        outln!(
+            "{:<30} {:>14.2} {:>10} {:>10}",
+            label,
+            talk,
+            show(paper),
+            show(fast)
+        );
+        frame_comparison
+            .push(json!({ "measure": label, "talk": talk, "paper": paper, "fast": fast }));
+    }
+    outln!(
+        "(per {}×{} frame of the demo's view; fps = cart frame time ÷ cyl frame time)",
+        DEMO_IMAGE,
+        DEMO_IMAGE
+    );
+    Ok(frame_comparison)
+}
+
+/// The price of accuracy through the cylindrical BVH: the study, its plot written into `out`
+/// and its table printed; returns the study and the plot's path.
+fn price_of_accuracy(
+    mesh: &Mesh,
+    built: &[Accel],
+    out: &std::path::Path,
+) -> Result<(super::accuracy::AccuracyResult, PathBuf), Error> {
+    let cyl_bvh = built
+        .iter()
+        .find(|a| a.kind() == StructureKind::CylBvh)
+        .ok_or_else(|| Error::Invalid("demo: the cylindrical BVH is missing".into()))?;
+    let neighbours = super::scene::neighbours(mesh, cyl_bvh);
+    let accuracy = super::accuracy::study(
+        mesh,
+        cyl_bvh,
+        &neighbours,
+        DEMO_DATASET.name(),
+        DEMO_ACCURACY_IMAGE,
+        Some(DEMO_VIEW),
+        super::accuracy::Sampling {
+            path: RenderPath::Fast,
+            boundary_segments: true,
+        },
+    )?;
+    let plot_path = out.join("accuracy.svg");
+    let svg = super::accuracy::plot(
+        &accuracy.study,
+        &format!(
+            "{} ({} cells): error against time as the step shrinks",
+            DEMO_DATASET.name(),
+            mesh.cell_count()
+        ),
+    );
+    super::output::write_replacing(&plot_path, |p| svg.write(p))?;
+    outln!();
+    super::accuracy::print_table(&accuracy.report, &accuracy.study)?;
+    Ok((accuracy, plot_path))
 }
 
 fn info_field(info: &super::info::Info, key: &str) -> Value {

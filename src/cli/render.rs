@@ -317,7 +317,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         ));
     }
     if let Some(n) = &neighbours {
-        renderer = renderer.with_neighbours(n);
+        renderer = renderer.with_topology(n);
     }
     let camera = args.camera.camera(&mesh, width, height)?;
     let started = Instant::now();

@@ -8,8 +8,8 @@
 //! leave out comes from the default transfer function ([`super::scene::transfer`]).
 
 use super::number::show;
-use cylvol::render::transfer::VTK_MAPPER_TABLE_ENTRIES;
 use cylvol::render::TransferFunction;
+use cylvol::render::VTK_MAPPER_TABLE_ENTRIES;
 use cylvol::Error;
 
 /// Where a point sits on the scalar axis (or a distance), as written: absolute, or a

@@ -6,8 +6,8 @@ use glam::DVec3;
 use super::codes::{CameraModeCode, Code, CylvolCameraMode};
 use super::status::Failure;
 use crate::error::show_number;
-use crate::render::camera::{MatrixRays, RayGenerator, RaySource};
 use crate::render::Camera;
+use crate::render::{MatrixRays, RayGenerator, RaySource};
 
 /// A camera: `mode` says which fields are read.
 #[repr(C)]

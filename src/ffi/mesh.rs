@@ -41,22 +41,42 @@ pub struct Scalars {
     pub array: DataArray,
 }
 
+/// A scalar array as a caller passes it to the C ABI, unchecked.
+pub struct GivenScalars {
+    /// The array's name: NULL or a NUL-terminated string.
+    pub name: *const c_char,
+    /// Point or cell data.
+    pub association: AssociationCode,
+    /// The values.
+    pub values: *const c_void,
+    /// Their type.
+    pub value_type: ValueTypeCode,
+    /// Tuples (points or cells).
+    pub n_tuples: usize,
+    /// Components a tuple.
+    pub n_components: usize,
+    /// The component taken (or the magnitude).
+    pub component: i32,
+}
+
 /// Reads and checks a caller's scalar array for a mesh of `points` points and `cells` cells.
 ///
 /// # Safety
-/// `values` as [`arrays::slice`] for `n_tuples × n_components` values; `name` NULL or a
-/// NUL-terminated string.
-#[allow(clippy::too_many_arguments)]
+/// `given.values` as [`arrays::slice`] for `n_tuples × n_components` values; `given.name`
+/// NULL or a NUL-terminated string.
 pub unsafe fn read_scalars(
-    name: *const c_char,
-    association: AssociationCode,
-    values: *const c_void,
-    value_type: ValueTypeCode,
-    n_tuples: usize,
-    n_components: usize,
-    component: i32,
+    given: GivenScalars,
     (points, cells): (usize, usize),
 ) -> Result<Scalars, Failure> {
+    let GivenScalars {
+        name,
+        association,
+        values,
+        value_type,
+        n_tuples,
+        n_components,
+        component,
+    } = given;
     let association = match association.decode("association")? {
         CylvolAssociation::POINT_DATA => Association::Point,
         CylvolAssociation::CELL_DATA => Association::Cell,
@@ -154,7 +174,6 @@ pub fn replace_scalars(slot: &mut Arc<Mesh>, scalars: Scalars) -> Result<(), Fai
 /// Each pointer must point to the number of elements stated (or be NULL); `out` must be
 /// valid for writing a pointer.
 #[no_mangle]
-#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn cylvol_mesh_new(
     points: *const c_void,
     points_type: ValueTypeCode,
@@ -232,7 +251,6 @@ pub unsafe extern "C" fn cylvol_mesh_new(
 /// `mesh` a live handle; `values` `n_tuples × n_components` readable values; `name` NULL or
 /// NUL-terminated.
 #[no_mangle]
-#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn cylvol_mesh_set_scalars(
     mesh: *mut CylvolMesh,
     name: *const c_char,
@@ -250,7 +268,7 @@ pub unsafe extern "C" fn cylvol_mesh_set_scalars(
         let counts = (m.point_count(), m.cell_count());
         // SAFETY: the caller vouches for the arrays.
         let scalars = unsafe {
-            read_scalars(
+            let given = GivenScalars {
                 name,
                 association,
                 values,
@@ -258,8 +276,8 @@ pub unsafe extern "C" fn cylvol_mesh_set_scalars(
                 n_tuples,
                 n_components,
                 component,
-                counts,
-            )?
+            };
+            read_scalars(given, counts)?
         };
         replace_scalars(&mut handle.mesh, scalars)
     })

@@ -439,7 +439,6 @@ fn caller_row(j: u32, height: u32, bottom_up: bool) -> usize {
 /// `volume` a live handle used by this thread only; the structs readable; the arrays of the
 /// lengths stated, `pixels` and `depth_out` writable and not overlapping anything else.
 #[no_mangle]
-#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn cylvol_render(
     volume: *mut CylvolVolume,
     camera: *const CylvolCamera,
@@ -522,7 +521,7 @@ pub unsafe extern "C" fn cylvol_render(
             let volume = Volume::with_field(mesh, &v.accel, field)?;
             let mut renderer = Renderer::new(&volume, &tf, &options)?;
             if options.path == RenderPath::Fast {
-                renderer = renderer.with_neighbours(&v.neighbours);
+                renderer = renderer.with_topology(&v.neighbours);
             }
             // The last frame's transparent cells and visible nodes, where its table is this
             // one's (a mapper's next frame): same volume, since they are dropped with the
@@ -544,7 +543,7 @@ pub unsafe extern "C" fn cylvol_render(
                 }
             }
             v.derived = derived;
-            v.render = (started.elapsed().as_secs_f64(), stats).into();
+            v.last_render = (started.elapsed().as_secs_f64(), stats);
             Ok(())
         })
     }
@@ -615,6 +614,6 @@ pub unsafe extern "C" fn cylvol_volume_render_stats(
     super::status::status("cylvol_volume_render_stats", || {
         // SAFETY: the caller vouches for the pointers.
         let v = unsafe { arrays::handle(volume, "volume")? };
-        unsafe { arrays::write(stats, v.render, "stats") }
+        unsafe { arrays::write(stats, CylvolRenderStats::from(v.last_render), "stats") }
     })
 }

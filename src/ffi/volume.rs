@@ -11,14 +11,13 @@ use glam::DVec3;
 
 use super::arrays;
 use super::codes::{AssociationCode, Code, CylvolStructure, StructureCode, ValueTypeCode};
-use super::mesh::{read_scalars, replace_scalars, CylvolMesh};
-use super::render::CylvolRenderStats;
+use super::mesh::{read_scalars, replace_scalars, CylvolMesh, GivenScalars};
 use super::status::{self, c_string, CylvolStatus, Failure};
 use crate::accel::choose::{cylindrical_area_ratio, structure_for_ratio};
 use crate::accel::{Accel, AccelParams, BvhParams, GridParams, StructureKind};
 use crate::axis::{detect_with_report, Axis};
 use crate::render::Topology;
-use crate::render::{Derived, ScalarField};
+use crate::render::{Derived, RenderStats, ScalarField};
 use crate::Mesh;
 
 /// How to build a volume's structure.
@@ -90,7 +89,8 @@ pub struct CylvolVolume {
     pub(crate) derived: Option<Derived>,
     pub(crate) default_step: f64,
     pub(crate) build: CylvolBuildStats,
-    pub(crate) render: CylvolRenderStats,
+    /// The last successful render's time in seconds and counters (zeros before the first).
+    pub(crate) last_render: (f64, RenderStats),
     pub(crate) last_error: CString,
 }
 
@@ -194,7 +194,7 @@ pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<Cylvo
         derived: None,
         default_step,
         build,
-        render: CylvolRenderStats::default(),
+        last_render: (0.0, RenderStats::default()),
         last_error: CString::default(),
     })
 }
@@ -292,7 +292,6 @@ pub unsafe extern "C" fn cylvol_volume_free(volume: *mut CylvolVolume) {
 /// # Safety
 /// `volume` a live handle; the arrays as for [`super::cylvol_mesh_set_scalars`].
 #[no_mangle]
-#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn cylvol_volume_set_scalars(
     volume: *mut CylvolVolume,
     name: *const c_char,
@@ -308,7 +307,7 @@ pub unsafe extern "C" fn cylvol_volume_set_scalars(
         on_volume("cylvol_volume_set_scalars", volume, |v| {
             let m = v.mesh();
             let counts = (m.point_count(), m.cell_count());
-            let scalars = read_scalars(
+            let given = GivenScalars {
                 name,
                 association,
                 values,
@@ -316,8 +315,8 @@ pub unsafe extern "C" fn cylvol_volume_set_scalars(
                 n_tuples,
                 n_components,
                 component,
-                counts,
-            )?;
+            };
+            let scalars = read_scalars(given, counts)?;
             replace_scalars(&mut v.mesh, scalars)?;
             v.field = ScalarField::gather(v.mesh()).ok();
             v.derived = None;

@@ -11,7 +11,7 @@
 //! to well below a micro-unit (an `f32` there resolves only 0.06 units).
 
 mod cell_kind;
-mod data;
+pub(crate) mod data;
 mod refine;
 pub mod topology;
 pub mod validate;

@@ -24,18 +24,18 @@
 //!
 //! **Non-manifold faces.** When a key is carried by more than two faces (three cells on one
 //! face, or two faces of one cell), none of them gets a neighbour; they are counted by
-//! [`FaceNeighbors::nonmanifold_faces`]. Faces whose key occurs once are the boundary
-//! ([`FaceNeighbors::boundary_face_count`]).
+//! [`FaceNeighbours::nonmanifold_faces`]. Faces whose key occurs once are the boundary
+//! ([`FaceNeighbours::boundary_face_count`]).
 //!
 //! **Duplicated seams.** Meshes whose seam points are duplicated (an O-grid whose first and last
 //! circumferential planes coincide, like the LOX post) are not stitched by point ids: both
-//! sides of the seam are boundary. [`FaceNeighbors::build_with_tolerance`] adds a second pass
+//! sides of the seam are boundary. [`FaceNeighbours::build_with_tolerance`] adds a second pass
 //! over the boundary faces only: it welds their points that lie within a distance `tolerance`
 //! of each other (each point, in increasing id order, joins a representative within
 //! `tolerance` found in a hash grid, or becomes a representative itself: the result is
 //! deterministic), keys the faces by their sorted distinct representatives
 //! and pairs the keys carried by exactly two faces of two different cells, both ways. Those
-//! pairs are *seam faces* ([`FaceNeighbors::is_seam`], [`FaceNeighbors::seam_faces`]); they do
+//! pairs are *seam faces* ([`FaceNeighbours::is_seam`], [`FaceNeighbours::seam_faces`]); they do
 //! not share point ids, only positions.
 //!
 //! **Algorithm and cost.** Faces are bucketed by their smallest point id (a counting sort of
@@ -50,7 +50,7 @@
 //! 3.7 times (`benches/topology.rs` has both).
 //!
 //! ```
-//! use cylvol::mesh::topology::{FaceNeighbors, NONE};
+//! use cylvol::mesh::topology::{FaceNeighbours, NONE};
 //! use cylvol::{CellKind, Mesh, MeshParts};
 //! use glam::DVec3;
 //!
@@ -66,9 +66,9 @@
 //!     ..MeshParts::default()
 //! })
 //! .unwrap();
-//! let adjacency = FaceNeighbors::build(&mesh);
-//! assert_eq!(adjacency.neighbors(0), [NONE, 1, NONE, NONE, NONE, NONE]);
-//! assert_eq!(adjacency.neighbor(1, 0), Some(0));
+//! let adjacency = FaceNeighbours::build(&mesh);
+//! assert_eq!(adjacency.neighbours(0), [NONE, 1, NONE, NONE, NONE, NONE]);
+//! assert_eq!(adjacency.neighbour(1, 0), Some(0));
 //! assert_eq!(adjacency.boundary_face_count(), 10);
 //! ```
 
@@ -79,7 +79,7 @@ use rayon::prelude::*;
 
 use super::Mesh;
 
-/// The raw value of "no neighbour" in [`FaceNeighbors::neighbors`] and [`FaceNeighbors::raw`].
+/// The raw value of "no neighbour" in [`FaceNeighbours::neighbours`] and [`FaceNeighbours::raw`].
 pub const NONE: u32 = u32::MAX;
 
 /// A temporary marker for faces whose key is shared by too many faces; [`NONE`] in the result.
@@ -192,16 +192,16 @@ impl FaceKey {
 /// The face adjacency of a mesh: six neighbours per cell (see the module docs for the face
 /// order, how faces are matched, and what has no neighbour).
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct FaceNeighbors {
+pub struct FaceNeighbours {
     /// `6 × cells` entries: the neighbour of face `f` of cell `c` at `6c + f`, or [`NONE`].
-    neighbors: Vec<u32>,
+    neighbours: Vec<u32>,
     /// Seam faces matched by position, as `6c + f`, increasing.
     seams: Vec<u64>,
     boundary: usize,
     nonmanifold: usize,
     degenerate: usize,
     /// Faces without a neighbour found to have mesh beyond them by
-    /// [`FaceNeighbors::check_boundary`]; `None` until it has run.
+    /// [`FaceNeighbours::check_boundary`]; `None` until it has run.
     hanging: Option<usize>,
 }
 
@@ -228,19 +228,19 @@ impl std::ops::Add for Counts {
 /// pairing independent of the order cells arrived in the bucket).
 type Entry = (FaceKey, u32, u8);
 
-/// Points at which [`FaceNeighbors::check_boundary`] probes each face without a neighbour:
+/// Points at which [`FaceNeighbours::check_boundary`] probes each face without a neighbour:
 /// its centre and the four points halfway from there to its corners.
 pub const BOUNDARY_PROBES: usize = 5;
 
-impl FaceNeighbors {
+impl FaceNeighbours {
     /// Matches faces by their point ids (see the module docs). Meshes of `u32::MAX` cells or
     /// more, which `u32` cell ids cannot address, get an empty table: every face reads as none.
-    pub fn build(mesh: &Mesh) -> FaceNeighbors {
+    pub fn build(mesh: &Mesh) -> FaceNeighbours {
         let cells = mesh.cells();
         let n_points = mesh.point_count();
         if cells.len() >= NONE as usize || n_points == 0 {
-            return FaceNeighbors {
-                neighbors: Vec::new(),
+            return FaceNeighbours {
+                neighbours: Vec::new(),
                 seams: Vec::new(),
                 boundary: 0,
                 nonmanifold: 0,
@@ -312,7 +312,7 @@ impl FaceNeighbors {
         drop(cursor);
 
         // 3. Pair equal keys within each bucket.
-        let neighbors: Vec<AtomicU32> = (0..cells.len() * 6)
+        let neighbours: Vec<AtomicU32> = (0..cells.len() * 6)
             .into_par_iter()
             .map(|_| AtomicU32::new(NONE))
             .collect();
@@ -332,14 +332,14 @@ impl FaceNeighbors {
                         }
                     }
                 }
-                pair_runs(entries, &neighbors)
+                pair_runs(entries, &neighbours)
             })
             .reduce(Counts::default, |a, b| a + b);
         drop(masks);
         drop(slots);
 
-        FaceNeighbors {
-            neighbors: finish(neighbors),
+        FaceNeighbours {
+            neighbours: finish(neighbours),
             seams: Vec::new(),
             boundary: counts.boundary,
             nonmanifold: counts.nonmanifold,
@@ -348,19 +348,19 @@ impl FaceNeighbors {
         }
     }
 
-    /// [`FaceNeighbors::build`], then a second pass that pairs the remaining boundary faces
+    /// [`FaceNeighbours::build`], then a second pass that pairs the remaining boundary faces
     /// whose points coincide within `tolerance` (a distance in the mesh's units), so walks cross
     /// seams whose points are duplicated. See the module docs for how points are welded. A
     /// `tolerance` that is not finite and positive skips the second pass. A tolerance of about
-    /// `1e-9` times the mesh's bounding-box diagonal ([`FaceNeighbors::seam_tolerance`]) joins
+    /// `1e-9` times the mesh's bounding-box diagonal ([`FaceNeighbours::seam_tolerance`]) joins
     /// points that are duplicated bit for bit or up to rounding, and nothing else.
     ///
     /// Faces that are boundary for a reason (two walls that touch, the two sides of a
     /// zero-thickness baffle) are joined as well when their points coincide: a walk may then
     /// cross them, which is still correct for locating samples, as both cells are real volume.
-    pub fn build_with_tolerance(mesh: &Mesh, tolerance: f64) -> FaceNeighbors {
-        let mut result = FaceNeighbors::build(mesh);
-        if !(tolerance.is_finite() && tolerance > 0.0) || result.neighbors.is_empty() {
+    pub fn build_with_tolerance(mesh: &Mesh, tolerance: f64) -> FaceNeighbours {
+        let mut result = FaceNeighbours::build(mesh);
+        if !(tolerance.is_finite() && tolerance > 0.0) || result.neighbours.is_empty() {
             return result;
         }
         let cells = mesh.cells();
@@ -370,7 +370,7 @@ impl FaceNeighbors {
         // faces were turned into NONE already, so recognise them again by key multiplicity:
         // they are rare, and a boundary face's id key is unique among all faces.
         let open: Vec<(u32, u8)> = result
-            .neighbors
+            .neighbours
             .par_chunks(6)
             .enumerate()
             .flat_map_iter(|(c, nb)| {
@@ -434,8 +434,8 @@ impl FaceNeighbors {
                 if ca != cb {
                     let ia = *ca as usize * 6 + *fa as usize;
                     let ib = *cb as usize * 6 + *fb as usize;
-                    result.neighbors[ia] = *cb;
-                    result.neighbors[ib] = *ca;
+                    result.neighbours[ia] = *cb;
+                    result.neighbours[ib] = *ca;
                     seams.push(ia as u64);
                     seams.push(ib as u64);
                 }
@@ -448,7 +448,7 @@ impl FaceNeighbors {
         result
     }
 
-    /// A welding tolerance for [`FaceNeighbors::build_with_tolerance`]: `1e-9` times the
+    /// A welding tolerance for [`FaceNeighbours::build_with_tolerance`]: `1e-9` times the
     /// diagonal of the mesh's bounding box (points that coincide up to rounding, for a mesh of
     /// any size and placement).
     pub fn seam_tolerance(mesh: &Mesh) -> f64 {
@@ -465,9 +465,9 @@ impl FaceNeighbors {
     /// The six neighbours of `cell`, in face order (see the module docs); [`NONE`] where a face
     /// has none (boundary, degenerate or non-manifold). A `cell` out of range has none at all.
     #[inline]
-    pub fn neighbors(&self, cell: u32) -> [u32; 6] {
+    pub fn neighbours(&self, cell: u32) -> [u32; 6] {
         let at = cell as usize * 6;
-        match self.neighbors.get(at..at + 6) {
+        match self.neighbours.get(at..at + 6) {
             Some(s) => [s[0], s[1], s[2], s[3], s[4], s[5]],
             None => [NONE; 6],
         }
@@ -475,11 +475,11 @@ impl FaceNeighbors {
 
     /// The neighbour across face `face` (0–5) of `cell`, if any.
     #[inline]
-    pub fn neighbor(&self, cell: u32, face: usize) -> Option<u32> {
+    pub fn neighbour(&self, cell: u32, face: usize) -> Option<u32> {
         if face >= 6 {
             return None;
         }
-        self.neighbors
+        self.neighbours
             .get(cell as usize * 6 + face)
             .copied()
             .filter(|&n| n != NONE)
@@ -487,12 +487,12 @@ impl FaceNeighbors {
 
     /// All neighbours: face `f` of cell `c` at `6c + f`, [`NONE`] where none.
     pub fn raw(&self) -> &[u32] {
-        &self.neighbors
+        &self.neighbours
     }
 
     /// Number of cells covered (the mesh's cell count, or 0 for a mesh too large to index).
     pub fn cell_count(&self) -> usize {
-        self.neighbors.len() / 6
+        self.neighbours.len() / 6
     }
 
     /// Non-degenerate faces that have no neighbour and share their key with no other face: the
@@ -514,13 +514,13 @@ impl FaceNeighbors {
     }
 
     /// Faces joined by position rather than by point ids (both sides of each seam pair are
-    /// counted; 0 after [`FaceNeighbors::build`]).
+    /// counted; 0 after [`FaceNeighbours::build`]).
     pub fn seam_faces(&self) -> usize {
         self.seams.len()
     }
 
     /// True when face `face` of `cell` was joined by position (see
-    /// [`FaceNeighbors::build_with_tolerance`]).
+    /// [`FaceNeighbours::build_with_tolerance`]).
     pub fn is_seam(&self, cell: u32, face: usize) -> bool {
         face < 6
             && self
@@ -536,7 +536,7 @@ impl FaceNeighbors {
     /// `1e-6` of the cell's box diagonal. A face with mesh beyond it is *hanging*: a
     /// non-conforming interface (a hexahedron face against two wedges or four smaller
     /// hexahedra, hanging nodes), a non-manifold face, or a seam the tolerance pass did not
-    /// weld. Returns the number of hanging faces; [`FaceNeighbors::is_closed`] is true once the
+    /// weld. Returns the number of hanging faces; [`FaceNeighbours::is_closed`] is true once the
     /// check has run and found none.
     ///
     /// The ray caster trusts a face without a neighbour to be the boundary only for a closed
@@ -550,7 +550,7 @@ impl FaceNeighbors {
         self.check_boundary_near(mesh, |_, _, _, _| [true; BOUNDARY_PROBES], cell_at)
     }
 
-    /// [`FaceNeighbors::check_boundary`] with a filter in front of the point location: the
+    /// [`FaceNeighbours::check_boundary`] with a filter in front of the point location: the
     /// probes `p` beyond face `face` of `cell` are put to `near(cell, face, probes, r)`, all
     /// at once, and a probe goes to `cell_at` only where its flag says another face without a
     /// neighbour may lie within `r` of it. `r` is the probes' offset plus the face's deviation
@@ -569,7 +569,7 @@ impl FaceNeighbors {
         use glam::DVec3;
         let cells = mesh.cells();
         let hanging = self
-            .neighbors
+            .neighbours
             .par_chunks(6)
             .enumerate()
             .map(|(c, nb)| {
@@ -607,13 +607,13 @@ impl FaceNeighbors {
         hanging
     }
 
-    /// Faces [`FaceNeighbors::check_boundary`] found to have mesh beyond them (`None` before
+    /// Faces [`FaceNeighbours::check_boundary`] found to have mesh beyond them (`None` before
     /// it has run).
     pub fn hanging_faces(&self) -> Option<usize> {
         self.hanging
     }
 
-    /// Whether [`FaceNeighbors::check_boundary`] has run and found every face without a
+    /// Whether [`FaceNeighbours::check_boundary`] has run and found every face without a
     /// neighbour to be the mesh's boundary.
     pub fn is_closed(&self) -> bool {
         self.hanging == Some(0)
@@ -622,26 +622,26 @@ impl FaceNeighbors {
     /// Bytes held: 24 per cell plus 8 per seam face.
     pub fn bytes(&self) -> usize {
         std::mem::size_of::<Self>()
-            + self.neighbors.capacity() * std::mem::size_of::<u32>()
+            + self.neighbours.capacity() * std::mem::size_of::<u32>()
             + self.seams.capacity() * std::mem::size_of::<u64>()
     }
 }
 
 /// Pairs the runs of equal keys in `entries` (sorted here), writing neighbours both ways.
-fn pair_runs(entries: &mut [Entry], neighbors: &[AtomicU32]) -> Counts {
+fn pair_runs(entries: &mut [Entry], neighbours: &[AtomicU32]) -> Counts {
     entries.sort_unstable();
     let mut counts = Counts::default();
     for run in entries.chunk_by(|a, b| a.0 == b.0) {
         match run {
             [_] => counts.boundary += 1,
             [(_, ca, fa), (_, cb, fb)] if ca != cb => {
-                neighbors[*ca as usize * 6 + *fa as usize].store(*cb, Ordering::Relaxed);
-                neighbors[*cb as usize * 6 + *fb as usize].store(*ca, Ordering::Relaxed);
+                neighbours[*ca as usize * 6 + *fa as usize].store(*cb, Ordering::Relaxed);
+                neighbours[*cb as usize * 6 + *fb as usize].store(*ca, Ordering::Relaxed);
             }
             _ => {
                 counts.nonmanifold += run.len();
                 for &(_, c, f) in run {
-                    neighbors[c as usize * 6 + f as usize].store(NONMANIFOLD, Ordering::Relaxed);
+                    neighbours[c as usize * 6 + f as usize].store(NONMANIFOLD, Ordering::Relaxed);
                 }
             }
         }
@@ -650,8 +650,8 @@ fn pair_runs(entries: &mut [Entry], neighbors: &[AtomicU32]) -> Counts {
 }
 
 /// The atomics as plain values, with the non-manifold marker turned into [`NONE`].
-fn finish(neighbors: Vec<AtomicU32>) -> Vec<u32> {
-    neighbors
+fn finish(neighbours: Vec<AtomicU32>) -> Vec<u32> {
+    neighbours
         .into_iter()
         .map(|a| match a.into_inner() {
             NONMANIFOLD => NONE,

@@ -456,7 +456,7 @@ impl RaySource for RayGenerator {
 /// rows. vtkCylVolMapper renders a frame in such bands.
 ///
 /// ```
-/// use cylvol::render::camera::{band_projection, MatrixRays, RaySource};
+/// use cylvol::render::{band_projection, MatrixRays, RaySource};
 /// let view = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, -5.0, 0.0, 0.0, 0.0, 1.0];
 /// // A perspective with near 1 and far 10.
 /// let (a, b) = (-11.0 / 9.0, -20.0 / 9.0);
@@ -496,7 +496,7 @@ impl MatrixRays {
     /// entries, a singular `projection · view`, or an empty image.
     ///
     /// ```
-    /// use cylvol::render::camera::{MatrixRays, RaySource};
+    /// use cylvol::render::{MatrixRays, RaySource};
     /// let identity = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
     /// // Identity matrices: clip space is world space, the near plane z = −1, the far z = +1.
     /// let rays = MatrixRays::new(&identity, &identity, 1, 1).unwrap();

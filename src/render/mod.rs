@@ -1,5 +1,14 @@
-//! Volume rendering by ray casting: the camera, the transfer function, the two sampling paths
-//! (`paper` and `fast`), shading, images and the work counters.
+//! Volume rendering by ray casting: the camera, the transfer function, the renderer and its
+//! options, images and the work counters.
+//!
+//! A [`Renderer`] casts each ray of an image ([`RaySource`]: a [`Camera`]'s, or a view and
+//! projection matrix's) through a [`Volume`] (a mesh, its structure and its scalar) in one
+//! short loop over parts with one job each: a *locator* says where the next sample lies
+//! (through the structure on the `paper` path, by marching from cell to cell on the `fast`
+//! one), a *boundary* part says where the ray crosses the mesh's boundary, and an
+//! *accumulator* makes the pixel of the samples (front-to-back compositing, or a maximum- or
+//! minimum-intensity projection). `docs/architecture.md` draws the whole way from a file to a
+//! pixel.
 //!
 //! ```
 //! use cylvol::accel::{Accel, AccelParams, StructureKind};
@@ -18,36 +27,44 @@
 //! assert_eq!(stats.rays, 256);
 //! ```
 
-pub mod accuracy;
-pub mod boundary;
-pub mod camera;
-pub mod chords;
-pub mod clip;
-pub mod image;
-pub mod march;
-pub mod plot;
-pub mod ray_faces;
-pub mod raycast;
-pub mod shading;
-pub mod skip;
-pub mod surface;
-pub mod topology;
-pub mod transfer;
-pub mod transparency;
-pub mod walk;
+mod accumulate;
+mod boundary;
+mod camera;
+mod cast;
+mod clip;
+mod faces;
+mod field;
+mod frame;
+mod image;
+mod locate;
+mod options;
+mod ray;
+mod renderer;
+mod shading;
+mod stats;
+mod transfer;
+mod transparency;
+mod walk;
 
+pub use accumulate::RayResult;
+pub use boundary::search::BISECTIONS;
+pub use boundary::surface::BoundarySurface;
 pub use camera::{
-    Camera, CameraFrame, MatrixRays, Projection, RayGenerator, RaySource, DEFAULT_VIEW_ANGLE,
+    band_projection, Camera, CameraFrame, MatrixRays, Projection, RayGenerator, RaySource,
+    DEFAULT_VIEW_ANGLE,
 };
 pub use clip::{ClipPlanes, MAX_CLIP_PLANES};
+pub use faces::{face_neighbours, unchecked_neighbours, Topology};
+pub use field::{default_step, ScalarField, Volume};
 pub use image::Image;
-pub use raycast::{
-    default_step, Blend, Derived, Interpolation, Neighbours, NoNeighbours, RayResult,
-    RenderOptions, RenderPath, RenderStats, Renderer, ScalarField, Volume, DEFAULT_MARCH_REACH,
-    MAX_SAMPLES_PER_RAY,
+pub use options::{
+    Blend, Interpolation, RenderOptions, RenderPath, DEFAULT_MARCH_REACH, MAX_SAMPLES_PER_RAY,
 };
+pub use renderer::{Derived, Renderer};
 pub use shading::Shading;
-pub use topology::{face_neighbours, unchecked_neighbours, Topology};
+pub use stats::RenderStats;
 pub use transfer::{
     GradientOpacity, TransferFunction, TransferTable, DEFAULT_TABLE_SIZE, GRADIENT_TABLE_SIZE,
+    VTK_MAPPER_TABLE_ENTRIES,
 };
+pub use walk::{Neighbours, NoNeighbours};

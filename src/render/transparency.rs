@@ -4,31 +4,16 @@
 //! range (16 bytes a cell) and two table positions.
 //!
 //! A cell is transparent when every scalar its corners span maps to zero opacity
-//! ([`TransferTable::transparent_over`] of its range), the same test the fast path made before
-//! this mask, so the mask changes the work, never the image.
+//! ([`TransferTable::transparent_over`] of its range), the same test a look-up of the cell's
+//! range would make, so the mask changes the work, never the image.
 
 use rayon::prelude::*;
 
 use super::transfer::TransferTable;
 
 /// One bit per cell: set where the transfer table makes the cell wholly transparent.
-///
-/// ```
-/// use cylvol::render::transparency::TransparentCells;
-/// use cylvol::render::TransferFunction;
-/// // Opacity zero over the lowest quarter of the range, positive above.
-/// let tf = TransferFunction::default_for_range(0.0, 1.0, 0.5, 1.0);
-/// let table = tf.table(0.0, 1.0, 1.0, 256).unwrap();
-/// let ranges = [[0.0, 0.0], [0.2, 0.9], [1.0, 1.0]];
-/// let mask = TransparentCells::new(&ranges, &table);
-/// assert_eq!(mask.len(), 3);
-/// for (c, [a, b]) in ranges.iter().enumerate() {
-///     assert_eq!(mask.contains(c as u32), table.transparent_over(*a, *b));
-/// }
-/// assert!(!mask.contains(3)); // out of range: not known to be transparent
-/// ```
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct TransparentCells {
+pub(crate) struct TransparentCells {
     bits: Vec<u64>,
     len: usize,
 }
@@ -39,7 +24,7 @@ const WORD: usize = 64;
 impl TransparentCells {
     /// The mask of `ranges` (each cell's `[min, max]` scalar) under `table`, built in
     /// parallel.
-    pub fn new(ranges: &[[f64; 2]], table: &TransferTable) -> TransparentCells {
+    pub(crate) fn new(ranges: &[[f64; 2]], table: &TransferTable) -> TransparentCells {
         TransparentCells {
             bits: ranges
                 .par_chunks(WORD)
@@ -51,7 +36,7 @@ impl TransparentCells {
 
     /// [`TransparentCells::new`] on the calling thread only (for a lazily made mask, whose
     /// builder must not wait on work the thread pool might hand back to it).
-    pub fn new_sequential(ranges: &[[f64; 2]], table: &TransferTable) -> TransparentCells {
+    pub(crate) fn new_sequential(ranges: &[[f64; 2]], table: &TransferTable) -> TransparentCells {
         TransparentCells {
             bits: ranges
                 .chunks(WORD)
@@ -63,23 +48,26 @@ impl TransparentCells {
 
     /// Whether `cell` is wholly transparent; `false` for a cell out of range.
     #[inline]
-    pub fn contains(&self, cell: u32) -> bool {
+    pub(crate) fn contains(&self, cell: u32) -> bool {
         let c = cell as usize;
         c < self.len && (self.bits[c / WORD] >> (c % WORD)) & 1 == 1
     }
 
     /// Number of cells covered.
-    pub fn len(&self) -> usize {
+    #[cfg(test)]
+    pub(crate) fn len(&self) -> usize {
         self.len
     }
 
     /// Whether the mask covers no cell.
-    pub fn is_empty(&self) -> bool {
+    #[cfg(test)]
+    pub(crate) fn is_empty(&self) -> bool {
         self.len == 0
     }
 
     /// Number of transparent cells.
-    pub fn count(&self) -> usize {
+    #[cfg(test)]
+    pub(crate) fn count(&self) -> usize {
         self.bits.iter().map(|w| w.count_ones() as usize).sum()
     }
 }
@@ -97,6 +85,20 @@ fn word(chunk: &[[f64; 2]], table: &TransferTable) -> u64 {
 mod tests {
     use super::*;
     use crate::render::TransferFunction;
+
+    #[test]
+    fn a_cell_is_transparent_where_the_table_is_over_its_range() {
+        // Opacity zero over the lowest quarter of the range, positive above.
+        let tf = TransferFunction::default_for_range(0.0, 1.0, 0.5, 1.0);
+        let table = tf.table(0.0, 1.0, 1.0, 256).unwrap();
+        let ranges = [[0.0, 0.0], [0.2, 0.9], [1.0, 1.0]];
+        let mask = TransparentCells::new(&ranges, &table);
+        assert_eq!(mask.len(), 3);
+        for (c, [a, b]) in ranges.iter().enumerate() {
+            assert_eq!(mask.contains(c as u32), table.transparent_over(*a, *b));
+        }
+        assert!(!mask.contains(3)); // out of range: not known to be transparent
+    }
 
     #[test]
     fn mask_agrees_with_the_table_across_word_boundaries() {

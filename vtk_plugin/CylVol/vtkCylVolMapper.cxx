@@ -45,7 +45,7 @@ vtkStandardNewMacro(vtkCylVolMapper);
 
 namespace
 {
-// Entries of the colour and opacity tables. cylvol::render::transfer::VTK_MAPPER_TABLE_ENTRIES
+// Entries of the colour and opacity tables. cylvol::render::VTK_MAPPER_TABLE_ENTRIES
 // is the same number, so that `cylvol render --opacity-convention attenuation` reads a transfer
 // function as this mapper does.
 constexpr int kTableSize = 1024;

@@ -58,9 +58,10 @@
 
 mod binned_build;
 mod bounds;
+mod first_hit;
 mod mask;
 mod near;
-mod node_ray_tests;
+mod node_shapes;
 pub(crate) mod ray;
 mod stats;
 mod traverse;
@@ -71,8 +72,8 @@ use std::marker::PhantomData;
 pub use binned_build::build_bvh;
 pub use bounds::{BoxF32, BvhBounds, LinearFrame, SectorF32, SectorQuery};
 pub use mask::{NodeMask, NodeRanges};
-pub use node_ray_tests::{
-    arc_narrower_than_half_turn, arc_trig, sector_box, ArcTrig, NodeRayTest, NodeRayTests,
+pub use node_shapes::{
+    arc_narrower_than_half_turn, arc_trig, sector_box, ArcTrig, NodeShape, NodeShapes,
     BOX_AREA_LIMIT,
 };
 pub use stats::BvhStats;

@@ -94,7 +94,6 @@ pub fn build_grid(
     loop {
         let grid = attempt(
             coordinates,
-            cylindrical,
             pieces,
             n,
             domain,
@@ -145,10 +144,8 @@ fn budget(count: usize, per_piece: u64, floor: u64) -> u64 {
 }
 
 /// One build at the given densities; which level overflowed when one does.
-#[allow(clippy::too_many_arguments)]
 fn attempt(
     coordinates: Coordinates,
-    cylindrical: bool,
     pieces: &Pieces<Aabb>,
     n: usize,
     domain: Aabb,
@@ -156,6 +153,7 @@ fn attempt(
     (top_density, leaf_density): (f64, f64),
     order: CandidateOrder,
 ) -> Result<TwoLevelGrid, Overflow> {
+    let cylindrical = matches!(coordinates, Coordinates::Cylindrical(_));
     let mut grid = TwoLevelGrid {
         meta: Box::new(Meta {
             coordinates,

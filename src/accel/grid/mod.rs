@@ -73,6 +73,7 @@ mod mask;
 mod resolution;
 mod traverse;
 mod validation;
+mod walk;
 
 use std::mem::size_of;
 

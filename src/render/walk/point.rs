@@ -1,4 +1,5 @@
-//! The fast path's point location by walking through face neighbours.
+//! The walk of a point through face neighbours: the fast path's location of a point near a
+//! known cell.
 //!
 //! From the cell of the previous sample, the next sample is first sought by a *visibility
 //! walk* over the cells' face planes — no inverse map: each face of a cell is approximated by
@@ -16,24 +17,23 @@
 
 use glam::DVec3;
 
-use super::raycast::Neighbours;
+use super::{Across, Cells};
 use crate::geometry::containment::{param_inside, reject_box};
 use crate::geometry::inverse::invert;
 use crate::mesh::topology::FACES;
-use crate::Mesh;
 
 /// Cells a walk may cross by face planes before it gives up.
-pub const MAX_PLANE_STEPS: u32 = 64;
+pub(crate) const MAX_PLANE_STEPS: u32 = 64;
 /// Plane steps of a walk from a hint (the previous ray's first cell) to a ray's entry: such a
 /// walk usually succeeds within a few cells or not at all (the entry lies across a gap of the
 /// mesh), when the structure answers.
-pub const MAX_ENTRY_PLANE_STEPS: u32 = 16;
+pub(crate) const MAX_ENTRY_PLANE_STEPS: u32 = 16;
 /// Inverse-map tests a walk may make before it gives up.
-pub const MAX_WALK_TESTS: u32 = 4;
+pub(crate) const MAX_WALK_TESTS: u32 = 4;
 
 /// How a walk ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum WalkEnd {
+pub(crate) enum WalkEnd {
     /// The point lies in this cell, at these parametric coordinates.
     Found(u32, DVec3),
     /// The point lies in this cell, certified by its face planes alone
@@ -48,19 +48,19 @@ pub enum WalkEnd {
 
 /// The work of one walk.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct WalkWork {
+pub(crate) struct WalkWork {
     /// Inverse-map containment tests.
-    pub tests: u64,
+    pub(crate) tests: u64,
     /// Cells stepped across by face planes (no inverse map).
-    pub plane_steps: u64,
+    pub(crate) plane_steps: u64,
     /// Points found inside a cell by its face planes alone ([`WalkEnd::Certified`]).
-    pub certified: u64,
+    pub(crate) certified: u64,
 }
 
 /// The face (0–5, in [`FACES`] order) whose plane `p` lies farthest beyond, with that signed
 /// distance (negative when `p` is behind every face plane); degenerate faces are ignored.
 #[inline]
-pub fn farthest_face(corners: &[DVec3; 8], p: DVec3) -> (usize, f64) {
+pub(crate) fn farthest_face(corners: &[DVec3; 8], p: DVec3) -> (usize, f64) {
     let x0 = corners[0];
     let rel = corners.map(|c| c - x0);
     let q = p - x0;
@@ -88,7 +88,7 @@ pub fn farthest_face(corners: &[DVec3; 8], p: DVec3) -> (usize, f64) {
 /// The face (0–5) whose parametric bound `param` violates most: `u < 0` is face 0, `u > 1`
 /// face 1, `v < 0` face 2, `v > 1` face 3, `w < 0` face 4, `w > 1` face 5.
 #[inline]
-pub fn violated_face(param: DVec3) -> usize {
+pub(crate) fn violated_face(param: DVec3) -> usize {
     let v = [
         -param.x,
         param.x - 1.0,
@@ -111,7 +111,7 @@ pub fn violated_face(param: DVec3) -> usize {
 /// see which face the point lies beyond; `Err(None)` when the reject box misses or the inverse
 /// fails.
 #[inline]
-pub fn test_cell(
+pub(crate) fn test_cell(
     corners: &[DVec3; 8],
     p: DVec3,
     guess: Option<DVec3>,
@@ -128,28 +128,26 @@ pub fn test_cell(
 /// Walks from `start` (the previous sample's cell, `guess` its parametric coordinates there,
 /// used to warm-start Newton if the walk tests that cell) to the cell holding `p`, with at
 /// most [`MAX_PLANE_STEPS`] plane steps.
-pub fn walk(
-    mesh: &Mesh,
-    neighbours: &dyn Neighbours,
+pub(crate) fn walk(
+    cells: &Cells,
     start: u32,
     guess: Option<DVec3>,
     p: DVec3,
     work: &mut WalkWork,
 ) -> WalkEnd {
-    walk_within(mesh, neighbours, start, guess, p, MAX_PLANE_STEPS, work)
+    walk_within(cells, start, guess, p, MAX_PLANE_STEPS, work)
 }
 
 /// [`walk`] with at most `max_plane_steps` plane steps.
-pub fn walk_within(
-    mesh: &Mesh,
-    neighbours: &dyn Neighbours,
+pub(crate) fn walk_within(
+    cells: &Cells,
     start: u32,
     guess: Option<DVec3>,
     p: DVec3,
     max_plane_steps: u32,
     work: &mut WalkWork,
 ) -> WalkEnd {
-    let n_cells = mesh.cell_count();
+    let n_cells = cells.mesh.cell_count();
     let mut cell = start;
     let mut guess = guess;
     let mut steps = 0u32;
@@ -161,7 +159,7 @@ pub fn walk_within(
         if cell as usize >= n_cells {
             return WalkEnd::GaveUp;
         }
-        let corners = mesh.cell_corners(cell as usize);
+        let corners = cells.mesh.cell_corners(cell as usize);
         if !test_now {
             let (f, dist) = farthest_face(&corners, p);
             if dist.is_nan() {
@@ -171,10 +169,9 @@ pub fn walk_within(
                 if steps >= max_plane_steps {
                     return WalkEnd::GaveUp;
                 }
-                let n = neighbours.neighbours(cell)[f];
-                if n == u32::MAX || n as usize >= n_cells || n == cell {
+                let Across::Cell(n) = cells.across(cell, f) else {
                     return WalkEnd::Boundary;
-                }
+                };
                 steps += 1;
                 work.plane_steps += 1;
                 cell = n;
@@ -190,10 +187,9 @@ pub fn walk_within(
         match test_cell(&corners, p, guess) {
             Ok(q) => return WalkEnd::Found(cell, q),
             Err(Some(q)) => {
-                let n = neighbours.neighbours(cell)[violated_face(q)];
-                if n == u32::MAX || n as usize >= n_cells || n == cell {
+                let Across::Cell(n) = cells.across(cell, violated_face(q)) else {
                     return WalkEnd::GaveUp;
-                }
+                };
                 cell = n;
                 guess = None;
                 test_now = true;

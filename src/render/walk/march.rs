@@ -1,4 +1,6 @@
-//! The fast path's point location along a ray by marching from cell to cell through exit faces.
+//! The march of a ray from cell to cell through its exit faces: the fast path's location of
+//! the samples along a ray, and the estimates and exact crossings of the mesh's boundary that
+//! follow the ray across the cells.
 //!
 //! A ray inside the mesh crosses a sequence of face-adjacent cells. Rather than asking, for
 //! every sample, which face plane of the previous sample's cell the sample lies beyond (a
@@ -19,18 +21,19 @@
 
 use glam::{DVec3, Vec3A};
 
-use super::raycast::Neighbours;
-use super::walk::{test_cell, walk, WalkEnd, WalkWork};
+use super::point::{test_cell, walk, WalkEnd, WalkWork};
+use super::{Across, Cells};
 use crate::accel::prefetch;
 use crate::geometry::bounds::Aabb;
 use crate::geometry::containment::{certainly_inside, param_inside, reject_box};
 use crate::geometry::inverse::PreparedCell;
 use crate::geometry::patch::segment_crossings;
 use crate::mesh::topology::{FaceKey, FACES};
+use crate::render::ray::Ray;
 use crate::Mesh;
 
 /// Cells a march may cross between two samples before it gives up.
-pub const MAX_MARCH_STEPS: u32 = 64;
+pub(crate) const MAX_MARCH_STEPS: u32 = 64;
 
 /// Where a ray leaves a cell by its face planes: the face (0–5, in [`FACES`] order) and the
 /// ray parameter `t` of the crossing, for the ray `o + t d`. `None` when the ray heads out of
@@ -40,37 +43,16 @@ pub const MAX_MARCH_STEPS: u32 = 64;
 /// of the ray nearest it, so that every quantity is of the cell's size: the crossing is found
 /// to about `1e-7` of the cell's size wherever the cell lies (a proposal, which the inverse
 /// map then verifies).
-///
-/// ```
-/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
-/// use cylvol::render::march::exit_face;
-/// use glam::DVec3;
-/// let cube = CORNER_PARAMETERS.map(DVec3::from_array);
-/// let (face, t) = exit_face(&cube, DVec3::new(-1.0, 0.5, 0.5), DVec3::X).unwrap();
-/// assert_eq!(face, 1); // u = 1
-/// assert!((t - 2.0).abs() < 1e-6);
-/// ```
 #[inline]
-pub fn exit_face(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(usize, f64)> {
+pub(crate) fn exit_face(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(usize, f64)> {
     exit_face_except(corners, o, d, usize::MAX)
 }
 
 /// [`exit_face`] with the face `entry` (0–5; any other value for none) left out: the face
 /// the ray entered the cell through, whose plane it crosses inwards (or, grazing it, at no
 /// distance, which would send the march back where it came from).
-///
-/// ```
-/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
-/// use cylvol::render::march::{exit_face, exit_face_except};
-/// use glam::DVec3;
-/// let cube = CORNER_PARAMETERS.map(DVec3::from_array);
-/// // Entered through u = 0 (face 0) on the plane itself, heading along the face:
-/// let (o, d) = (DVec3::new(0.0, 0.5, 0.5), DVec3::new(-1e-9, 1.0, 0.0));
-/// assert_eq!(exit_face(&cube, o, d).unwrap().0, 0);
-/// assert_eq!(exit_face_except(&cube, o, d, 0).unwrap().0, 3); // v = 1
-/// ```
 #[inline]
-pub fn exit_face_except(
+pub(crate) fn exit_face_except(
     corners: &[DVec3; 8],
     o: DVec3,
     d: DVec3,
@@ -94,18 +76,12 @@ pub fn exit_face_except(
 /// largest crossing of a plane it heads into the cell by; `-inf` where there is none) with
 /// [`exit_face`]'s answer, from one evaluation of the planes. `None` where `exit_face` gives
 /// none.
-///
-/// ```
-/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
-/// use cylvol::render::march::entry_and_exit;
-/// use glam::DVec3;
-/// let cube = CORNER_PARAMETERS.map(DVec3::from_array);
-/// let (entry, (face, exit)) = entry_and_exit(&cube, DVec3::new(-1.0, 0.5, 0.5), DVec3::X).unwrap();
-/// assert!((entry - 1.0).abs() < 1e-6 && (exit - 2.0).abs() < 1e-6);
-/// assert_eq!(face, 1);
-/// ```
 #[inline]
-pub fn entry_and_exit(corners: &[DVec3; 8], o: DVec3, d: DVec3) -> Option<(f64, (usize, f64))> {
+pub(crate) fn entry_and_exit(
+    corners: &[DVec3; 8],
+    o: DVec3,
+    d: DVec3,
+) -> Option<(f64, (usize, f64))> {
     let (t_ref, planes) = face_planes(corners, o, d)?;
     let mut exit: Option<(usize, f32, f32)> = None;
     let mut entry: Option<(f32, f32)> = None;
@@ -193,7 +169,7 @@ fn face_plane(
 /// prepared for the inverse map once a sample has been tested in it (the next samples in the
 /// same cell reuse it).
 #[derive(Clone, Debug)]
-pub struct March {
+pub(crate) struct March {
     cell: u32,
     /// The current cell's corners (gathered once per cell crossed).
     corners: [DVec3; 8],
@@ -241,7 +217,7 @@ impl Default for March {
 impl March {
     /// A march in no cell yet: [`March::move_to`] puts it in one (a ray's march is made once
     /// and moved, so that its prepared cell is never copied).
-    pub fn new() -> March {
+    pub(crate) fn new() -> March {
         March {
             cell: u32::MAX,
             corners: [DVec3::ZERO; 8],
@@ -257,13 +233,13 @@ impl March {
 
     /// Moves the march to `cell` (in place: the prepared cell, if any, stays until a sample
     /// is tested in another cell).
-    pub fn move_to(&mut self, mesh: &Mesh, cell: u32, o: DVec3, d: DVec3) {
+    pub(crate) fn move_to(&mut self, mesh: &Mesh, cell: u32, ray: &Ray) {
         self.cell = cell;
         self.exit = None;
         self.placed_at = f64::NAN;
         if (cell as usize) < mesh.cell_count() {
             mesh.cell_corners_into(cell as usize, &mut self.corners);
-            if let Some((entry, exit)) = entry_and_exit(&self.corners, o, d) {
+            if let Some((entry, exit)) = entry_and_exit(&self.corners, ray.origin, ray.dir) {
                 self.exit = Some(exit);
                 self.observe_chord(exit.1 - entry);
             }
@@ -274,7 +250,7 @@ impl March {
     /// structure look-up), without gathering the cell: until the next [`March::locate`]
     /// gathers it, [`March::cells_ahead`] estimates from `t` and the ray's typical chord, so a
     /// run of samples located far ahead gathers no cell for the march.
-    pub fn place(&mut self, cell: u32, t: f64) {
+    pub(crate) fn place(&mut self, cell: u32, t: f64) {
         self.cell = cell;
         self.exit = None;
         self.placed_at = t;
@@ -293,12 +269,12 @@ impl March {
     }
 
     /// Moves the march to `cell`, entered through its face `entry` (none if not 0–5).
-    fn enter(&mut self, mesh: &Mesh, cell: u32, entry: usize, o: DVec3, d: DVec3) {
+    fn enter(&mut self, mesh: &Mesh, cell: u32, entry: usize, ray: &Ray) {
         let entered_at = self.exit.map_or(f64::NAN, |(_, t)| t);
         self.cell = cell;
         self.exit = if (cell as usize) < mesh.cell_count() {
             mesh.cell_corners_into(cell as usize, &mut self.corners);
-            exit_face_except(&self.corners, o, d, entry)
+            exit_face_except(&self.corners, ray.origin, ray.dir, entry)
         } else {
             None
         };
@@ -308,12 +284,12 @@ impl March {
     }
 
     /// The current cell.
-    pub fn cell(&self) -> u32 {
+    pub(crate) fn cell(&self) -> u32 {
         self.cell
     }
 
     /// The face (0–5) by whose plane the ray leaves the current cell, if any.
-    pub fn exit_face(&self) -> Option<usize> {
+    pub(crate) fn exit_face(&self) -> Option<usize> {
         self.exit.map(|(f, _)| f)
     }
 
@@ -328,27 +304,7 @@ impl March {
     /// with a positive chord, or in a cell with no exit, so that those keep marching. Where
     /// the march was [`March::place`]d by a sample, its distance from that sample in typical
     /// chords, plus a half.
-    ///
-    /// ```
-    /// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
-    /// use cylvol::render::march::March;
-    /// use cylvol::{CellKind, Mesh, MeshParts};
-    /// use glam::DVec3;
-    /// let mesh = Mesh::from_parts(MeshParts {
-    ///     points: CORNER_PARAMETERS.map(DVec3::from_array).to_vec(),
-    ///     cells: vec![[0, 1, 2, 3, 4, 5, 6, 7]],
-    ///     kinds: vec![CellKind::Hexahedron],
-    ///     ..Default::default()
-    /// })
-    /// .unwrap();
-    /// // Along x through the unit cube: in it from t = 1 to 2 (chord 1).
-    /// let (o, d) = (DVec3::new(-1.0, 0.5, 0.5), DVec3::X);
-    /// let mut march = March::new();
-    /// march.move_to(&mesh, 0, o, d);
-    /// assert_eq!(march.cells_ahead(1.5), 0.0);
-    /// assert!((march.cells_ahead(6.0) - 5.0).abs() < 1e-6);
-    /// ```
-    pub fn cells_ahead(&self, t: f64) -> f64 {
+    pub(crate) fn cells_ahead(&self, t: f64) -> f64 {
         if !self.placed_at.is_nan() {
             // Placed by a sample, half a chord from the exit on average.
             return if t > self.placed_at && self.chord > 0.0 {
@@ -371,23 +327,21 @@ impl March {
     /// cell) is first tried by its face planes alone
     /// ([`crate::geometry::containment::certainly_inside`]), and where they settle it the
     /// answer is [`WalkEnd::Certified`], with no inverse map.
-    #[allow(clippy::too_many_arguments)]
-    pub fn locate(
+    pub(crate) fn locate(
         &mut self,
-        mesh: &Mesh,
-        neighbours: &dyn Neighbours,
-        o: DVec3,
-        d: DVec3,
+        cells: &Cells,
+        ray: &Ray,
         t: f64,
         guess: Option<(u32, DVec3)>,
-        no_parameters: &dyn Fn(u32) -> bool,
+        no_parameters: impl Fn(u32) -> bool,
         work: &mut WalkWork,
     ) -> WalkEnd {
+        let mesh = cells.mesh;
         if !self.placed_at.is_nan() {
-            self.move_to(mesh, self.cell, o, d);
+            self.move_to(mesh, self.cell, ray);
         }
         let n_cells = mesh.cell_count();
-        let p = o + d * t;
+        let p = ray.at(t);
         let mut steps = 0u32;
         while let Some((face, t_exit)) = self.exit {
             if t <= t_exit {
@@ -396,22 +350,21 @@ impl March {
             if steps >= MAX_MARCH_STEPS {
                 return WalkEnd::GaveUp;
             }
-            let n = neighbours.neighbours(self.cell)[face];
-            if n == u32::MAX || n as usize >= n_cells || n == self.cell {
+            let Across::Cell(n) = cells.across(self.cell, face) else {
                 return WalkEnd::Boundary;
-            }
+            };
             steps += 1;
             work.plane_steps += 1;
-            let around = neighbours.neighbours(n);
+            let around = cells.neighbours.neighbours(n);
             let entry = entry_face(&around, self.cell);
             // The next cell is one of these: start loading them all while this one is solved.
             for (f, &m) in around.iter().enumerate() {
                 if f != entry && (m as usize) < n_cells {
                     prefetch(&mesh.cells()[m as usize]);
-                    neighbours.prefetch(m);
+                    cells.neighbours.prefetch(m);
                 }
             }
-            self.enter(mesh, n, entry, o, d);
+            self.enter(mesh, n, entry, ray);
         }
         if self.cell as usize >= n_cells {
             return WalkEnd::GaveUp;
@@ -435,10 +388,10 @@ impl March {
         match tested {
             Ok(q) => WalkEnd::Found(self.cell, q),
             Err(_) => {
-                let end = walk(mesh, neighbours, self.cell, start_guess, p, work);
+                let end = walk(cells, self.cell, start_guess, p, work);
                 if let WalkEnd::Found(c, _) = end {
                     if c != self.cell {
-                        self.move_to(mesh, c, o, d);
+                        self.move_to(mesh, c, ray);
                     }
                 }
                 end
@@ -458,35 +411,31 @@ fn entry_face(around: &[u32; 6], from: u32) -> usize {
 /// the `t` at which it crosses the plane of the first face without a neighbour, if that lies
 /// between `t_from` and `t_to` and is reached within [`MAX_MARCH_STEPS`] cells. An estimate
 /// of a boundary crossing, exact for planar faces; callers verify it.
-pub fn boundary_plane_crossing(
-    mesh: &Mesh,
-    neighbours: &dyn Neighbours,
+pub(crate) fn boundary_plane_crossing(
+    cells: &Cells,
     cell: u32,
-    o: DVec3,
-    d: DVec3,
+    ray: &Ray,
     t_from: f64,
     t_to: f64,
 ) -> Option<f64> {
+    let (o, d) = (ray.origin, ray.dir);
     let (dir, sign) = if t_to >= t_from { (d, 1.0) } else { (-d, -1.0) };
-    let n_cells = mesh.cell_count();
+    let n_cells = cells.mesh.cell_count();
     let mut c = cell;
     for _ in 0..MAX_MARCH_STEPS {
         if c as usize >= n_cells {
             return None;
         }
-        let (face, s) = exit_face(&mesh.cell_corners(c as usize), o, dir)?;
+        let (face, s) = exit_face(&cells.mesh.cell_corners(c as usize), o, dir)?;
         let t = sign * s;
         if (t - t_from) * sign > (t_to - t_from) * sign {
             return None;
         }
-        let n = neighbours.neighbours(c)[face];
-        if n == u32::MAX {
-            return ((t - t_from) * sign >= 0.0).then_some(t);
+        match cells.across(c, face) {
+            Across::Boundary => return ((t - t_from) * sign >= 0.0).then_some(t),
+            Across::Invalid => return None,
+            Across::Cell(n) => c = n,
         }
-        if n as usize >= n_cells || n == c {
-            return None;
-        }
-        c = n;
     }
     None
 }
@@ -500,46 +449,22 @@ pub fn boundary_plane_crossing(
 /// crossed. `None` where a crossing cannot be told robustly (near a face's edge or a cell's
 /// corner, a grazing ray), where the ray reaches `t_to` inside the mesh, or after
 /// [`MAX_MARCH_STEPS`] cells. The answer means what it says only where every face without a
-/// neighbour bounds the mesh ([`Neighbours::complete`]).
-///
-/// ```
-/// use cylvol::geometry::trilinear::CORNER_PARAMETERS;
-/// use cylvol::render::march::boundary_face_crossing;
-/// use cylvol::{CellKind, Mesh, MeshParts};
-/// use glam::DVec3;
-/// // One unit cube: from its centre along a slanted ray, out through x = 1 at t = 0.5.
-/// let mesh = Mesh::from_parts(MeshParts {
-///     points: CORNER_PARAMETERS.map(DVec3::from_array).to_vec(),
-///     cells: vec![[0, 1, 2, 3, 4, 5, 6, 7]],
-///     kinds: vec![CellKind::Hexahedron],
-///     ..Default::default()
-/// })
-/// .unwrap();
-/// let none = |_: u32| [u32::MAX; 6];
-/// let (o, d) = (DVec3::splat(0.5), DVec3::new(1.0, 0.3, -0.2));
-/// let t = boundary_face_crossing(&mesh, &none, 0, o, d, 0.0, 2.0).unwrap();
-/// assert!((t - 0.5).abs() < 1e-12);
-/// // Backwards, out through x = 0; not before t_to.
-/// let t = boundary_face_crossing(&mesh, &none, 0, o, d, 0.0, -2.0).unwrap();
-/// assert!((t + 0.5).abs() < 1e-12);
-/// assert_eq!(boundary_face_crossing(&mesh, &none, 0, o, d, 0.0, 0.4), None);
-/// ```
-pub fn boundary_face_crossing(
-    mesh: &Mesh,
-    neighbours: &dyn Neighbours,
+/// neighbour bounds the mesh ([`super::Neighbours::complete`]).
+pub(crate) fn boundary_face_crossing(
+    cells: &Cells,
     cell: u32,
-    o: DVec3,
-    d: DVec3,
+    ray: &Ray,
     t_from: f64,
     t_to: f64,
 ) -> Option<f64> {
+    let (o, d) = (ray.origin, ray.dir);
+    let mesh = cells.mesh;
     // Along s = ±t, so that the walk always goes towards larger s.
     let (dir, sign) = if t_to >= t_from { (d, 1.0) } else { (-d, -1.0) };
     let s_to = sign * t_to;
     let (mut c, mut s_from, mut entry) = (cell, sign * t_from, usize::MAX);
-    let cells = mesh.cells();
     for _ in 0..MAX_MARCH_STEPS {
-        let ids = *cells.get(c as usize)?;
+        let ids = *mesh.cells().get(c as usize)?;
         let corners = mesh.cell_corners(c as usize);
         let mut first: Option<(f64, usize)> = None;
         for (f, slots) in FACES.iter().enumerate() {
@@ -558,14 +483,12 @@ pub fn boundary_face_crossing(
             }
         }
         let (s, f) = first?;
-        let n = neighbours.neighbours(c)[f];
-        if n == u32::MAX {
-            return Some(sign * s);
-        }
-        if n as usize >= cells.len() || n == c {
-            return None;
-        }
-        entry = entry_face(&neighbours.neighbours(n), c);
+        let n = match cells.across(c, f) {
+            Across::Boundary => return Some(sign * s),
+            Across::Invalid => return None,
+            Across::Cell(n) => n,
+        };
+        entry = entry_face(&cells.neighbours.neighbours(n), c);
         c = n;
         s_from = s;
     }
@@ -576,6 +499,56 @@ pub fn boundary_face_crossing(
 mod tests {
     use super::*;
     use crate::geometry::trilinear::CORNER_PARAMETERS;
+    use crate::{CellKind, MeshParts};
+
+    /// The cells of `mesh` with the neighbours `nb`.
+    fn row_cells<'a>(mesh: &'a Mesh, nb: &'a impl super::super::Neighbours) -> Cells<'a> {
+        Cells {
+            mesh,
+            neighbours: nb,
+        }
+    }
+
+    /// The unit cube as a mesh of one cell.
+    fn unit_cube() -> Mesh {
+        Mesh::from_parts(MeshParts {
+            points: CORNER_PARAMETERS.map(DVec3::from_array).to_vec(),
+            cells: vec![[0, 1, 2, 3, 4, 5, 6, 7]],
+            kinds: vec![CellKind::Hexahedron],
+            ..Default::default()
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn exit_entry_and_exit_of_a_ray_through_the_cube() {
+        let cube = CORNER_PARAMETERS.map(DVec3::from_array);
+        let (face, t) = exit_face(&cube, DVec3::new(-1.0, 0.5, 0.5), DVec3::X).unwrap();
+        assert_eq!(face, 1); // u = 1
+        assert!((t - 2.0).abs() < 1e-6);
+        let (entry, (face, exit)) =
+            entry_and_exit(&cube, DVec3::new(-1.0, 0.5, 0.5), DVec3::X).unwrap();
+        assert!((entry - 1.0).abs() < 1e-6 && (exit - 2.0).abs() < 1e-6);
+        assert_eq!(face, 1);
+        // Entered through u = 0 (face 0) on the plane itself, heading along the face.
+        let (o, d) = (DVec3::new(0.0, 0.5, 0.5), DVec3::new(-1e-9, 1.0, 0.0));
+        assert_eq!(exit_face(&cube, o, d).unwrap().0, 0);
+        assert_eq!(exit_face_except(&cube, o, d, 0).unwrap().0, 3); // v = 1
+    }
+
+    #[test]
+    fn exact_exit_of_one_cube_along_a_slanted_ray() {
+        let mesh = unit_cube();
+        let none = |_: u32| [u32::MAX; 6];
+        let cells = row_cells(&mesh, &none);
+        let ray = Ray::line(DVec3::splat(0.5), DVec3::new(1.0, 0.3, -0.2));
+        // Out through x = 1 at t = 0.5, backwards through x = 0; not before t_to.
+        let t = boundary_face_crossing(&cells, 0, &ray, 0.0, 2.0).unwrap();
+        assert!((t - 0.5).abs() < 1e-12);
+        let t = boundary_face_crossing(&cells, 0, &ray, 0.0, -2.0).unwrap();
+        assert!((t + 0.5).abs() < 1e-12);
+        assert_eq!(boundary_face_crossing(&cells, 0, &ray, 0.0, 0.4), None);
+    }
 
     #[test]
     fn exit_of_the_unit_cube_along_each_axis() {
@@ -625,7 +598,6 @@ mod tests {
 
     #[test]
     fn boundary_crossing_of_a_row_of_cubes() {
-        use crate::mesh::{CellKind, Mesh, MeshParts};
         // Three unit cubes along x: the ray along x leaves the row at x = 3 forwards and at
         // x = 0 backwards, whichever cube it starts in.
         let mut points = Vec::new();
@@ -654,15 +626,16 @@ mod tests {
             [left, right, u32::MAX, u32::MAX, u32::MAX, u32::MAX]
         };
         let o = DVec3::new(-1.0, 0.5, 0.5);
+        let (cells, ray) = (row_cells(&mesh, &nb), Ray::line(o, DVec3::X));
         for start in 0..3 {
             let t_from = 1.5 + start as f64;
-            let fwd = boundary_plane_crossing(&mesh, &nb, start, o, DVec3::X, t_from, 10.0);
+            let fwd = boundary_plane_crossing(&cells, start, &ray, t_from, 10.0);
             assert!((fwd.unwrap() - 4.0).abs() < 1e-12, "{start}: {fwd:?}");
-            let back = boundary_plane_crossing(&mesh, &nb, start, o, DVec3::X, t_from, 0.0);
+            let back = boundary_plane_crossing(&cells, start, &ray, t_from, 0.0);
             assert!((back.unwrap() - 1.0).abs() < 1e-12, "{start}: {back:?}");
             // Not within the bracket.
             assert_eq!(
-                boundary_plane_crossing(&mesh, &nb, start, o, DVec3::X, t_from, 3.9),
+                boundary_plane_crossing(&cells, start, &ray, t_from, 3.9),
                 None
             );
         }
@@ -671,7 +644,6 @@ mod tests {
     #[test]
     fn exact_boundary_crossing_lies_on_a_twisted_end_face() {
         use crate::geometry::inverse::invert;
-        use crate::mesh::{CellKind, Mesh, MeshParts};
         // Three cubes along x; the far end face (x = 3) twisted: one corner pushed out by 0.4.
         let mut points = Vec::new();
         for i in 0..4 {
@@ -705,7 +677,8 @@ mod tests {
         };
         let o = DVec3::new(0.5, 0.3, 0.4);
         let d = DVec3::new(1.0, 0.17, 0.11).normalize();
-        let t = boundary_face_crossing(&mesh, &nb, 0, o, d, 0.0, 10.0).unwrap();
+        let (cells, ray) = (row_cells(&mesh, &nb), Ray::line(o, d));
+        let t = boundary_face_crossing(&cells, 0, &ray, 0.0, 10.0).unwrap();
         // On the last cell's face u = 1, inside its edges: the trilinear map's own face.
         let q = invert(&mesh.cell_corners(2), o + d * t, None)
             .param()
@@ -713,10 +686,10 @@ mod tests {
         assert!((q.x - 1.0).abs() < 1e-12, "{q}");
         assert!(q.y > 0.0 && q.y < 1.0 && q.z > 0.0 && q.z < 1.0, "{q}");
         // The planes' estimate is off the twisted face; the exact crossing is not.
-        let planes = boundary_plane_crossing(&mesh, &nb, 0, o, d, 0.0, 10.0).unwrap();
+        let planes = boundary_plane_crossing(&cells, 0, &ray, 0.0, 10.0).unwrap();
         assert!((planes - t).abs() > 1e-3, "{planes} vs {t}");
         // Backwards from the last cell, out through x = 0.
-        let back = boundary_face_crossing(&mesh, &nb, 2, o, d, 2.5, -10.0).unwrap();
+        let back = boundary_face_crossing(&cells, 2, &ray, 2.5, -10.0).unwrap();
         assert!((o + d * back).x.abs() < 1e-12, "{back}");
     }
 
@@ -782,8 +755,8 @@ mod tests {
             points.extend_from_slice(c);
             cells.push(std::array::from_fn(|k| base + k as u32));
         }
-        let mesh = Mesh::from_parts(crate::MeshParts {
-            kinds: vec![crate::CellKind::Hexahedron; cells.len()],
+        let mesh = Mesh::from_parts(MeshParts {
+            kinds: vec![CellKind::Hexahedron; cells.len()],
             cells,
             points,
             ..Default::default()
@@ -791,7 +764,7 @@ mod tests {
         .unwrap();
         let mut march = March::new();
         assert_eq!(march.cells_ahead(10.0), 0.0, "no chord before any cell");
-        march.move_to(&mesh, 0, o, d);
+        march.move_to(&mesh, 0, &Ray::line(o, d));
         // In the cell (exit at t = 2): none ahead; 3.5 is in the second cell past the exit.
         assert_eq!(march.cells_ahead(1.5), 0.0);
         assert!((march.cells_ahead(3.5) - 2.5).abs() < 1e-6);

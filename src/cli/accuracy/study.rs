@@ -27,28 +27,18 @@
 //! image error first order in the step, so an order near 1 is what to expect. The reference
 //! itself is off by its own `(1/32)^p` share: with `p = 1`, the ⅛ run's measured error is
 //! about ¾ of its true error, which raises the last observed order slightly.
-//!
-//! ```
-//! use cylvol::render::accuracy::{compare, observed_orders, Run};
-//! let a = vec![[0.0, 0.0, 0.0, 0.0], [0.5, 0.5, 0.5, 1.0]];
-//! let b = vec![[0.0, 0.0, 0.0, 0.0], [0.5, 0.5, 0.5, 0.5]];
-//! let e = compare(&a, &b).unwrap();
-//! assert_eq!(e.max_err, 0.5);
-//! assert!((e.rmse - (0.25f64 / 8.0).sqrt()).abs() < 1e-15);
-//! let run = |step: f64, rmse: f64| Run { step, factor: step, time_s: 0.0, samples: 0, rmse, max_err: rmse };
-//! assert_eq!(observed_orders(&[run(1.0, 0.4), run(0.5, 0.1)]), vec![Some(2.0)]);
-//! ```
 
 use std::time::Instant;
 
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::camera::{Camera, RayGenerator};
-use super::raycast::{default_step, Neighbours, RenderOptions, RenderStats, Renderer, Volume};
-use super::transfer::TransferFunction;
-use crate::error::show_number;
-use crate::{Error, Mesh};
+use cylvol::error::show_number;
+use cylvol::render::{
+    default_step, Camera, RayGenerator, RenderOptions, RenderStats, Renderer, Topology,
+    TransferFunction, Volume,
+};
+use cylvol::{Error, Mesh};
 
 /// The study's steps as multiples of the mean cell size, coarse to fine.
 pub const STEP_FACTORS: [f64; 5] = [2.0, 1.0, 0.5, 0.25, 0.125];
@@ -174,7 +164,7 @@ pub struct Scene<'a> {
     /// Everything but the step.
     pub options: RenderOptions,
     /// Face neighbours for the fast path.
-    pub neighbours: &'a dyn Neighbours,
+    pub neighbours: &'a Topology,
     /// The view.
     pub camera: &'a Camera,
 }
@@ -187,7 +177,7 @@ impl Scene<'_> {
             ..self.options
         };
         let renderer =
-            Renderer::new(self.volume, self.transfer, &options)?.with_neighbours(self.neighbours);
+            Renderer::new(self.volume, self.transfer, &options)?.with_topology(self.neighbours);
         let started = Instant::now();
         let (image, stats) = render_f64(&renderer, self.camera)?;
         Ok((image, stats, started.elapsed().as_secs_f64()))
@@ -357,6 +347,19 @@ mod tests {
         assert!((fitted_order(&runs).unwrap() - 2.0).abs() < 1e-12);
         assert_eq!(observed_orders(&[run(1.0, 0.0), run(0.5, 0.0)]), vec![None]);
         assert_eq!(fitted_order(&[run(1.0, 0.1)]), None);
+    }
+
+    #[test]
+    fn compare_and_order_of_two_images() {
+        let a = vec![[0.0, 0.0, 0.0, 0.0], [0.5, 0.5, 0.5, 1.0]];
+        let b = vec![[0.0, 0.0, 0.0, 0.0], [0.5, 0.5, 0.5, 0.5]];
+        let e = compare(&a, &b).unwrap();
+        assert_eq!(e.max_err, 0.5);
+        assert!((e.rmse - (0.25f64 / 8.0).sqrt()).abs() < 1e-15);
+        assert_eq!(
+            observed_orders(&[run(1.0, 0.4), run(0.5, 0.1)]),
+            vec![Some(2.0)]
+        );
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! `cylvol accuracy INPUT [--json] [--plot OUT.svg] [--size N] [--structure S] [--view A,E,Z]`:
 //! the price of accuracy — images at sample steps of 2, 1, ½, ¼ and ⅛ × the mean cell size,
 //! each compared with a converged reference at 1/32 × and timed
-//! ([`cylvol::render::accuracy`] defines the mean cell size, the error units and the order).
+//! ([`study`] defines the mean cell size, the error units and the order; [`plot`] draws the
+//! error against the time as an SVG plot).
 //!
 //! The scene is `cylvol render`'s ([`super::scene`]): the default transfer function, the
 //! `--view` camera (default [`DEFAULT_VIEW`], oblique), the fast path with face neighbours through `--structure`
@@ -19,6 +20,9 @@
 //! `time_s`, `rmse`, `max_err`}. `--plot` writes the error (log) against the time (log), one
 //! labelled point per run.
 
+mod plot;
+mod study;
+
 use std::path::PathBuf;
 
 use serde_json::{json, Value};
@@ -26,14 +30,13 @@ use serde_json::{json, Value};
 use super::scene::StructureChoice;
 use super::{log, scene, InputArgs};
 use cylvol::accel::{Accel, AccelParams};
-use cylvol::render::accuracy::{
+use cylvol::render::{RenderOptions, RenderPath, Topology, Volume};
+use cylvol::{Error, Mesh};
+use plot::{Plot, Scale, Series};
+use study::{
     compare, factor_label, mean_cell_size, step_study, Scene, StepStudy, REFERENCE_FACTOR,
     STEP_FACTORS,
 };
-use cylvol::render::plot::{Plot, Scale, Series};
-use cylvol::render::Topology;
-use cylvol::render::{RenderOptions, RenderPath, Volume};
-use cylvol::{Error, Mesh};
 
 /// Arguments of `cylvol accuracy`.
 #[derive(clap::Args, Debug)]

@@ -1,4 +1,4 @@
-//! How skipping rays test a sector BVH's nodes ([`NodeRayTests`]), decided once for a
+//! How skipping rays test a sector BVH's nodes ([`NodeShapes`]), decided once for a
 //! structure: a node whose box in the axis frame ([`sector_box`]) is at most
 //! [`BOX_AREA_LIMIT`] times the sector's cross-section is tested as that box (slabs); any other
 //! by its sector, with its arc's sines and cosines ([`arc_trig`]) made here so that the test
@@ -6,8 +6,8 @@
 //!
 //! A box test is a few products and comparisons; a sector's is a quadratic in `t` for each
 //! radius (with square roots) and two half-planes through the axis (with divisions). On the
-//! combustor's 18° sector every node's box is within twice its sector, and the box tests
-//! brought the cylindrical BVH's skipping to the Cartesian BVH's cost; on a whole ring the
+//! combustor's 18° sector every node's box is within twice its sector, and with the box tests
+//! the cylindrical BVH's skipping costs what the Cartesian BVH's does; on a whole ring the
 //! nodes near the root (wide arcs, or holes around the axis) keep their sectors, whose rays
 //! the boxes would let in by the thousand.
 
@@ -147,20 +147,20 @@ pub fn sector_box(s: &SectorF32) -> BoxF32 {
 
 /// How a skipping ray tests one node of a sector BVH.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum NodeRayTest {
+pub enum NodeShape {
     /// As its box in the axis frame ([`sector_box`]), by slabs.
     Box(BoxF32),
     /// As its sector, whose arc has these sines and cosines ([`arc_trig`]).
     Sector(ArcTrig),
 }
 
-impl NodeRayTest {
+impl NodeShape {
     /// The test for a node bounded by `s`: its box where that is at most [`BOX_AREA_LIMIT`]
     /// times the sector's cross-section (arc widths from
     /// [`arc_width`](crate::geometry::pseudo_angle::arc_width)), else its sector.
     ///
     /// ```
-    /// use cylvol::accel::bvh::{NodeRayTest, SectorF32};
+    /// use cylvol::accel::bvh::{NodeShape, SectorF32};
     /// use cylvol::geometry::pseudo_angle::pseudo_of_angle;
     /// let sector = |r0: f32, a: f64, b: f64| SectorF32 {
     ///     r: [r0, 2.0],
@@ -168,13 +168,13 @@ impl NodeRayTest {
     ///     h: [0.0, 1.0],
     /// };
     /// // A thin slice of a thick annulus along the x axis: nearly its box.
-    /// assert!(matches!(NodeRayTest::of(&sector(1.0, -0.05, 0.05)), NodeRayTest::Box(_)));
+    /// assert!(matches!(NodeShape::of(&sector(1.0, -0.05, 0.05)), NodeShape::Box(_)));
     /// // The same slice turned by 45°: its box is twice as wide as it is.
-    /// assert!(matches!(NodeRayTest::of(&sector(1.0, 0.74, 0.84)), NodeRayTest::Sector(_)));
+    /// assert!(matches!(NodeShape::of(&sector(1.0, 0.74, 0.84)), NodeShape::Sector(_)));
     /// // Half a thin ring: its box is mostly empty.
-    /// assert!(matches!(NodeRayTest::of(&sector(1.9, 0.1, 3.0)), NodeRayTest::Sector(_)));
+    /// assert!(matches!(NodeShape::of(&sector(1.9, 0.1, 3.0)), NodeShape::Sector(_)));
     /// ```
-    pub fn of(s: &SectorF32) -> NodeRayTest {
+    pub fn of(s: &SectorF32) -> NodeShape {
         let b = sector_box(s);
         let [r0, r1] = s.r.map(f64::from);
         let [t0, t1] = s.theta.map(f64::from);
@@ -183,17 +183,17 @@ impl NodeRayTest {
             * (f64::from(b.max[1]) - f64::from(b.min[1]));
         // (An empty box's area is −∞ or NaN, and its sector's test rejects every ray.)
         if box_area >= 0.0 && box_area <= BOX_AREA_LIMIT * sector_area {
-            NodeRayTest::Box(b)
+            NodeShape::Box(b)
         } else {
-            NodeRayTest::Sector(arc_trig(s))
+            NodeShape::Sector(arc_trig(s))
         }
     }
 }
 
-/// [`NodeRayTest::of`] every node of a cylindrical BVH, in node order.
+/// [`NodeShape::of`] every node of a cylindrical BVH, in node order.
 ///
 /// ```
-/// use cylvol::accel::bvh::{build_bvh, BvhParams, NodeRayTest, NodeRayTests};
+/// use cylvol::accel::bvh::{build_bvh, BvhParams, NodeShape, NodeShapes};
 /// use cylvol::accel::space::Pieces;
 /// use cylvol::geometry::cylindrical::{CylBounds, ThetaInterval};
 /// // A thin ring of 64 sectors.
@@ -206,44 +206,40 @@ impl NodeRayTest {
 ///     })
 ///     .collect();
 /// let bvh = build_bvh(&Pieces { bounds, cells: (0..64).collect() }, &BvhParams::FINE);
-/// let tests = NodeRayTests::new(&bvh);
-/// assert_eq!(tests.tests().len(), bvh.stats().nodes);
-/// assert_eq!(NodeRayTests::new_sequential(&bvh).tests(), tests.tests());
+/// let tests = NodeShapes::new(&bvh);
+/// assert_eq!(tests.all().len(), bvh.stats().nodes);
+/// assert_eq!(NodeShapes::new_sequential(&bvh).all(), tests.all());
 /// // The root spans the ring: its sector. Some short arcs are nearly their boxes.
-/// assert!(matches!(tests.tests()[0], NodeRayTest::Sector(_)));
-/// assert!(tests.tests().iter().any(|t| matches!(t, NodeRayTest::Box(_))));
+/// assert!(matches!(tests.all()[0], NodeShape::Sector(_)));
+/// assert!(tests.all().iter().any(|t| matches!(t, NodeShape::Box(_))));
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct NodeRayTests {
-    tests: Vec<NodeRayTest>,
+pub struct NodeShapes {
+    tests: Vec<NodeShape>,
 }
 
-impl NodeRayTests {
+impl NodeShapes {
     /// The tests of `bvh`'s nodes, made in parallel.
-    pub fn new(bvh: &Bvh<CylBounds>) -> NodeRayTests {
-        NodeRayTests {
+    pub fn new(bvh: &Bvh<CylBounds>) -> NodeShapes {
+        NodeShapes {
             tests: bvh
                 .nodes
                 .par_iter()
-                .map(|n| NodeRayTest::of(&n.bounds))
+                .map(|n| NodeShape::of(&n.bounds))
                 .collect(),
         }
     }
 
-    /// [`NodeRayTests::new`] on the calling thread only (for tests made lazily, whose maker
+    /// [`NodeShapes::new`] on the calling thread only (for tests made lazily, whose maker
     /// must not wait on work the thread pool might hand back to it).
-    pub fn new_sequential(bvh: &Bvh<CylBounds>) -> NodeRayTests {
-        NodeRayTests {
-            tests: bvh
-                .nodes
-                .iter()
-                .map(|n| NodeRayTest::of(&n.bounds))
-                .collect(),
+    pub fn new_sequential(bvh: &Bvh<CylBounds>) -> NodeShapes {
+        NodeShapes {
+            tests: bvh.nodes.iter().map(|n| NodeShape::of(&n.bounds)).collect(),
         }
     }
 
     /// Each node's test, in node order.
-    pub fn tests(&self) -> &[NodeRayTest] {
+    pub fn all(&self) -> &[NodeShape] {
         &self.tests
     }
 }
@@ -324,12 +320,12 @@ mod tests {
             let w = (angle_of_pseudo(t1) - angle_of_pseudo(t0)).min(std::f64::consts::TAU);
             let ratio = (b.max[0] - b.min[0]) as f64 * (b.max[1] - b.min[1]) as f64
                 / (0.5 * w * (r1 * r1 - r0 * r0));
-            match NodeRayTest::of(&s) {
-                NodeRayTest::Box(got) => {
+            match NodeShape::of(&s) {
+                NodeShape::Box(got) => {
                     prop_assert_eq!(got, b);
                     prop_assert!(ratio <= BOX_AREA_LIMIT * (1.0 + 1e-3), "{ratio}");
                 }
-                NodeRayTest::Sector(trig) => {
+                NodeShape::Sector(trig) => {
                     prop_assert_eq!(trig, arc_trig(&s));
                     prop_assert!(ratio >= BOX_AREA_LIMIT * (1.0 - 1e-3), "{ratio}");
                 }
@@ -337,10 +333,10 @@ mod tests {
         }
     }
 
-    /// What `Accel::node_ray_tests` says a node's test holds with the structure.
+    /// What `Accel::node_shapes` says a node's test holds with the structure.
     #[test]
     fn a_node_test_is_forty_bytes() {
-        assert_eq!(std::mem::size_of::<NodeRayTest>(), 40);
+        assert_eq!(std::mem::size_of::<NodeShape>(), 40);
     }
 
     #[test]
@@ -362,10 +358,7 @@ mod tests {
         for s in cases {
             let b = sector_box(&s);
             assert!(b.min[0] > b.max[0], "{s:?}: {b:?}");
-            assert!(
-                matches!(NodeRayTest::of(&s), NodeRayTest::Sector(_)),
-                "{s:?}"
-            );
+            assert!(matches!(NodeShape::of(&s), NodeShape::Sector(_)), "{s:?}");
         }
     }
 }

@@ -1,31 +1,11 @@
 //! A small dependency-free SVG line plot: one or more series of labelled points on linear or
 //! logarithmic axes with ticks, tick labels and axis titles — enough for the accuracy plot
 //! (error against time, both logarithmic) and viewable in any browser.
-//!
-//! ```
-//! use cylvol::render::plot::{Plot, Scale, Series};
-//! let plot = Plot {
-//!     title: "error against time".into(),
-//!     x_label: "time (s)".into(),
-//!     y_label: "rmse".into(),
-//!     x_scale: Scale::Log,
-//!     y_scale: Scale::Log,
-//!     series: vec![Series {
-//!         name: "cyl-bvh".into(),
-//!         points: vec![(0.1, 1e-2), (0.2, 5e-3), (0.4, 2.4e-3)],
-//!         labels: vec!["2×".into(), "1×".into(), "1/2×".into()],
-//!     }],
-//!     ..Plot::default()
-//! };
-//! let svg = plot.to_svg().unwrap();
-//! assert!(svg.starts_with("<?xml"));
-//! assert_eq!(svg.matches("class=\"point\"").count(), 3);
-//! ```
 
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::Error;
+use cylvol::Error;
 
 /// How an axis maps values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -244,51 +224,37 @@ fn thin_labels(ticks: &mut [(f64, bool)], pos: impl Fn(f64) -> f64, gap: f64) {
     }
 }
 
-impl Plot {
-    /// The plot as an SVG document.
-    pub fn to_svg(&self) -> Result<String, Error> {
-        let xs: Vec<f64> = self
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter().map(|p| p.0))
-            .collect();
-        let ys: Vec<f64> = self
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter().map(|p| p.1))
-            .collect();
-        let mut fx = fit(&xs, self.x_scale, "x")?;
-        let mut fy = fit(&ys, self.y_scale, "y")?;
-        let (w, h) = (self.width.max(200) as f64, self.height.max(150) as f64);
-        let (left, right, top, bottom) = (80.0, 30.0, 40.0, 60.0);
-        let (pw, ph) = (w - left - right, h - top - bottom);
-        let mut x_ticks = std::mem::take(&mut fx.ticks);
-        thin_labels(&mut x_ticks, |v| fx.frac(v) * pw, 40.0);
-        fx.ticks = x_ticks;
-        let mut y_ticks = std::mem::take(&mut fy.ticks);
-        thin_labels(&mut y_ticks, |v| fy.frac(v) * ph, 16.0);
-        fy.ticks = y_ticks;
-        let px = |v: f64| left + fx.frac(v) * pw;
-        let py = |v: f64| top + (1.0 - fy.frac(v)) * ph;
+/// Where a plot's parts lie in the picture: its size, the plot area's corner and size, and
+/// the fitted axes.
+struct Layout {
+    w: f64,
+    h: f64,
+    left: f64,
+    top: f64,
+    pw: f64,
+    ph: f64,
+    fx: Fitted,
+    fy: Fitted,
+}
 
-        let mut s = String::new();
+impl Layout {
+    /// The picture's `x` of the value `v`.
+    fn px(&self, v: f64) -> f64 {
+        self.left + self.fx.frac(v) * self.pw
+    }
+
+    /// The picture's `y` of the value `v`.
+    fn py(&self, v: f64) -> f64 {
+        self.top + (1.0 - self.fy.frac(v)) * self.ph
+    }
+
+    /// The grid lines, ticks and tick labels of both axes.
+    fn write_ticks(&self, s: &mut String) {
+        let (left, top, pw, ph) = (self.left, self.top, self.pw, self.ph);
         // Writing to a String cannot fail.
-        let _ = writeln!(s, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
-        let _ = writeln!(
-            s,
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">"#
-        );
-        let _ = writeln!(s, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
-        let _ = writeln!(
-            s,
-            r#"<text x="{:.1}" y="22" text-anchor="middle" font-size="15">{}</text>"#,
-            left + pw / 2.0,
-            escape(&self.title)
-        );
-        // Grid lines and ticks.
         let _ = writeln!(s, r#"<g class="x-ticks">"#);
-        for &(v, labelled) in &fx.ticks {
-            let x = px(v);
+        for &(v, labelled) in &self.fx.ticks {
+            let x = self.px(v);
             let stroke = if labelled { "#ccc" } else { "#eee" };
             let _ = writeln!(
                 s,
@@ -313,8 +279,8 @@ impl Plot {
         }
         let _ = writeln!(s, "</g>");
         let _ = writeln!(s, r#"<g class="y-ticks">"#);
-        for &(v, labelled) in &fy.ticks {
-            let y = py(v);
+        for &(v, labelled) in &self.fy.ticks {
+            let y = self.py(v);
             let stroke = if labelled { "#ccc" } else { "#eee" };
             let _ = writeln!(
                 s,
@@ -338,7 +304,11 @@ impl Plot {
             }
         }
         let _ = writeln!(s, "</g>");
-        // Frame and axis titles.
+    }
+
+    /// The plot area's frame and the axes' titles.
+    fn write_frame(&self, s: &mut String, x_label: &str, y_label: &str) {
+        let (left, top, pw, ph) = (self.left, self.top, self.pw, self.ph);
         let _ = writeln!(
             s,
             r#"<rect x="{left:.1}" y="{top:.1}" width="{pw:.1}" height="{ph:.1}" fill="none" stroke="black"/>"#
@@ -347,62 +317,125 @@ impl Plot {
             s,
             r#"<text x="{:.1}" y="{:.1}" text-anchor="middle" font-size="13">{}</text>"#,
             left + pw / 2.0,
-            h - 15.0,
-            escape(&self.x_label)
+            self.h - 15.0,
+            escape(x_label)
         );
         let _ = writeln!(
             s,
             r#"<text x="18" y="{:.1}" text-anchor="middle" font-size="13" transform="rotate(-90 18 {:.1})">{}</text>"#,
             top + ph / 2.0,
             top + ph / 2.0,
-            escape(&self.y_label)
+            escape(y_label)
         );
-        // Series.
-        for (k, series) in self.series.iter().enumerate() {
-            let color = COLORS[k % COLORS.len()];
-            let _ = writeln!(s, r#"<g class="series">"#);
-            let line: Vec<String> = series
-                .points
-                .iter()
-                .map(|&(x, y)| format!("{:.1},{:.1}", px(x), py(y)))
-                .collect();
+    }
+
+    /// Series `k`: its line, its marked and labelled points, and its legend entry.
+    fn write_series(&self, s: &mut String, k: usize, series: &Series) {
+        let color = COLORS[k % COLORS.len()];
+        let _ = writeln!(s, r#"<g class="series">"#);
+        let line: Vec<String> = series
+            .points
+            .iter()
+            .map(|&(x, y)| format!("{:.1},{:.1}", self.px(x), self.py(y)))
+            .collect();
+        let _ = writeln!(
+            s,
+            r#"<polyline points="{}" fill="none" stroke="{color}" stroke-width="1.5"/>"#,
+            line.join(" ")
+        );
+        for (i, &(x, y)) in series.points.iter().enumerate() {
             let _ = writeln!(
                 s,
-                r#"<polyline points="{}" fill="none" stroke="{color}" stroke-width="1.5"/>"#,
-                line.join(" ")
+                r#"<circle class="point" cx="{:.1}" cy="{:.1}" r="4" fill="{color}"/>"#,
+                self.px(x),
+                self.py(y)
             );
-            for (i, &(x, y)) in series.points.iter().enumerate() {
+            if let Some(label) = series.labels.get(i).filter(|l| !l.is_empty()) {
                 let _ = writeln!(
                     s,
-                    r#"<circle class="point" cx="{:.1}" cy="{:.1}" r="4" fill="{color}"/>"#,
-                    px(x),
-                    py(y)
+                    r#"<text class="label" x="{:.1}" y="{:.1}">{}</text>"#,
+                    self.px(x) + 7.0,
+                    self.py(y) - 7.0,
+                    escape(label)
                 );
-                if let Some(label) = series.labels.get(i).filter(|l| !l.is_empty()) {
-                    let _ = writeln!(
-                        s,
-                        r#"<text class="label" x="{:.1}" y="{:.1}">{}</text>"#,
-                        px(x) + 7.0,
-                        py(y) - 7.0,
-                        escape(label)
-                    );
-                }
             }
-            let ly = top + 16.0 + 18.0 * k as f64;
-            let lx = left + pw - 150.0;
-            let _ = writeln!(
-                s,
-                r#"<line x1="{lx:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{color}" stroke-width="2"/>"#,
-                lx + 20.0
-            );
-            let _ = writeln!(
-                s,
-                r#"<text x="{:.1}" y="{:.1}">{}</text>"#,
-                lx + 26.0,
-                ly + 4.0,
-                escape(&series.name)
-            );
-            let _ = writeln!(s, "</g>");
+        }
+        let ly = self.top + 16.0 + 18.0 * k as f64;
+        let lx = self.left + self.pw - 150.0;
+        let _ = writeln!(
+            s,
+            r#"<line x1="{lx:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{color}" stroke-width="2"/>"#,
+            lx + 20.0
+        );
+        let _ = writeln!(
+            s,
+            r#"<text x="{:.1}" y="{:.1}">{}</text>"#,
+            lx + 26.0,
+            ly + 4.0,
+            escape(&series.name)
+        );
+        let _ = writeln!(s, "</g>");
+    }
+}
+
+impl Plot {
+    /// Fits the axes to the series and places the plot area.
+    fn layout(&self) -> Result<Layout, Error> {
+        let xs: Vec<f64> = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.0))
+            .collect();
+        let ys: Vec<f64> = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.1))
+            .collect();
+        let mut fx = fit(&xs, self.x_scale, "x")?;
+        let mut fy = fit(&ys, self.y_scale, "y")?;
+        let (w, h) = (self.width.max(200) as f64, self.height.max(150) as f64);
+        let (left, right, top, bottom) = (80.0, 30.0, 40.0, 60.0);
+        let (pw, ph) = (w - left - right, h - top - bottom);
+        let mut x_ticks = std::mem::take(&mut fx.ticks);
+        thin_labels(&mut x_ticks, |v| fx.frac(v) * pw, 40.0);
+        fx.ticks = x_ticks;
+        let mut y_ticks = std::mem::take(&mut fy.ticks);
+        thin_labels(&mut y_ticks, |v| fy.frac(v) * ph, 16.0);
+        fy.ticks = y_ticks;
+        Ok(Layout {
+            w,
+            h,
+            left,
+            top,
+            pw,
+            ph,
+            fx,
+            fy,
+        })
+    }
+
+    /// The plot as an SVG document.
+    pub fn to_svg(&self) -> Result<String, Error> {
+        let layout = self.layout()?;
+        let (w, h) = (layout.w, layout.h);
+        let mut s = String::new();
+        // Writing to a String cannot fail.
+        let _ = writeln!(s, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+        let _ = writeln!(
+            s,
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">"#
+        );
+        let _ = writeln!(s, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
+        let _ = writeln!(
+            s,
+            r#"<text x="{:.1}" y="22" text-anchor="middle" font-size="15">{}</text>"#,
+            layout.left + layout.pw / 2.0,
+            escape(&self.title)
+        );
+        layout.write_ticks(&mut s);
+        layout.write_frame(&mut s, &self.x_label, &self.y_label);
+        for (k, series) in self.series.iter().enumerate() {
+            layout.write_series(&mut s, k, series);
         }
         let _ = writeln!(s, "</svg>");
         Ok(s)
@@ -463,6 +496,27 @@ mod tests {
             ..Plot::default()
         };
         assert!(plot.to_svg().unwrap().contains("&lt;x&gt;"));
+    }
+
+    #[test]
+    fn a_series_of_labelled_points_on_log_axes() {
+        let plot = Plot {
+            title: "error against time".into(),
+            x_label: "time (s)".into(),
+            y_label: "rmse".into(),
+            x_scale: Scale::Log,
+            y_scale: Scale::Log,
+            series: vec![Series {
+                name: "cyl-bvh".into(),
+                points: vec![(0.1, 1e-2), (0.2, 5e-3), (0.4, 2.4e-3)],
+                labels: vec!["2×".into(), "1×".into(), "1/2×".into()],
+            }],
+            ..Plot::default()
+        };
+        let svg = plot.to_svg().unwrap();
+        assert!(svg.starts_with("<?xml"));
+        assert_eq!(svg.matches("class=\"point\"").count(), 3);
+        assert_eq!(svg.matches("class=\"label\"").count(), 3);
     }
 
     #[test]

@@ -19,69 +19,50 @@
 //! the ray caster keeps to its samples there.
 
 use super::surface::MAX_CROSSINGS;
-
-/// What is known of one end of the stretch between two positions of a ray.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum End {
-    /// A sample found in the mesh, whose segment ends (or starts) at the crossing nearest it.
-    Sample,
-    /// A position found outside the mesh.
-    Outside,
-    /// The ray's start or end found in the mesh (no sample there): the piece from it to the
-    /// nearest crossing is a chord.
-    In,
-    /// The ray's start or end, on either side (the eye, a clipping plane, opaque geometry):
-    /// where the parity puts it in the mesh, the piece from it to the nearest crossing is a
-    /// chord.
-    Unknown,
-    /// A sample position passed over (by a jump over transparent space), on either side:
-    /// where the parity puts it in the mesh it is a sample there (in a transparent cell),
-    /// whose segment ends at the nearest crossing.
-    Passed,
-}
+use crate::render::ray::End;
 
 /// A piece of the ray in the mesh, from `start` to `end`, that holds no sample; `cell` is the
 /// cell of a boundary face at one of its ends, near which it lies (a start for locating its
 /// middle), `u32::MAX` where neither end is on the boundary.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Chord {
+pub(crate) struct Chord {
     /// Where the piece starts.
-    pub start: f64,
+    pub(crate) start: f64,
     /// Where it ends.
-    pub end: f64,
+    pub(crate) end: f64,
     /// The cell of a boundary face at one of its ends (`u32::MAX`: none).
-    pub cell: u32,
+    pub(crate) cell: u32,
 }
 
 impl Chord {
     /// Its middle, where it is sampled.
-    pub fn middle(&self) -> f64 {
+    pub(crate) fn middle(&self) -> f64 {
         0.5 * (self.start + self.end)
     }
 
     /// Its length.
-    pub fn length(&self) -> f64 {
+    pub(crate) fn length(&self) -> f64 {
         self.end - self.start
     }
 }
 
 /// The most chords between two positions: every pair of crossings, and a piece at each end.
-pub const MAX_CHORDS: usize = MAX_CROSSINGS / 2 + 2;
+pub(crate) const MAX_CHORDS: usize = MAX_CROSSINGS / 2 + 2;
 
 /// The crossings between two positions of a ray, sorted by what they mean ([`classify`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Between {
+pub(crate) struct Between {
     /// Where the earlier position's sample (an [`End::Sample`]) leaves the mesh.
-    pub exit: Option<f64>,
+    pub(crate) exit: Option<f64>,
     /// Where the later position's sample (an [`End::Sample`]) enters it.
-    pub entry: Option<f64>,
+    pub(crate) entry: Option<f64>,
     chords: [Chord; MAX_CHORDS],
     n: usize,
 }
 
 impl Between {
     /// The chords, front to back.
-    pub fn chords(&self) -> &[Chord] {
+    pub(crate) fn chords(&self) -> &[Chord] {
         &self.chords[..self.n]
     }
 
@@ -97,20 +78,7 @@ impl Between {
 /// the ends `a.1` and `b.1` (see the module documentation); `None` where the crossings and
 /// what is known of the ends disagree, or neither end's side is known (the caller locates
 /// one first: [`side_unknown`]).
-///
-/// ```
-/// use cylvol::render::chords::{classify, Chord, End};
-/// // Between two positions outside, the ray enters at 1.2 and leaves at 1.5: one chord.
-/// let b = classify(&[(1.2, 7), (1.5, 8)], (1.0, End::Outside), (2.0, End::Outside)).unwrap();
-/// assert_eq!(b.chords(), &[Chord { start: 1.2, end: 1.5, cell: 7 }]);
-/// assert_eq!((b.exit, b.entry), (None, None));
-/// // Between two samples in the mesh, it leaves at 1.2 and comes back at 1.5: a gap.
-/// let b = classify(&[(1.2, 7), (1.5, 8)], (1.0, End::Sample), (2.0, End::Sample)).unwrap();
-/// assert_eq!((b.exit, b.entry, b.chords().len()), (Some(1.2), Some(1.5), 0));
-/// // An odd number of crossings cannot join two positions outside.
-/// assert!(classify(&[(1.2, 7)], (1.0, End::Outside), (2.0, End::Outside)).is_none());
-/// ```
-pub fn classify(crossings: &[(f64, u32)], a: (f64, End), b: (f64, End)) -> Option<Between> {
+pub(crate) fn classify(crossings: &[(f64, u32)], a: (f64, End), b: (f64, End)) -> Option<Between> {
     let odd = crossings.len() % 2 == 1;
     let inside = |e: End| match e {
         End::Sample | End::In => Some(true),
@@ -185,7 +153,7 @@ pub fn classify(crossings: &[(f64, u32)], a: (f64, End), b: (f64, End)) -> Optio
 }
 
 /// Whether neither end's side is known, so that [`classify`] needs one found first.
-pub fn side_unknown(a: End, b: End) -> bool {
+pub(crate) fn side_unknown(a: End, b: End) -> bool {
     let unknown = |e: End| matches!(e, End::Unknown | End::Passed);
     unknown(a) && unknown(b)
 }
@@ -193,6 +161,37 @@ pub fn side_unknown(a: End, b: End) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_chord_between_two_positions_outside_and_a_gap_between_two_samples() {
+        // Between two positions outside, the ray enters at 1.2 and leaves at 1.5: one chord.
+        let b = classify(
+            &[(1.2, 7), (1.5, 8)],
+            (1.0, End::Outside),
+            (2.0, End::Outside),
+        )
+        .unwrap();
+        let chord = Chord {
+            start: 1.2,
+            end: 1.5,
+            cell: 7,
+        };
+        assert_eq!(b.chords(), &[chord]);
+        assert_eq!((b.exit, b.entry), (None, None));
+        // Between two samples in the mesh, it leaves at 1.2 and comes back at 1.5: a gap.
+        let b = classify(
+            &[(1.2, 7), (1.5, 8)],
+            (1.0, End::Sample),
+            (2.0, End::Sample),
+        )
+        .unwrap();
+        assert_eq!(
+            (b.exit, b.entry, b.chords().len()),
+            (Some(1.2), Some(1.5), 0)
+        );
+        // An odd number of crossings cannot join two positions outside.
+        assert!(classify(&[(1.2, 7)], (1.0, End::Outside), (2.0, End::Outside)).is_none());
+    }
 
     const A: f64 = 0.0;
     const B: f64 = 10.0;
