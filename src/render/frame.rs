@@ -3,6 +3,7 @@
 //! table makes transparent, where the structure holds the others, the nodes' scalar
 //! ranges) — made once per render, read by every part of every ray.
 
+use super::accumulate::integrate::Bounded;
 use super::boundary::surface::BoundarySurface;
 use super::boundary::Boundary;
 use super::field::Volume;
@@ -35,6 +36,8 @@ pub(crate) struct Frame<'a> {
     pub(crate) visible: Option<&'a CellMarks>,
     /// The scalar range below each node of a BVH (fast path, projections).
     pub(crate) ranges: Option<&'a NodeRanges>,
+    /// What an error-bounded render's integration reads (`None` for the others).
+    pub(crate) bounded: Option<Bounded<'a>>,
 }
 
 impl Frame<'_> {

@@ -47,6 +47,8 @@ mod transparency;
 mod walk;
 
 pub use accumulate::RayResult;
+#[doc(hidden)]
+pub use accumulate::integrate::TRACE;
 pub use boundary::search::BISECTIONS;
 pub use boundary::surface::BoundarySurface;
 pub use camera::{
@@ -58,7 +60,8 @@ pub use faces::{face_neighbours, unchecked_neighbours, Topology};
 pub use field::{default_step, ScalarField, Volume};
 pub use image::Image;
 pub use options::{
-    Blend, Interpolation, RenderOptions, RenderPath, DEFAULT_MARCH_REACH, MAX_SAMPLES_PER_RAY,
+    Blend, Interpolation, RenderOptions, RenderPath, DEFAULT_MARCH_REACH, DEFAULT_MAX_ERROR,
+    MAX_SAMPLES_PER_RAY,
 };
 pub use renderer::{Derived, Renderer};
 pub use shading::Shading;

@@ -236,6 +236,19 @@ pub struct RenderOptions {
     /// The image is the same either way: both find the cell holding the sample.
     /// `f64::INFINITY` always marches.
     pub march_reach: f64,
+    /// The largest colour error allowed, in 1/255 of a pixel's premultiplied RGBA against
+    /// the converged image (what the samples approach as they get denser), or `None` (the
+    /// default of [`RenderOptions::new`]) for samples every [`RenderOptions::step`].
+    ///
+    /// With an error set, compositing places its samples along each ray where the field and
+    /// the transfer function need them ([`super::accumulate::integrate`]): `step` is then the
+    /// step a ray starts with, the integration between samples is exact for a field that is
+    /// linear between them, and early termination stops a ray no earlier than its share of
+    /// the error allows (the stricter of that and [`RenderOptions::early_termination`]).
+    /// [`DEFAULT_MAX_ERROR`] is what the command line and the C ABI ask for by default.
+    /// Intensity projections and whole steps ([`RenderOptions::boundary_segments`] off) keep
+    /// the fixed step.
+    pub max_error: Option<f64>,
 }
 
 /// The default [`RenderOptions::march_reach`]: a look-up that tests one cell costs about as
@@ -265,9 +278,20 @@ impl RenderOptions {
             blend: Blend::Composite,
             clip_planes: ClipPlanes::NONE,
             march_reach: DEFAULT_MARCH_REACH,
+            max_error: None,
         }
     }
+
+    /// Whether the render places its samples for [`RenderOptions::max_error`]: an error is
+    /// set, the samples are composited and boundary segments are on.
+    pub fn error_bounded(&self) -> bool {
+        self.max_error.is_some() && self.blend == Blend::Composite && self.boundary_segments
+    }
 }
+
+/// The error the command line and the C ABI ask for when given no step and no error: 2/255 of
+/// a pixel's premultiplied RGBA (see [`RenderOptions::max_error`]).
+pub const DEFAULT_MAX_ERROR: f64 = 2.0;
 
 /// Samples per ray beyond which a render is refused (a step far too small for the mesh).
 pub const MAX_SAMPLES_PER_RAY: f64 = 1e7;

@@ -59,12 +59,16 @@ use std::sync::OnceLock;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::accumulate::{AccumulatorKind, FrontToBack, Projection, RayResult};
+use super::accumulate::integrate::guard::Guard;
+use super::accumulate::integrate::table::Extinction;
+use super::accumulate::integrate::{Bounded, GUARD_SHARE, TERMINATION_SHARE};
+use super::accumulate::{AccumulatorKind, FrontToBack, Integrating, Projection, RayResult};
 use super::boundary::ray_faces::{FaceBins, TileFaces};
 use super::boundary::surface::BoundarySurface;
 use super::boundary::Boundary;
 use super::camera::{Camera, RayGenerator, RaySource};
 use super::cast::cast;
+use super::cast::steps::{AdaptiveSteps, FixedSteps, Steps};
 use super::faces::Topology;
 use super::field::Volume;
 use super::frame::Frame;
@@ -98,6 +102,8 @@ pub struct Derived {
     transparent: TransparentCells,
     visible: Option<CellMarks>,
     ranges: Option<Option<NodeRanges>>,
+    /// The active cells of an error-bounded render, with the error they were made for.
+    guard: Option<(f64, Guard)>,
 }
 
 /// A volume with a transfer table and options: casts rays and renders images.
@@ -118,17 +124,31 @@ pub struct Renderer<'a> {
     /// The scalar range below each of a BVH's nodes, for an intensity projection's jumps over
     /// cells that cannot beat the extreme (`None` for a grid).
     ranges: OnceLock<Option<NodeRanges>>,
+    /// The transfer table read as extinction, for an error-bounded render.
+    extinction: Option<Extinction>,
+    /// The cells whose steps an error-bounded render caps, made like the transparent cells.
+    guard: OnceLock<Guard>,
 }
 
 impl<'a> Renderer<'a> {
     /// Samples `transfer` over the volume's scalar range for `options.step`; fails on a bad
-    /// transfer function, step, or one so small that a ray would take more than
-    /// [`MAX_SAMPLES_PER_RAY`] samples across the mesh.
+    /// transfer function, step, error, or a step so small that a ray would take more than
+    /// [`MAX_SAMPLES_PER_RAY`] samples across the mesh. For an error-bounded render
+    /// ([`RenderOptions::error_bounded`]) the early termination is raised to leave out no more
+    /// than its share of the error ([`Renderer::options`] tells the one used).
     pub fn new(
         volume: &'a Volume<'a>,
         transfer: &TransferFunction,
         options: &RenderOptions,
     ) -> Result<Renderer<'a>, Error> {
+        if let Some(e) = options.max_error {
+            if !(e > 0.0 && e.is_finite()) {
+                return Err(Error::Invalid(format!(
+                    "max error {} must be a positive number of 1/255",
+                    show_number(e)
+                )));
+            }
+        }
         if options.march_reach.is_nan() || options.march_reach < 0.0 {
             return Err(Error::Invalid(format!(
                 "march reach {} must be a number of cells, 0 or more (inf to always march)",
@@ -148,16 +168,27 @@ impl<'a> Renderer<'a> {
         }
         let mag = bounds.min.abs().max(bounds.max.abs()).max_element();
         let clip_box = bounds.padded(1e-9 * diag + 8.0 * f64::EPSILON * mag);
+        let mut options = *options;
+        let extinction = match options.max_error {
+            Some(e) if options.error_bounded() => {
+                let left_out = 1.0 - TERMINATION_SHARE * e / 255.0;
+                options.early_termination = options.early_termination.max(left_out);
+                Some(Extinction::new(&table, options.step))
+            }
+            _ => None,
+        };
         Ok(Renderer {
             volume,
             table,
-            options: *options,
+            options,
             neighbours: &NoNeighbours,
             surface: None,
             clip_box,
             transparent: OnceLock::new(),
             visible: OnceLock::new(),
             ranges: OnceLock::new(),
+            extinction,
+            guard: OnceLock::new(),
         })
     }
 
@@ -183,11 +214,13 @@ impl<'a> Renderer<'a> {
     /// renderer of the same volume ([`Renderer::with_derived`]).
     pub fn into_derived(self) -> Option<Derived> {
         let transparent = self.transparent.into_inner()?;
+        let error = self.options.max_error.unwrap_or(f64::NAN);
         Some(Derived {
             table: self.table,
             transparent,
             visible: self.visible.into_inner(),
             ranges: self.ranges.into_inner(),
+            guard: self.guard.into_inner().map(|g| (error, g)),
         })
     }
 
@@ -202,6 +235,11 @@ impl<'a> Renderer<'a> {
             }
             if let Some(ranges) = derived.ranges {
                 let _ = self.ranges.set(ranges);
+            }
+            if let Some((error, guard)) = derived.guard {
+                if Some(error) == self.options.max_error {
+                    let _ = self.guard.set(guard);
+                }
             }
         }
         self
@@ -258,6 +296,19 @@ impl<'a> Renderer<'a> {
         self.volume.accel().node_ranges(range, parallel)
     }
 
+    /// The active cells of an error-bounded render (made on first use, on the calling
+    /// thread, like [`Renderer::transparent_cells`]); `None` for the others.
+    fn guard(&self) -> Option<&Guard> {
+        let table = self.extinction.as_ref()?;
+        Some(self.guard.get_or_init(|| self.make_guard(table)))
+    }
+
+    fn make_guard(&self, table: &Extinction) -> Guard {
+        let error = self.options.max_error.unwrap_or(0.0) / 255.0;
+        let ranges = self.volume.cell_ranges();
+        Guard::new(self.volume.mesh(), ranges, table, GUARD_SHARE * error)
+    }
+
     /// The ray's `[t_in, t_out]` within the mesh's (padded) box, `t ≥ 0` and the clipping
     /// planes, if not empty.
     pub fn clip(&self, origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
@@ -305,6 +356,36 @@ impl<'a> Renderer<'a> {
             } else {
                 None
             },
+            bounded: self.extinction.as_ref().and_then(|table| {
+                Some(Bounded {
+                    table,
+                    guard: self.guard()?,
+                    error: options.max_error? / 255.0,
+                    step: options.step,
+                })
+            }),
+        }
+    }
+
+    /// Runs `parts` with the locator, accumulator and stepping policy this render's options
+    /// choose.
+    fn with_parts<P: Parts>(&self, parts: P) -> P::Output {
+        let bounded = self.extinction.is_some();
+        match (self.options.path, self.options.blend, bounded) {
+            (RenderPath::Paper, Blend::Composite, false) => {
+                parts.run::<LookupEach, FrontToBack, FixedSteps>()
+            }
+            (RenderPath::Paper, Blend::Composite, true) => {
+                parts.run::<LookupEach, Integrating, AdaptiveSteps>()
+            }
+            (RenderPath::Paper, _, _) => parts.run::<LookupEach, Projection, FixedSteps>(),
+            (RenderPath::Fast, Blend::Composite, false) => {
+                parts.run::<WalkCells, FrontToBack, FixedSteps>()
+            }
+            (RenderPath::Fast, Blend::Composite, true) => {
+                parts.run::<WalkCells, Integrating, AdaptiveSteps>()
+            }
+            (RenderPath::Fast, _, _) => parts.run::<WalkCells, Projection, FixedSteps>(),
         }
     }
 
@@ -317,26 +398,17 @@ impl<'a> Renderer<'a> {
         stats: &mut RenderStats,
     ) -> RayResult {
         let frame = self.frame();
-        let (ray, mut hint) = ((origin, dir, t_stop, None), None);
-        match (self.options.path, self.options.blend) {
-            (RenderPath::Paper, Blend::Composite) => {
-                self.cast_ray::<LookupEach, FrontToBack>(&frame, ray, &mut hint, stats)
-            }
-            (RenderPath::Paper, _) => {
-                self.cast_ray::<LookupEach, Projection>(&frame, ray, &mut hint, stats)
-            }
-            (RenderPath::Fast, Blend::Composite) => {
-                self.cast_ray::<WalkCells, FrontToBack>(&frame, ray, &mut hint, stats)
-            }
-            (RenderPath::Fast, _) => {
-                self.cast_ray::<WalkCells, Projection>(&frame, ray, &mut hint, stats)
-            }
-        }
+        self.with_parts(OneRay {
+            renderer: self,
+            frame: &frame,
+            ray: (origin, dir, t_stop),
+            stats,
+        })
     }
 
     /// Casts the ray `(origin, dir)` up to `t_stop`, with the list of the boundary faces its
     /// line meets where one was made, from `hint` (the previous ray's first cell, updated).
-    fn cast_ray<L: LocatorKind, A: AccumulatorKind>(
+    fn cast_ray<L: LocatorKind, A: AccumulatorKind, S: Steps>(
         &self,
         frame: &Frame,
         (origin, dir, t_stop, faces): (DVec3, DVec3, f64, Option<&[RayFace]>),
@@ -351,7 +423,7 @@ impl<'a> Renderer<'a> {
         let Some(ray) = Ray::clipped(origin, dir, &self.clip_box, planes, t_stop) else {
             return RayResult::NONE;
         };
-        cast::<L, A>(frame, &ray.with_faces(faces), hint, stats)
+        cast::<L, A, S>(frame, &ray.with_faces(faces), hint, stats)
     }
 
     /// Renders the image seen by `camera`; `depth_in` (one distance per pixel, rows top to
@@ -398,18 +470,11 @@ impl<'a> Renderer<'a> {
             tile: self.options.tile.max(1),
             bins: self.face_bins(rays),
         };
-        let rendered = match (self.options.path, self.options.blend) {
-            (RenderPath::Paper, Blend::Composite) => {
-                self.render_tiles::<LookupEach, FrontToBack, R>(&frame, &tiles)
-            }
-            (RenderPath::Paper, _) => {
-                self.render_tiles::<LookupEach, Projection, R>(&frame, &tiles)
-            }
-            (RenderPath::Fast, Blend::Composite) => {
-                self.render_tiles::<WalkCells, FrontToBack, R>(&frame, &tiles)
-            }
-            (RenderPath::Fast, _) => self.render_tiles::<WalkCells, Projection, R>(&frame, &tiles),
-        };
+        let rendered = self.with_parts(AllTiles {
+            renderer: self,
+            frame: &frame,
+            tiles: &tiles,
+        });
         Ok(tiles.assemble(w, h, rendered))
     }
 
@@ -429,6 +494,11 @@ impl<'a> Renderer<'a> {
             }
             if self.visible.get().is_none() {
                 let _ = self.visible.set(self.make_visible_cells(true));
+            }
+        }
+        if let Some(table) = &self.extinction {
+            if self.guard.get().is_none() {
+                let _ = self.guard.set(self.make_guard(table));
             }
         }
         let accel: &Accel = self.volume.accel();
@@ -454,7 +524,7 @@ impl<'a> Renderer<'a> {
 
     /// Casts every ray of `tiles`, tile by tile in parallel, with a locator of kind `L` and an
     /// accumulator of kind `A`: each tile's pixels (row-major) and counters.
-    fn render_tiles<L: LocatorKind, A: AccumulatorKind, R: RaySource + ?Sized>(
+    fn render_tiles<L: LocatorKind, A: AccumulatorKind, S: Steps, R: RaySource + ?Sized>(
         &self,
         frame: &Frame,
         tiles: &Tiles<'_, R>,
@@ -473,11 +543,53 @@ impl<'a> Renderer<'a> {
                 let pixels = tile.rays.iter().enumerate().map(|(k, &(o, d))| {
                     let stop = tiles.stop(tile.pixel(k));
                     let faces = lists.as_ref().and_then(|l| l.of(k));
-                    self.cast_ray::<L, A>(frame, (o, d, stop, faces), &mut hint, &mut stats)
+                    self.cast_ray::<L, A, S>(frame, (o, d, stop, faces), &mut hint, &mut stats)
                 });
                 (pixels.collect(), stats)
             })
             .collect()
+    }
+}
+
+/// What runs with the parts a render chose ([`Renderer::with_parts`]).
+trait Parts {
+    /// What it gives.
+    type Output;
+    /// Runs with a locator of kind `L`, an accumulator of kind `A` and the stepping `S`.
+    fn run<L: LocatorKind, A: AccumulatorKind, S: Steps>(self) -> Self::Output;
+}
+
+/// One ray cast alone: its origin, direction and stop.
+struct OneRay<'r, 'f> {
+    renderer: &'r Renderer<'r>,
+    frame: &'r Frame<'f>,
+    ray: (DVec3, DVec3, f64),
+    stats: &'r mut RenderStats,
+}
+
+impl Parts for OneRay<'_, '_> {
+    type Output = RayResult;
+    fn run<L: LocatorKind, A: AccumulatorKind, S: Steps>(self) -> RayResult {
+        let (origin, dir, t_stop) = self.ray;
+        let mut hint = None;
+        let ray = (origin, dir, t_stop, None);
+        self.renderer
+            .cast_ray::<L, A, S>(self.frame, ray, &mut hint, self.stats)
+    }
+}
+
+/// Every ray of an image's tiles.
+struct AllTiles<'r, 'f, 't, R: ?Sized> {
+    renderer: &'r Renderer<'r>,
+    frame: &'r Frame<'f>,
+    tiles: &'r Tiles<'t, R>,
+}
+
+impl<R: RaySource + ?Sized> Parts for AllTiles<'_, '_, '_, R> {
+    type Output = Vec<(Vec<RayResult>, RenderStats)>;
+    fn run<L: LocatorKind, A: AccumulatorKind, S: Steps>(self) -> Self::Output {
+        self.renderer
+            .render_tiles::<L, A, S, R>(self.frame, self.tiles)
     }
 }
 

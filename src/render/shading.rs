@@ -52,6 +52,14 @@ impl Shading {
     /// ```
     #[inline]
     pub fn shade(&self, color: [f64; 3], gradient: Option<DVec3>, dir: DVec3) -> [f64; 3] {
+        let (k, s) = self.terms(gradient, dir);
+        color.map(|c| (c * k + s).clamp(0.0, 1.0))
+    }
+
+    /// The factor on the colour and the specular term that [`Shading::shade`] applies at a
+    /// sample of gradient `gradient` seen along `dir`: the shaded colour is
+    /// `(c · factor + specular)` clamped to `[0, 1]`.
+    pub(crate) fn terms(&self, gradient: Option<DVec3>, dir: DVec3) -> (f64, f64) {
         let n = gradient
             .map(|g| g.normalize_or_zero())
             .unwrap_or(DVec3::ZERO);
@@ -61,8 +69,9 @@ impl Shading {
             let d = n.dot(dir).abs().min(1.0);
             (d, d.powf(self.specular_power))
         };
-        let k = self.ambient + self.diffuse * diffuse;
-        let s = self.specular * specular;
-        color.map(|c| (c * k + s).clamp(0.0, 1.0))
+        (
+            self.ambient + self.diffuse * diffuse,
+            self.specular * specular,
+        )
     }
 }

@@ -88,6 +88,16 @@ pub struct RenderStats {
     /// step: a thin blade or gap crossed), found by the boundary surface and left out of the
     /// samples' segments (see [`super::chords`]).
     pub gaps: u64,
+    /// Samples an error-bounded render added between two others where the stretch between
+    /// them was too long for the error allowed, or crossed an active cell (see
+    /// [`RenderOptions::max_error`]); also counted in `samples` and `samples_located`.
+    pub refined_samples: u64,
+    /// The scalar's gradients taken for its slope along the ray at the samples of an
+    /// error-bounded render (shading and gradient opacity use the same gradient).
+    pub slopes: u64,
+    /// Stretches of rays an error-bounded render integrated through the transfer function,
+    /// between two samples or from a sample to a crossing.
+    pub integrated_stretches: u64,
 }
 
 impl AddAssign for RenderStats {
@@ -116,6 +126,9 @@ impl AddAssign for RenderStats {
         self.extreme_jumps += o.extreme_jumps;
         self.chord_samples += o.chord_samples;
         self.gaps += o.gaps;
+        self.refined_samples += o.refined_samples;
+        self.slopes += o.slopes;
+        self.integrated_stretches += o.integrated_stretches;
     }
 }
 

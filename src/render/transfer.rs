@@ -322,6 +322,20 @@ impl TransferFunction {
     }
 }
 
+/// The entries of a [`TransferTable`] (see [`TransferTable::entries`]).
+pub(crate) struct TableEntries<'a> {
+    /// The scalar of the first entry.
+    pub(crate) lo: f64,
+    /// The scalar between two entries (0 for a single value).
+    pub(crate) width: f64,
+    /// Per entry the colour (and the opacity of a step).
+    pub(crate) rgba: &'a [[f64; 4]],
+    /// Per entry the opacity per unit distance.
+    pub(crate) unit: &'a [f64],
+    /// The distance the opacities apply to.
+    pub(crate) unit_distance: f64,
+}
+
 /// A transfer function sampled for one scalar range and one step.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TransferTable {
@@ -388,6 +402,24 @@ impl TransferTable {
             -(self.exponent * (-alpha_unit).ln_1p()).exp_m1()
         } else {
             0.0
+        }
+    }
+
+    /// The entries as the error-bounded integration reads them: the scalar of the first entry,
+    /// the scalar between two entries (0 for a single value), and per entry the colour and the
+    /// opacity per unit distance, with the unit distance of a step of `step` (the step the
+    /// table was made for).
+    pub(crate) fn entries(&self, step: f64) -> TableEntries<'_> {
+        TableEntries {
+            lo: self.lo,
+            width: if self.scale > 0.0 {
+                1.0 / self.scale
+            } else {
+                0.0
+            },
+            rgba: &self.rgba,
+            unit: &self.unit,
+            unit_distance: step / self.exponent,
         }
     }
 

@@ -1,7 +1,7 @@
 //! What a ray's samples make of its pixel, chosen once per render ([`Accumulate`]):
-//! front-to-back compositing of emission and absorption ([`composite`]) or a maximum- or
-//! minimum-intensity projection ([`extreme`]), with the transfer function and shading
-//! behind them ([`shade`]).
+//! front-to-back compositing of emission and absorption at a fixed step ([`composite`]) or
+//! bounded by an error ([`integrate`]), or a maximum- or minimum-intensity projection
+//! ([`extreme`]), with the transfer function and shading behind them ([`shade`]).
 //!
 //! The cast loop hands an accumulator each sample ([`Sample`]: the scalar at a point of a
 //! cell) with the stretch of the ray it stands for ([`Segment`]); compositing turns it into
@@ -9,9 +9,15 @@
 //! segment can be cut later at a boundary crossing ([`Open`]). An accumulator also says which
 //! cells add nothing (the fast path passes over their samples) and where along the ray the
 //! structure may hold one that adds something.
+//!
+//! An error-bounded accumulator also says where the next sample goes ([`Accumulate::next_step`])
+//! and asks for samples between those it was given ([`Accumulate::ask`]), which the cast loop
+//! locates and hands back ([`Accumulate::answer`]); the others keep the defaults, which do
+//! nothing.
 
 pub(crate) mod composite;
 pub(crate) mod extreme;
+pub(crate) mod integrate;
 pub(crate) mod shade;
 
 use glam::DVec3;
@@ -34,6 +40,12 @@ pub(crate) struct Sample {
     pub(crate) scalar: f64,
     /// The cell's corner values (point data), for the gradient.
     pub(crate) values: Option<[f64; 8]>,
+    /// The scalar's gradient there, where the accumulator asks for slopes
+    /// ([`Accumulate::SLOPES`]; `None` else, for cell data, or where the cell is degenerate).
+    pub(crate) gradient: Option<DVec3>,
+    /// The scalar's derivative along the ray there (0 where no gradient is taken, and with
+    /// nearest interpolation).
+    pub(crate) slope: f64,
 }
 
 /// What a sample emits: its (shaded) colour and its opacity over a whole step.
@@ -45,14 +57,29 @@ pub(crate) struct Emission {
     pub(crate) alpha_step: f64,
 }
 
-/// The stretch of the ray a sample stands for: from `start` (`None`: its step's own start,
-/// `t − step/2`, for a whole step) to `end`.
+/// The stretch of the ray a sample stands for: from `start` (`None`: its step's own start, for
+/// a whole step) to `end`; where the sample starts a run of samples after positions in cells
+/// that add nothing (or the ray's start), the run starts at the last of them, `own_start`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Segment {
     /// Where it starts, if not where its step starts.
     pub(crate) start: Option<f64>,
     /// Where it ends.
     pub(crate) end: f64,
+    /// The position before it (where a run it starts starts).
+    pub(crate) own_start: f64,
+}
+
+/// A sample an accumulator asks for: the middle of the stretch `[from, to]` of the ray, which
+/// lies in the mesh, located from `cell`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Ask {
+    /// Where the stretch starts.
+    pub(crate) from: f64,
+    /// Where it ends.
+    pub(crate) to: f64,
+    /// A cell at one of its ends.
+    pub(crate) cell: u32,
 }
 
 /// A composited sample whose segment may still be cut at a boundary crossing
@@ -90,6 +117,9 @@ impl RayResult {
 
 /// What a ray's samples make of its pixel.
 pub(crate) trait Accumulate {
+    /// Whether its samples carry the scalar's gradient and slope along the ray.
+    const SLOPES: bool = false;
+
     /// Whether a sample in `cell` adds nothing whatever its scalar, so that the fast path may
     /// pass over it: a cell the transfer function makes transparent (compositing), or one
     /// whose scalar range cannot beat the ray's extreme so far (a projection). Always `false`
@@ -136,6 +166,30 @@ pub(crate) trait Accumulate {
     /// The opacity accumulated so far.
     fn opacity(&self) -> f64;
 
+    /// A position of the ray was found outside the mesh (or passed over as such).
+    fn outside(&mut self) {}
+
+    /// The run of samples stops: at `at` (a position in a cell that adds nothing), or where
+    /// `None` (the ray's end), at the last sample's own segment end.
+    fn interrupt(&mut self, _at: Option<f64>) {}
+
+    /// A sample needed before the accumulator can go on, if any (see [`Ask`]).
+    fn ask(&mut self) -> Option<Ask> {
+        None
+    }
+
+    /// The sample asked for, `None` where it could not be located.
+    fn answer(&mut self, _sample: Option<&Sample>, _ray: &Ray, _stats: &mut RenderStats) {}
+
+    /// The step of the sample after the one just composited, in `cell`; `None` for the
+    /// options' fixed step.
+    fn next_step(&self, _cell: u32) -> Option<f64> {
+        None
+    }
+
+    /// Adds its own counters to `stats`, at the ray's end.
+    fn count(&self, _stats: &mut RenderStats) {}
+
     /// The pixel.
     fn finish(self) -> RayResult;
 }
@@ -155,6 +209,16 @@ impl AccumulatorKind for FrontToBack {
     type Accumulator<'f> = composite::Composite<'f>;
     fn start<'f>(frame: &'f Frame<'f>) -> composite::Composite<'f> {
         composite::Composite::new(frame)
+    }
+}
+
+/// Front-to-back compositing bounded by an error.
+pub(crate) enum Integrating {}
+
+impl AccumulatorKind for Integrating {
+    type Accumulator<'f> = integrate::Integrate<'f>;
+    fn start<'f>(frame: &'f Frame<'f>) -> integrate::Integrate<'f> {
+        integrate::Integrate::new(frame)
     }
 }
 

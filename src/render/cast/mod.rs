@@ -36,6 +36,11 @@
 //!
 //! The ray stops once its accumulated opacity reaches the early termination (after looking
 //! whether it leaves the mesh before the next sample).
+//!
+//! The stepping policy ([`steps`]) is the options' fixed step, or for an error-bounded render
+//! the step the accumulator chooses after each sample; such an accumulator may also ask for
+//! samples between two it was given, which the loop locates from a cell at one end
+//! ([`Cast::settle`]).
 
 pub(crate) mod steps;
 
@@ -52,11 +57,13 @@ use super::boundary::Stretch;
 use super::frame::Frame;
 use super::locate::{Locate, LocatorKind, Next};
 use super::ray::{End, Ray};
+use super::options::Interpolation;
 use super::stats::{RenderStats, Work};
+use crate::geometry::trilinear::physical_gradient;
 
-/// Casts `ray` with a locator of kind `L` and an accumulator of kind `A`, starting the
-/// locator from `hint` (the previous ray's first cell, updated to this ray's).
-pub(crate) fn cast<'f, L: LocatorKind, A: AccumulatorKind>(
+/// Casts `ray` with a locator of kind `L`, an accumulator of kind `A` and the stepping policy
+/// `S`, starting the locator from `hint` (the previous ray's first cell, updated to this ray's).
+pub(crate) fn cast<'f, L: LocatorKind, A: AccumulatorKind, S: Steps>(
     frame: &'f Frame<'f>,
     ray: &'f Ray<'f>,
     hint: &mut Option<u32>,
@@ -67,7 +74,7 @@ pub(crate) fn cast<'f, L: LocatorKind, A: AccumulatorKind>(
     let cast = Cast {
         frame,
         ray,
-        steps: Steps::new(ray.t_in, frame.options.step),
+        steps: S::new(ray.t_in, frame.options.step),
         locator,
         acc: A::start(frame),
         work,
@@ -85,10 +92,10 @@ pub(crate) fn cast<'f, L: LocatorKind, A: AccumulatorKind>(
 
 /// One ray being cast: its parts and what the loop knows of the position before the next
 /// sample.
-struct Cast<'f, 's, L, A> {
+struct Cast<'f, 's, L, A, S> {
     frame: &'f Frame<'f>,
     ray: &'f Ray<'f>,
-    steps: Steps,
+    steps: S,
     locator: L,
     acc: A,
     work: Work<'s>,
@@ -102,7 +109,7 @@ struct Cast<'f, 's, L, A> {
     first_cell: Option<u32>,
 }
 
-impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
+impl<'f, L: Locate<'f>, A: Accumulate, S: Steps> Cast<'f, '_, L, A, S> {
     /// The loop over the samples, then the ray's end: the pixel and the ray's first cell.
     fn run(mut self) -> (RayResult, Option<u32>) {
         let terminated = loop {
@@ -115,6 +122,9 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
             }
         };
         self.end(terminated);
+        self.acc.interrupt(None);
+        self.settle();
+        self.acc.count(self.work.stats);
         self.work.finish();
         (self.acc.finish(), self.first_cell)
     }
@@ -138,17 +148,20 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
                 self.outside(t, proved)
             }
             Next::OutsideUntil(until) => {
+                self.acc.outside();
                 self.steps.pass_over(until, t_out, self.work.stats);
                 ControlFlow::Continue(())
             }
             Next::LeftBounds(entry) => {
                 self.was_in = false;
                 self.close_open(t, None);
+                self.acc.outside();
                 self.steps.pass_over(entry, t_out, self.work.stats);
                 ControlFlow::Continue(())
             }
             Next::NoBounds => {
                 self.close_open(t, None);
+                self.acc.outside();
                 self.steps.pass_over(t_out, t_out, self.work.stats);
                 ControlFlow::Break(false)
             }
@@ -173,6 +186,7 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
         };
         let exit = proved.map(|p| p.crossing).or(between.and_then(|b| b.exit));
         self.close_open(t, exit);
+        self.acc.outside();
         self.chords_or_stop(between.as_ref())?;
         self.locator.passed_outside(t, proved, &mut self.work);
         ControlFlow::Continue(())
@@ -200,7 +214,7 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
                 self.work.stats.gaps += 1;
             }
             if let (Some(e), Some(open)) = (b.exit, self.open.take()) {
-                self.acc.recomposite(open, e);
+                self.cut(open, e);
             }
         }
         self.chords_or_stop(between.as_ref())?;
@@ -210,7 +224,7 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
         self.work.stats.samples_located += 1;
         self.first_cell = self.first_cell.or(Some(cell));
         if self.acc.adds_nothing(cell) {
-            self.pass_over();
+            self.pass_over(t);
             return ControlFlow::Continue(());
         }
         let sample = self.sample_at(t, cell, param);
@@ -221,9 +235,18 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
             Some(b) => b.entry,
             None => self.segment_start(t, (cell, param), was_in, after_jump),
         };
-        let end = t + 0.5 * self.frame.options.step;
-        let segment = Segment { start, end };
+        let end = self.steps.taken_segment(t).1;
+        let own_start = self.steps.before_taken(self.ray, was_in, after_jump).0;
+        let segment = Segment {
+            start,
+            end,
+            own_start,
+        };
         let open = self.acc.composite(emission, t, segment, (cell, param));
+        self.settle();
+        if let Some(step) = self.acc.next_step(cell) {
+            self.steps.set_step(step);
+        }
         // Without boundary segments no sample is ever cut at an exit crossing.
         self.open = self.frame.options.boundary_segments.then_some(open);
         self.stop_if_opaque(t, (cell, param))
@@ -231,7 +254,9 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
 
     /// A sample in a cell that adds nothing: counted, and where the locator can, the ray
     /// jumps over the samples up to the next that may add something.
-    fn pass_over(&mut self) {
+    fn pass_over(&mut self, t: f64) {
+        self.acc.interrupt(Some(t));
+        self.settle();
         A::count_passed(self.work.stats);
         let t_next = self.steps.next();
         if let Some(until) = self.locator.jump(t_next, &self.acc, &mut self.work) {
@@ -293,7 +318,7 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
                 .is_none()
             {
                 let e = boundary.crossing(self.ray, t_next, t, open.inside, &mut self.work);
-                self.acc.recomposite(open, e);
+                self.cut(open, e);
             }
         }
         if self.acc.opacity() >= early_termination {
@@ -322,8 +347,8 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
         if let Some(b) = between {
             if let Some(open) = self.open.take() {
                 match b.exit {
-                    Some(e) => self.acc.recomposite(open, e),
-                    None if ray.ends_on_plane => self.acc.recomposite(open, t_out),
+                    Some(e) => self.cut(open, e),
+                    None if ray.ends_on_plane => self.cut(open, t_out),
                     None => {}
                 }
             }
@@ -343,9 +368,9 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
                     .is_none()
                 {
                     let e = boundary.crossing(ray, t_out, open.t, open.inside, &mut self.work);
-                    self.acc.recomposite(open, e);
+                    self.cut(open, e);
                 } else if ray.ends_on_plane {
-                    self.acc.recomposite(open, t_out);
+                    self.cut(open, t_out);
                 }
             }
         }
@@ -364,7 +389,34 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
                     &mut self.work,
                 )
             });
-            self.acc.recomposite(open, e);
+            self.cut(open, e);
+        }
+    }
+
+    /// Cuts the segment of `open` at `end` (a crossing or a plane), then settles what the
+    /// accumulator asks for.
+    fn cut(&mut self, open: Open, end: f64) {
+        self.acc.recomposite(open, end);
+        self.settle();
+    }
+
+    /// Locates the samples the accumulator asks for between two it was given (an
+    /// error-bounded render's refinement; nothing for the others) and hands them back.
+    fn settle(&mut self) {
+        while let Some(ask) = self.acc.ask() {
+            let chord = Chord {
+                start: ask.from,
+                end: ask.to,
+                cell: ask.cell,
+            };
+            let found = self.locator.locate_chord(&chord, &mut self.work);
+            let sample = found.map(|(cell, q)| {
+                self.work.stats.samples += 1;
+                self.work.stats.samples_located += 1;
+                self.sample_at(chord.middle(), cell, q)
+            });
+            self.acc
+                .answer(sample.as_ref(), self.ray, self.work.stats);
         }
     }
 
@@ -405,24 +457,40 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
             let segment = Segment {
                 start: Some(chord.start),
                 end: chord.end,
+                own_start: chord.start,
             };
             self.acc
                 .composite(emission, sample.t, segment, (cell, sample.param));
+            self.settle();
         }
         self.acc.opacity() >= self.frame.options.early_termination
     }
 
-    /// The scalar at parameters `param` of `cell` (clamped to its cube), for the sample at `t`.
-    fn sample_at(&self, t: f64, cell: u32, param: DVec3) -> Sample {
+    /// The scalar at parameters `param` of `cell` (clamped to its cube), for the sample at `t`;
+    /// with its gradient and slope along the ray where the accumulator takes them.
+    fn sample_at(&mut self, t: f64, cell: u32, param: DVec3) -> Sample {
         let param = param.clamp(DVec3::ZERO, DVec3::ONE);
         let interpolation = self.frame.options.interpolation;
         let (scalar, values) = self.frame.volume.scalar_at(cell, param, interpolation);
-        Sample {
+        let mut sample = Sample {
             t,
             cell,
             param,
             scalar,
             values,
+            gradient: None,
+            slope: 0.0,
+        };
+        if A::SLOPES {
+            if let Some(values) = values {
+                self.work.stats.slopes += 1;
+                let corners = self.frame.volume.mesh().cell_corners(cell as usize);
+                sample.gradient = physical_gradient(&corners, &values, param);
+                if interpolation == Interpolation::Linear {
+                    sample.slope = sample.gradient.map_or(0.0, |g| g.dot(self.ray.dir));
+                }
+            }
         }
+        sample
     }
 }

@@ -1,0 +1,100 @@
+//! Where the error-bounded steps stay short whatever the samples say ([`Guard`]): every cell's
+//! thickness (the least distance between the centres of two opposite faces), and which cells
+//! are *active*: those across whose scalar range the transfer function varies enough that a
+//! feature smaller than a step could hide between two samples that agree (a thin layer the
+//! field rises and falls across) — the total variation of the extinction and of the emission
+//! density over the cell's range, times its extent (its box diagonal), exceeds a share of the
+//! error allowed. A sample in an active cell takes a step no longer than the cell is thin;
+//! elsewhere the samples alone choose. A sample's tangent is not followed much further than its
+//! cell is thin, active or not.
+//!
+//! Made once per render from the cells' scalar ranges and the transfer table, in parallel.
+
+use rayon::prelude::*;
+
+use super::table::Extinction;
+use crate::geometry::bounds::cell_bounds;
+use crate::geometry::trilinear::index;
+use crate::Mesh;
+
+use glam::DVec3;
+
+/// Per cell, its thickness and whether it is active.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Guard {
+    /// The thickness, negative where the cell is active.
+    thickness: Vec<f32>,
+}
+
+impl Guard {
+    /// The cells of `mesh`, whose scalar ranges are `ranges`, under `table`: a cell is active
+    /// where the variation over its range times its extent exceeds `threshold`.
+    pub(crate) fn new(mesh: &Mesh, ranges: &[[f64; 2]], table: &Extinction, threshold: f64) -> Guard {
+        let thickness = (0..mesh.cell_count())
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|c| {
+                let [lo, hi] = ranges[c];
+                let corners = mesh.cell_corners(c);
+                let thin = thickness(&corners) as f32;
+                let variation = table.variation(lo, hi);
+                if variation > 0.0 && variation * cell_bounds(&corners).diagonal() > threshold {
+                    -thin
+                } else {
+                    thin
+                }
+            })
+            .collect();
+        Guard { thickness }
+    }
+
+    /// The longest step a sample in `cell` takes: its thickness where it is active, else `∞`.
+    #[inline]
+    pub(crate) fn cap(&self, cell: u32) -> f64 {
+        match self.thickness.get(cell as usize) {
+            Some(&t) if t < 0.0 => -t as f64,
+            _ => f64::INFINITY,
+        }
+    }
+
+    /// The thickness of `cell` (`∞` for a cell out of range).
+    #[inline]
+    pub(crate) fn thickness(&self, cell: u32) -> f64 {
+        self.thickness
+            .get(cell as usize)
+            .map_or(f64::INFINITY, |&t| t.abs() as f64)
+    }
+}
+
+/// The least distance between the centres of two opposite faces of a cell.
+fn thickness(corners: &[DVec3; 8]) -> f64 {
+    let centre = |axis: usize, side: usize| {
+        let mut sum = DVec3::ZERO;
+        for a in 0..2 {
+            for b in 0..2 {
+                let (u, v, w) = match axis {
+                    0 => (side, a, b),
+                    1 => (a, side, b),
+                    _ => (a, b, side),
+                };
+                sum += corners[index(u, v, w)];
+            }
+        }
+        sum * 0.25
+    };
+    (0..3)
+        .map(|axis| (centre(axis, 1) - centre(axis, 0)).length())
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::trilinear::CORNER_PARAMETERS;
+
+    #[test]
+    fn thickness_of_a_flat_box() {
+        let corners = CORNER_PARAMETERS.map(|p| DVec3::new(p[0] * 2.0, p[1] * 0.1, p[2] * 3.0));
+        assert!((thickness(&corners) - 0.1).abs() < 1e-15);
+    }
+}
