@@ -349,6 +349,26 @@ protected:
   vtkInternals* Internals;
 
 private:
+  // The steps of Render, in order. Each returns false (after vtkErrorMacro) when the frame
+  // is to draw nothing; Frame carries what one step hands to the next.
+  struct Frame;
+  void ResetRenderStatistics();
+  bool SelectInput(Frame& frame);        // the input, without its ghost cells
+  bool SelectScalars(Frame& frame);      // the scalar array and component drawn
+  bool CheckCellTypes(Frame& frame);
+  bool UpdateVolume(Frame& frame);       // build, or hand over new scalars, or keep
+  bool BuildVolume(Frame& frame);
+  void RecordBuildStatistics();
+  bool ReplaceScalars(Frame& frame);
+  bool MakeTransferTables(Frame& frame); // colour, opacity and gradient opacity tables
+  void SizeImage(Frame& frame, vtkRenderer* ren, vtkVolume* vol);
+  void ReadDepth(Frame& frame, vtkRenderer* ren); // the z-buffer of what is drawn
+  void SetCamera(Frame& frame, vtkRenderer* ren, vtkVolume* vol);
+  void SetRenderParameters(Frame& frame, vtkVolume* vol);
+  bool RenderBands(Frame& frame, vtkRenderer* ren); // the cylvol_render calls
+  void AddRenderStatistics();
+  void Display(Frame& frame, vtkRenderer* ren, vtkVolume* vol);
+
   vtkCylVolMapper(const vtkCylVolMapper&) = delete;
   void operator=(const vtkCylVolMapper&) = delete;
 };
