@@ -234,6 +234,9 @@ public:
 
   vtkTimeStamp SettingsTime; // structure settings' last change
 
+  // How many cells of each VTK type the structure was last built over.
+  std::vector<vtkIdType> BuiltCellCounts = std::vector<vtkIdType>(256, 0);
+
   // What the last render left out for cell scalars (1: shading, 2: gradient opacity), so that
   // the warning saying so is given once per change.
   int CellScalarsIgnored = 0;
@@ -544,6 +547,12 @@ void vtkCylVolMapper::SetScalarComponent(int component)
 }
 
 //------------------------------------------------------------------------------
+vtkIdType vtkCylVolMapper::GetBuiltCellCount(int cellType)
+{
+  return cellType >= 0 && cellType < 256 ? this->Internals->BuiltCellCounts[cellType] : 0;
+}
+
+//------------------------------------------------------------------------------
 int vtkCylVolMapper::FillInputPortInformation(int port, vtkInformation* info)
 {
   if (!this->Superclass::FillInputPortInformation(port, info))
@@ -734,7 +743,11 @@ bool vtkCylVolMapper::SelectScalars(Frame& frame)
                        "SetScalarComponent: nothing drawn.");
       return false;
     }
-    if (this->ScalarComponent < 0 || this->ScalarComponent >= components)
+    if (this->ScalarComponent == SCALAR_MAGNITUDE)
+    {
+      component = -1; // cylvol's magnitude
+    }
+    else if (this->ScalarComponent < 0 || this->ScalarComponent >= components)
     {
       vtkErrorMacro(<< "The scalar array '" << arrayName << "' has " << components
                     << " components and no valid component is chosen (ScalarComponent = "
@@ -742,10 +755,14 @@ bool vtkCylVolMapper::SelectScalars(Frame& frame)
                     << "); VTK's unstructured mappers would mix all of them, each through its "
                        "own transfer functions (IndependentComponents), vtkCylVolMapper draws one: "
                        "choose it with SetScalarComponent(0.."
-                    << components - 1 << "): nothing drawn.");
+                    << components - 1 << ") or draw the magnitude (SCALAR_MAGNITUDE): nothing "
+                       "drawn.");
       return false;
     }
-    component = this->ScalarComponent;
+    else
+    {
+      component = this->ScalarComponent;
+    }
   }
   const vtkIdType expectedTuples = cellFlag ? input->GetNumberOfCells() : input->GetNumberOfPoints();
   if (scalars->GetNumberOfTuples() != expectedTuples)
@@ -862,6 +879,12 @@ bool vtkCylVolMapper::BuildVolume(Frame& frame)
   in.ScalarCells = frame.CellFlag;
   this->BuildCount++;
   this->RecordBuildStatistics();
+  std::fill(in.BuiltCellCounts.begin(), in.BuiltCellCounts.end(), 0);
+  const unsigned char* types = grid->GetCellTypesArray()->GetPointer(0);
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    in.BuiltCellCounts[types[c]]++;
+  }
   return true;
 }
 
