@@ -156,6 +156,21 @@ int vtkCylVolRepresentation::RequestData(
   vtkDataObject* input = inputVector[0]->GetNumberOfInformationObjects() == 1
     ? vtkDataObject::GetData(inputVector[0], 0)
     : nullptr;
+  in.VolumeCells = this->GatherVolumeCells(input);
+  NumberPointsGlobally(in.VolumeCells);
+  this->ChooseForWholeDataset();
+  if (in.VolumeCells->GetNumberOfCells() > 0)
+  {
+    in.VolumeCells->GetBounds(this->DataBounds);
+    this->DataSize = in.VolumeCells->GetActualMemorySize();
+  }
+  return this->Superclass::RequestData(request, inputVector, outputVector);
+}
+
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkUnstructuredGrid> vtkCylVolRepresentation::GatherVolumeCells(
+  vtkDataObject* input)
+{
   cylvolpv::VolumeCells cells = cylvolpv::GatherVolumeCells(input);
   if (!cells.Unsupported.empty())
   {
@@ -164,41 +179,44 @@ int vtkCylVolRepresentation::RequestData(
                   << ". It draws hexahedra, voxels, wedges, pyramids and tetrahedra: nothing "
                      "drawn.");
   }
-  // Whether any rank has cells it cannot draw, and whether the dataset has a volume at all.
+  // Whether any rank has cells it cannot draw, and whether the dataset has a volume at all:
+  // the whole dataset is drawn, or nothing.
   const std::vector<double> totals =
     SumOverRanks({ cells.Unsupported.empty() ? 0.0 : 1.0,
       static_cast<double>(cells.Grid->GetNumberOfCells()), static_cast<double>(cells.InputCells) });
   vtkMultiProcessController* ranks = Ranks();
-  const bool firstRank = !ranks || ranks->GetLocalProcessId() == 0;
-  if (totals[1] == 0.0 && totals[2] > 0.0 && firstRank)
+  if (totals[1] == 0.0 && totals[2] > 0.0 && (!ranks || ranks->GetLocalProcessId() == 0))
   {
     vtkErrorMacro(<< "The input (" << (input ? input->GetClassName() : "none")
                   << ") has no volume cells, only surfaces, lines or points; CylVol Volume "
                      "draws volume meshes (hexahedra, voxels, wedges, pyramids, tetrahedra): "
                      "nothing drawn.");
   }
-  in.DrawNothing = totals[0] > 0.0 || totals[1] == 0.0;
-  in.VolumeCells = in.DrawNothing ? vtkSmartPointer<vtkUnstructuredGrid>::New() : cells.Grid;
-  NumberPointsGlobally(in.VolumeCells);
+  this->Internals->DrawNothing = totals[0] > 0.0 || totals[1] == 0.0;
+  return this->Internals->DrawNothing ? vtkSmartPointer<vtkUnstructuredGrid>::New() : cells.Grid;
+}
 
+//------------------------------------------------------------------------------
+void vtkCylVolRepresentation::ChooseForWholeDataset()
+{
+  vtkInternals& in = *this->Internals;
+  if (in.DrawNothing)
+  {
+    in.Choice = cylvolpv::WholeDatasetChoice();
+    return;
+  }
   cylvolpv::WholeDatasetRequest wanted;
   wanted.Structure = this->Structure;
   wanted.AxisAuto = this->AxisAuto != 0;
   std::copy(this->AxisOrigin, this->AxisOrigin + 3, wanted.AxisOrigin);
   std::copy(this->AxisDirection, this->AxisDirection + 3, wanted.AxisDirection);
-  in.Choice = in.DrawNothing ? cylvolpv::WholeDatasetChoice()
-                             : cylvolpv::ChooseForWholeDataset(in.VolumeCells, wanted, ranks);
-  if (!in.DrawNothing && !in.Choice.Valid && firstRank)
+  vtkMultiProcessController* ranks = Ranks();
+  in.Choice = cylvolpv::ChooseForWholeDataset(in.VolumeCells, wanted, ranks);
+  if (!in.Choice.Valid && (!ranks || ranks->GetLocalProcessId() == 0))
   {
     vtkWarningMacro(<< "No whole-dataset structure, axis and step (" << in.Choice.Problem
                     << "); each rank's mapper chooses its own.");
   }
-  if (in.VolumeCells->GetNumberOfCells() > 0)
-  {
-    in.VolumeCells->GetBounds(this->DataBounds);
-    this->DataSize = in.VolumeCells->GetActualMemorySize();
-  }
-  return this->Superclass::RequestData(request, inputVector, outputVector);
 }
 
 //------------------------------------------------------------------------------

@@ -29,6 +29,7 @@
 #include <string> // for std::string
 
 class vtkCylVolMapper;
+class vtkDataObject;
 class vtkPolyDataMapper;
 class vtkPVGeometryFilter;
 class vtkPVRenderView;
@@ -125,6 +126,12 @@ protected:
 private:
   vtkCylVolRepresentation(const vtkCylVolRepresentation&) = delete;
   void operator=(const vtkCylVolRepresentation&) = delete;
+
+  // The steps of RequestData: this rank's volume cells (empty when the whole dataset is to
+  // draw nothing, with the error saying why), and the whole dataset's structure, axis and
+  // step (collective over the ranks).
+  vtkSmartPointer<vtkUnstructuredGrid> GatherVolumeCells(vtkDataObject* input);
+  void ChooseForWholeDataset();
 
   // The steps of REQUEST_RENDER: the piece this rank draws, the box its rays are cut to, and
   // the mapper's settings.
