@@ -421,9 +421,22 @@ def case_slab(args, pv, work):
     write_vtu(work, "slab", grid)
     opacity = 0.3
     figures_of = dict(whole_dataset_figures(grid, "s"), opacity=opacity)
-    along, along_runs = serial_and_parallel(pv, work, "slab", "slab-x", (2, 3),
-                                            dict(figures_of, view="x"))
-    oblique, oblique_runs = serial_and_parallel(pv, work, "slab", "slab-oblique", (3,), figures_of)
+    # The view along x (serial, 2 and 3 ranks) and an oblique one (serial and 3 ranks), the
+    # scenes of a number of ranks drawn by one pvbatch.
+    scenes = {"x": dict(figures_of, dataset="slab", view="x"),
+              "oblique": dict(figures_of, dataset="slab")}
+    runs = {}
+    for ranks, views in ((1, ("x", "oblique")), (2, ("x",)), (3, ("x", "oblique"))):
+        tag = "slab-%d" % ranks
+        outs = {v: os.path.join(work, "%s-%s" % (tag, v)) for v in views}
+        text = pv.pvbatch([dict(scenes[v], out=outs[v]) for v in views], tag, ranks=ranks)
+        for v in views:
+            runs[(ranks, v)] = (outs[v], scene_output(text, outs[v]))
+    along = runs[(1, "x")][0]
+    oblique = runs[(1, "oblique")][0]
+    check(not errors_in(runs[(1, "x")][1] + runs[(1, "oblique")][1]), "serial: no error")
+    along_runs = {r: runs[(r, "x")] for r in (2, 3)}
+    oblique_runs = {3: runs[(3, "oblique")]}
 
     expected = 255.0 * (1.0 - math.exp(-opacity * (xs[-1] - xs[0])))
     print("  exact: white through a length of %.2f at attenuation %.2f per unit: %.2f/255"
