@@ -306,7 +306,7 @@ def main():
         print("%-34s %10s %10s %12s %22s" % (
             name, fmt_s(r["first_frame_s"]), fmt_s(r["steady_s"]), memory,
             "-" if mean is None else "%.3f/255, %.2f" % (mean, pct)))
-    if "error" not in ours:
+    if ours and "error" not in ours:
         print("\nratios, renderer / CylVol Volume:")
         for name, r in runs.items():
             if name == "CylVol Volume" or "error" in r:

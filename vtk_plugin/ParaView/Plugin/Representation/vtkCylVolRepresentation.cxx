@@ -54,23 +54,25 @@ std::vector<double> SumOverRanks(std::vector<double> values)
   }
   return values;
 }
-// Numbers the grid's points with ids unique over all ranks (this rank's after the points of
-// the ranks before it), as its global point ids. When the view redistributes the cells, it
-// merges the points each rank receives by these ids: a point that several ranks send is one
-// point again, and points that merely coincide (the two faces of a slit or baffle, blocks
-// that touch) stay apart, as cylvol has them on one rank.
+// Under MPI, numbers the grid's points with ids unique over all ranks (this rank's after the
+// points of the ranks before it), as its global point ids. When the view redistributes the
+// cells, it merges the points each rank receives by these ids: a point that several ranks
+// send is one point again, and points that merely coincide (the two faces of a slit or
+// baffle, blocks that touch) stay apart, as cylvol has them on one rank.
 void NumberPointsGlobally(vtkUnstructuredGrid* grid)
 {
+  vtkMultiProcessController* controller = Ranks();
+  if (!controller)
+  {
+    return;
+  }
   const vtkIdType count = grid->GetNumberOfPoints();
   vtkIdType first = 0;
-  if (vtkMultiProcessController* controller = Ranks())
+  std::vector<vtkIdType> counts(static_cast<size_t>(controller->GetNumberOfProcesses()), 0);
+  controller->AllGather(&count, counts.data(), 1);
+  for (int r = 0; r < controller->GetLocalProcessId(); ++r)
   {
-    std::vector<vtkIdType> counts(static_cast<size_t>(controller->GetNumberOfProcesses()), 0);
-    controller->AllGather(&count, counts.data(), 1);
-    for (int r = 0; r < controller->GetLocalProcessId(); ++r)
-    {
-      first += counts[static_cast<size_t>(r)];
-    }
+    first += counts[static_cast<size_t>(r)];
   }
   vtkNew<vtkIdTypeArray> ids;
   ids->SetName("CylVolPointIds");
