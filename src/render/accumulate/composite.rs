@@ -10,6 +10,7 @@ use super::shade::emission;
 use super::{Accumulate, Emission, Open, RayResult, Sample, Segment};
 use crate::accel::skip::CellMarks;
 use crate::accel::{Accel, Counters, RaySpan};
+use crate::render::cast::steps::FixedSteps;
 use crate::render::frame::Frame;
 use crate::render::ray::Ray;
 use crate::render::stats::RenderStats;
@@ -76,6 +77,8 @@ impl<'f> Composite<'f> {
 }
 
 impl Accumulate for Composite<'_> {
+    type Steps = FixedSteps;
+
     #[inline]
     fn adds_nothing(&self, cell: u32) -> bool {
         self.transparent.is_some_and(|m| m.contains(cell))

@@ -10,6 +10,7 @@ use glam::DVec3;
 use super::{Accumulate, Emission, Open, RayResult, Sample, Segment};
 use crate::accel::bvh::NodeRanges;
 use crate::accel::{Accel, Counters, RaySpan};
+use crate::render::cast::steps::FixedSteps;
 use crate::render::frame::Frame;
 use crate::render::options::Blend;
 use crate::render::ray::Ray;
@@ -41,6 +42,8 @@ impl<'f> Extreme<'f> {
 }
 
 impl Accumulate for Extreme<'_> {
+    type Steps = FixedSteps;
+
     #[inline]
     fn adds_nothing(&self, cell: u32) -> bool {
         self.passes

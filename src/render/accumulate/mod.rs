@@ -22,6 +22,7 @@ pub(crate) mod shade;
 
 use glam::DVec3;
 
+use super::cast::steps::Steps;
 use super::frame::Frame;
 use super::ray::Ray;
 use super::stats::RenderStats;
@@ -117,6 +118,10 @@ impl RayResult {
 
 /// What a ray's samples make of its pixel.
 pub(crate) trait Accumulate {
+    /// Where its samples go: every step of the options, or where it says
+    /// ([`Accumulate::next_step`]).
+    type Steps: Steps;
+
     /// Whether its samples carry the scalar's gradient and slope along the ray.
     const SLOPES: bool = false;
 
@@ -165,6 +170,10 @@ pub(crate) trait Accumulate {
 
     /// The opacity accumulated so far.
     fn opacity(&self) -> f64;
+
+    /// The whole ray it gathers over is `len` long (its pieces' total, for a ray cast piece
+    /// by piece), said before its first sample.
+    fn span(&mut self, _len: f64) {}
 
     /// A position of the ray was found outside the mesh (or passed over as such).
     fn outside(&mut self) {}

@@ -61,41 +61,60 @@ use super::options::Interpolation;
 use super::stats::{RenderStats, Work};
 use crate::geometry::trilinear::physical_gradient;
 
-/// Casts `ray` with a locator of kind `L`, an accumulator of kind `A` and the stepping policy
-/// `S`, starting the locator from `hint` (the previous ray's first cell, updated to this ray's).
-pub(crate) fn cast<'f, L: LocatorKind, A: AccumulatorKind, S: Steps>(
+/// Casts `ray` with a locator of kind `L` and an accumulator of kind `A` (whose stepping
+/// policy places the samples), starting the locator from `hint` (the previous ray's first
+/// cell, updated to this ray's).
+pub(crate) fn cast<'f, L: LocatorKind, A: AccumulatorKind>(
     frame: &'f Frame<'f>,
     ray: &'f Ray<'f>,
     hint: &mut Option<u32>,
     stats: &mut RenderStats,
 ) -> RayResult {
+    let mut acc = A::start(frame);
+    acc.span(ray.t_out - ray.t_in);
+    cast_into::<L, A::Accumulator<'f>>(frame, ray, hint, acc, stats)
+        .0
+        .finish()
+}
+
+/// Casts `ray` into `acc` (which may hold what earlier pieces of a longer ray accumulated: a
+/// ray through the copies of a periodic sector is cast piece by piece, each piece in its
+/// copy's frame), with a locator of kind `L` started from `hint`: the accumulator, and whether
+/// the ray became opaque enough to stop.
+pub(crate) fn cast_into<'f, L: LocatorKind, A: Accumulate>(
+    frame: &'f Frame<'f>,
+    ray: &'f Ray<'f>,
+    hint: &mut Option<u32>,
+    acc: A,
+    stats: &mut RenderStats,
+) -> (A, bool) {
     let mut work = Work::new(stats);
     let locator = <L::Locator<'f>>::start(frame, ray, *hint, &mut work);
     let cast = Cast {
         frame,
         ray,
-        steps: S::new(ray.t_in, frame.options.step),
+        steps: A::Steps::new(ray.t_in, frame.options.step),
         locator,
-        acc: A::start(frame),
+        acc,
         work,
         open: None,
         was_in: false,
         jumped: false,
         first_cell: None,
     };
-    let (result, first) = cast.run();
+    let (acc, first, terminated) = cast.run();
     if first.is_some() {
         *hint = first;
     }
-    result
+    (acc, terminated)
 }
 
 /// One ray being cast: its parts and what the loop knows of the position before the next
 /// sample.
-struct Cast<'f, 's, L, A, S> {
+struct Cast<'f, 's, L, A: Accumulate> {
     frame: &'f Frame<'f>,
     ray: &'f Ray<'f>,
-    steps: S,
+    steps: A::Steps,
     locator: L,
     acc: A,
     work: Work<'s>,
@@ -109,9 +128,10 @@ struct Cast<'f, 's, L, A, S> {
     first_cell: Option<u32>,
 }
 
-impl<'f, L: Locate<'f>, A: Accumulate, S: Steps> Cast<'f, '_, L, A, S> {
-    /// The loop over the samples, then the ray's end: the pixel and the ray's first cell.
-    fn run(mut self) -> (RayResult, Option<u32>) {
+impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
+    /// The loop over the samples, then the ray's end: the accumulator, the ray's first cell,
+    /// and whether the ray stopped opaque.
+    fn run(mut self) -> (A, Option<u32>, bool) {
         let terminated = loop {
             let t = self.steps.next();
             if t >= self.ray.t_out || t.is_nan() {
@@ -126,7 +146,7 @@ impl<'f, L: Locate<'f>, A: Accumulate, S: Steps> Cast<'f, '_, L, A, S> {
         self.settle();
         self.acc.count(self.work.stats);
         self.work.finish();
-        (self.acc.finish(), self.first_cell)
+        (self.acc, self.first_cell, terminated)
     }
 
     /// The sample at `t`: located, then handled as in the mesh or outside, or passed over

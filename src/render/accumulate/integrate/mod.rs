@@ -41,6 +41,7 @@ use self::table::Extinction;
 use super::{Accumulate, Ask, Emission, Open, RayResult, Sample, Segment};
 use crate::accel::skip::CellMarks;
 use crate::accel::{Accel, Counters, RaySpan};
+use crate::render::cast::steps::AdaptiveSteps;
 use crate::render::frame::Frame;
 use crate::render::ray::Ray;
 use crate::render::stats::RenderStats;
@@ -346,6 +347,8 @@ impl<'f> Integrate<'f> {
 }
 
 impl Accumulate for Integrate<'_> {
+    type Steps = AdaptiveSteps;
+
     const SLOPES: bool = true;
 
     #[inline]
@@ -376,10 +379,6 @@ impl Accumulate for Integrate<'_> {
     }
 
     fn take(&mut self, sample: &Sample, ray: &Ray, _stats: &mut RenderStats) -> Option<Emission> {
-        if self.tolerance.is_nan() {
-            let span = (ray.t_out - ray.t_in).max(f64::MIN_POSITIVE);
-            self.tolerance = QUADRATURE_SHARE * self.bounded.error / span;
-        }
         self.taken = Some(Node {
             knot: self.knot(sample, ray),
             cell: sample.cell,
@@ -428,6 +427,10 @@ impl Accumulate for Integrate<'_> {
         if self.behind.is_some() || self.ahead_len > 0 {
             self.close = Some(end);
         }
+    }
+
+    fn span(&mut self, len: f64) {
+        self.tolerance = QUADRATURE_SHARE * self.bounded.error / len.max(f64::MIN_POSITIVE);
     }
 
     fn interrupt(&mut self, at: Option<f64>) {
