@@ -62,9 +62,14 @@ pub struct BenchArgs {
     /// Camera preset AZIMUTH,ELEVATION,ZOOM in degrees, degrees and a factor.
     #[arg(long, value_name = "AZIMUTH,ELEVATION,ZOOM", value_parser = scene::parse_view, allow_hyphen_values = true)]
     view: Option<[f64; 3]>,
-    /// Sample spacing in world units (default: half the mean cell size).
+    /// Sample spacing in world units (default: half the mean cell size). Given alone, every
+    /// ray is sampled at this fixed step; with --max-error, it is the step rays start with.
     #[arg(long, value_parser = super::number::parse_step, allow_hyphen_values = true)]
     step: Option<f64>,
+    /// The largest colour error allowed, in 1/255 of a pixel's premultiplied RGBA against the
+    /// converged image [default: 2 unless --step is given].
+    #[arg(long, value_name = "E", value_parser = scene::parse_max_error, allow_hyphen_values = true)]
+    max_error: Option<f64>,
     /// Scalar array to render (for every input).
     #[arg(long)]
     scalar: Option<String>,
@@ -106,6 +111,8 @@ pub struct BenchSetup {
     pub view: Option<[f64; 3]>,
     /// Sample spacing (`None`: the default).
     pub step: Option<f64>,
+    /// The error allowed, in 1/255 (`None`: the default, see [`scene::sampling`]).
+    pub max_error: Option<f64>,
     /// The transfer function's options (none set: the default).
     pub transfer: TransferArgs,
 }
@@ -127,6 +134,9 @@ fn path_json(stats: &RenderStats, frame_s: f64) -> Value {
         "samples_located": stats.samples_located,
         "samples_skipped": stats.samples_skipped,
         "early_terminations": stats.early_terminations,
+        "refined_samples": stats.refined_samples,
+        "integrated_stretches": stats.integrated_stretches,
+        "slopes": stats.slopes,
     })
 }
 
@@ -169,7 +179,7 @@ pub fn bench_mesh(
     (paths, copies): (&[RenderPath], Option<&Copies>),
 ) -> Result<BenchResult, Error> {
     let (width, height) = (setup.width, setup.height);
-    let step = scene::step(mesh, setup.step)?;
+    let (step, max_error) = scene::sampling(mesh, setup.step, setup.max_error)?;
     let bounds = copies.map_or(mesh.bounds(), |c| c.bounds());
     let [az, el, zoom] = setup.view.unwrap_or(scene::DEFAULT_VIEW);
     let camera = Camera::view(bounds, width, height, az, el, zoom);
@@ -203,6 +213,7 @@ pub fn bench_mesh(
         for &path in paths {
             let mut options = RenderOptions::new(width, height, step);
             options.path = path;
+            options.max_error = max_error;
             let mut renderer = Renderer::new(volume, &transfer, &options)?;
             if let (RenderPath::Fast, Some(n)) = (path, &neighbours) {
                 renderer = renderer.with_topology(n);
@@ -267,6 +278,7 @@ pub fn bench_mesh(
         "height": height,
         "frames": setup.frames.max(1),
         "step": step,
+        "max_error": max_error,
         "view": setup.view.unwrap_or(scene::DEFAULT_VIEW),
         "neighbours_s": neighbours.as_ref().map(|_| neighbours_s),
         "periodic": copies.map(|c| json!({
@@ -374,6 +386,7 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
         frames: args.frames,
         view: args.view,
         step: args.step,
+        max_error: args.max_error,
         transfer: args.transfer.clone(),
     };
     let mut reports = Vec::new();

@@ -226,6 +226,7 @@ fn render_views(
         frames: 1,
         view: Some(DEMO_VIEW),
         step: None,
+        max_error: None,
         transfer: Default::default(),
     };
     let bench = super::bench::bench_mesh(

@@ -52,9 +52,15 @@ pub struct RenderArgs {
     /// Image size WxH.
     #[arg(long, default_value = "512x512", value_parser = parse_size, allow_hyphen_values = true)]
     size: (u32, u32),
-    /// Sample spacing in world units (default: half the mean cell size).
+    /// Sample spacing in world units (default: half the mean cell size). Given alone, every
+    /// ray is sampled at this fixed step; with --max-error, it is the step rays start with.
     #[arg(long, value_parser = super::number::parse_step, allow_hyphen_values = true)]
     step: Option<f64>,
+    /// The largest colour error allowed, in 1/255 of a pixel's premultiplied RGBA against the
+    /// converged image [default: 2 unless --step is given]: the samples are placed along each
+    /// ray where the field and the transfer function need them.
+    #[arg(long, value_name = "E", value_parser = scene::parse_max_error, allow_hyphen_values = true)]
+    max_error: Option<f64>,
     #[command(flatten)]
     camera: CameraArgs,
     /// paper (locate every sample through the structure) or fast.
@@ -289,7 +295,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     }
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
-    let step = scene::step(&mesh, args.step)?;
+    let (step, max_error) = scene::sampling(&mesh, args.step, args.max_error)?;
     if let Some(warning) = scene::constant_field_warning(&mesh, volume.scalar_range()) {
         log(format_args!("warning: {warning}"));
     }
@@ -309,6 +315,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     options.blend = blend;
     options.clip_planes = clip_planes;
     options.march_reach = args.march_reach;
+    options.max_error = max_error;
     if let Some(a) = args.depth_opacity {
         options.depth_opacity = a;
     }
@@ -363,6 +370,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             "width": width,
             "height": height,
             "step": step,
+            "max_error": options.error_bounded().then_some(max_error).flatten(),
             "periodic": copies.as_ref().map(|c| json!({
                 "copies": c.periodicity().copies,
                 "first": c.range().0,

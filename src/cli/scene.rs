@@ -35,6 +35,16 @@ pub fn parse_view(s: &str) -> Result<[f64; 3], String> {
     }
 }
 
+/// Parses a `--max-error E`: a positive, finite number of 1/255.
+pub fn parse_max_error(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(e) if e > 0.0 && e.is_finite() => Ok(e),
+        _ => Err(format!(
+            "max error '{s}' must be a positive number of 1/255 of a pixel's RGBA"
+        )),
+    }
+}
+
 /// Parses a square image side `N` (1 to 16384).
 pub fn parse_side(s: &str) -> Result<u32, String> {
     let n: u32 = s
@@ -219,6 +229,23 @@ pub fn neighbours(mesh: &Mesh, accel: &Accel) -> Topology {
         started.elapsed().as_secs_f64()
     ));
     n
+}
+
+/// How the samples are placed: `(step, max_error)` from `--step` and `--max-error`. An error
+/// given renders error-bounded from the step (given, or the default); a step alone renders at
+/// that fixed step; neither renders error-bounded at [`cylvol::render::DEFAULT_MAX_ERROR`]
+/// from the default step.
+pub fn sampling(
+    mesh: &Mesh,
+    step: Option<f64>,
+    max_error: Option<f64>,
+) -> Result<(f64, Option<f64>), Error> {
+    let error = match (step, max_error) {
+        (_, Some(e)) => Some(e),
+        (Some(_), None) => None,
+        (None, None) => Some(cylvol::render::DEFAULT_MAX_ERROR),
+    };
+    Ok((self::step(mesh, step)?, error))
 }
 
 /// The sample spacing: `--step` when given (it must be positive and finite, and not so small

@@ -48,8 +48,6 @@ mod transparency;
 mod walk;
 
 pub use accumulate::RayResult;
-#[doc(hidden)]
-pub use accumulate::integrate::TRACE;
 pub use boundary::search::BISECTIONS;
 pub use boundary::surface::BoundarySurface;
 pub use camera::{

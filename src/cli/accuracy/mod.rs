@@ -1,8 +1,10 @@
-//! `cylvol accuracy INPUT [--json] [--plot OUT.svg] [--size N] [--structure S] [--view A,E,Z]`:
+//! `cylvol accuracy INPUT [--json] [--plot OUT.svg] [--size N] [--structure S] [--view A,E,Z]
+//! [--max-error E,E,... [--repeats R]]`:
 //! the price of accuracy — images at sample steps of 2, 1, ½, ¼ and ⅛ × the mean cell size,
 //! each compared with a converged reference at 1/32 × and timed
 //! ([`study`] defines the mean cell size, the error units and the order; [`plot`] draws the
-//! error against the time as an SVG plot).
+//! error against the time as an SVG plot); with `--max-error`, the error each setting achieves
+//! against the same reference instead ([`settings`]).
 //!
 //! The scene is `cylvol render`'s ([`super::scene`]): the default transfer function, the
 //! `--view` camera (default [`DEFAULT_VIEW`], oblique), the fast path with face neighbours through `--structure`
@@ -19,8 +21,18 @@
 //! `order_fit` (the least-squares slope), `termination` {`threshold`, `factor`, `step`,
 //! `time_s`, `rmse`, `max_err`}. `--plot` writes the error (log) against the time (log), one
 //! labelled point per run.
+//!
+//! With `--max-error E,E,...` (in 1/255, e.g. `1,2,4`) the study renders each setting and the
+//! default fixed step (½ × the mean cell size, what `--step` alone renders by default), each
+//! with the renderer's early termination, on an `N × N` image (default 256), and times each
+//! `--repeats` times (default 3) after an untimed render: JSON `dataset`, `cells`,
+//! `structure`, `path`, `width`, `height`, `mean_cell_size`, `repeats`, `reference` {`step`,
+//! `factor`, `time_s`, `samples`}, `settings` [{`max_error`, `step`, `time_s`, `samples`,
+//! `refined_samples`, `error` {`max`, `p999`, `mean`}}] (in the order given), `fixed_step`
+//! (the same keys, `max_error` null); errors per pixel in 1/255 ([`settings`]).
 
 mod plot;
+mod settings;
 mod study;
 
 use std::path::PathBuf;
@@ -49,9 +61,9 @@ pub struct AccuracyArgs {
     /// Write the error-against-time plot to this SVG file.
     #[arg(long, value_name = "OUT.svg")]
     plot: Option<PathBuf>,
-    /// Image side N (an N×N image).
-    #[arg(long, default_value = "128", value_parser = scene::parse_side, allow_hyphen_values = true)]
-    size: u32,
+    /// Image side N (an N×N image) [default: 128, 256 with --max-error].
+    #[arg(long, value_parser = scene::parse_side, allow_hyphen_values = true)]
+    size: Option<u32>,
     /// cart-grid, cyl-grid, cart-bvh, cyl-bvh or auto.
     #[arg(long, default_value = "auto")]
     structure: StructureChoice,
@@ -65,7 +77,25 @@ pub struct AccuracyArgs {
     /// (faster, first order in the step); by default boundary samples are cut at the crossing.
     #[arg(long)]
     whole_steps: bool,
+    /// Measure these error settings (in 1/255 of a pixel's premultiplied RGBA) against the
+    /// converged reference instead of the step study.
+    #[arg(long, value_name = "E,E,...", value_delimiter = ',', value_parser = scene::parse_max_error, allow_hyphen_values = true)]
+    max_error: Vec<f64>,
+    /// Timed renders per setting (the least time is reported).
+    #[arg(long, default_value = "3", value_parser = clap::value_parser!(u32).range(1..=100), requires = "max_error")]
+    repeats: u32,
 }
+
+/// The image side of the step study.
+const STUDY_SIDE: u32 = 128;
+
+/// The reference's step of a settings study as a multiple of the mean cell size: finer than
+/// the step study's, so that its own error (second order in the step with boundary segments)
+/// stays well below the smallest setting measured.
+const SETTINGS_REFERENCE_FACTOR: f64 = 1.0 / 128.0;
+
+/// The image side of a settings study: large enough that a render's time is mostly its rays.
+const SETTINGS_SIDE: u32 = 256;
 
 /// The default `--view` of the study: oblique (azimuth 30°, elevation 20°). Seen down the axis
 /// (`cylvol render`'s default) a rotor is nearly symmetric about the line of sight and its top
@@ -265,12 +295,27 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let neighbours = scene::neighbours(&mesh, &accel);
     let view = Some(args.view.unwrap_or(DEFAULT_VIEW));
+    if !args.max_error.is_empty() {
+        let scene = SceneOf {
+            mesh: &mesh,
+            accel: &accel,
+            neighbours: &neighbours,
+            view,
+            sampling: Sampling {
+                path,
+                boundary_segments: !args.whole_steps,
+            },
+        };
+        let size = args.size.unwrap_or(SETTINGS_SIDE);
+        let report = settings_study(&scene, &label, size, &args.max_error, args.repeats)?;
+        return print_settings(&report, args.json);
+    }
     let result = study(
         &mesh,
         &accel,
         &neighbours,
         &label,
-        args.size,
+        args.size.unwrap_or(STUDY_SIDE),
         view,
         Sampling {
             path,
@@ -294,6 +339,134 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
         );
     } else {
         print_table(&result.report, &result.study)?;
+    }
+    Ok(())
+}
+
+/// What a settings study renders: the mesh, its structure and neighbours, the view and the
+/// sampling.
+pub struct SceneOf<'a> {
+    /// The mesh.
+    pub mesh: &'a Mesh,
+    /// Its structure.
+    pub accel: &'a Accel,
+    /// Its face neighbours (fast path).
+    pub neighbours: &'a Topology,
+    /// The camera preset.
+    pub view: Option<[f64; 3]>,
+    /// How rays are sampled.
+    pub sampling: Sampling,
+}
+
+/// Renders the reference, then each of `errors` and the default fixed step, each timed over
+/// `repeats` (see the module documentation): the JSON report.
+pub fn settings_study(
+    of: &SceneOf<'_>,
+    label: &str,
+    size: u32,
+    errors: &[f64],
+    repeats: u32,
+) -> Result<Value, Error> {
+    let mesh = of.mesh;
+    let volume = Volume::new(mesh, of.accel)?;
+    let transfer = scene::transfer(mesh, scene::transfer_range(volume.scalar_range()));
+    let camera = scene::camera(mesh, size, size, of.view);
+    let base = mean_cell_size(mesh);
+    let mut options = RenderOptions::new(size, size, base);
+    options.path = of.sampling.path;
+    options.boundary_segments = of.sampling.boundary_segments;
+    let scene = Scene {
+        volume: &volume,
+        transfer: &transfer,
+        options: RenderOptions {
+            early_termination: f64::INFINITY,
+            ..options
+        },
+        neighbours: of.neighbours,
+        camera: &camera,
+    };
+    let bar = super::bench::progress_bar(errors.len() as u64 + 2, label);
+    let step = base * SETTINGS_REFERENCE_FACTOR;
+    let (reference, stats, time_s) = scene.render_at(step)?;
+    bar.inc(1);
+    let rendered = Scene { options, ..scene };
+    let default_step = 0.5 * base;
+    let mut runs = Vec::with_capacity(errors.len());
+    for &e in errors {
+        let run = settings::run_setting(&rendered, default_step, Some(e), repeats, &reference)?;
+        bar.suspend(|| {
+            log(format_args!(
+                "{label}: --max-error {e}: {:.4} s, {} samples ({} refined), error max {:.3} p99.9 {:.3} mean {:.4} /255",
+                run.time_s, run.samples, run.refined_samples, run.error.max, run.error.p999, run.error.mean
+            ))
+        });
+        bar.inc(1);
+        runs.push(run);
+    }
+    let fixed = settings::run_setting(&rendered, default_step, None, repeats, &reference)?;
+    bar.finish_and_clear();
+    Ok(json!({
+        "dataset": label,
+        "cells": mesh.cell_count(),
+        "structure": of.accel.kind().name(),
+        "path": of.sampling.path.name(),
+        "boundary_segments": of.sampling.boundary_segments,
+        "width": size,
+        "height": size,
+        "mean_cell_size": base,
+        "repeats": repeats,
+        "reference": {
+            "step": step,
+            "factor": SETTINGS_REFERENCE_FACTOR,
+            "time_s": time_s,
+            "samples": stats.samples,
+        },
+        "settings": runs,
+        "fixed_step": fixed,
+    }))
+}
+
+/// Prints a settings study as JSON or as a table.
+fn print_settings(report: &Value, as_json: bool) -> Result<(), Error> {
+    if as_json {
+        outln!(
+            "{}",
+            serde_json::to_string_pretty(report).map_err(|e| Error::Invalid(e.to_string()))?
+        );
+        return Ok(());
+    }
+    outln!(
+        "{} — {} cells, {}, {}×{} image, best of {} renders; errors per pixel in 1/255 against the reference (step {:.4e})",
+        report["dataset"].as_str().unwrap_or(""),
+        report["cells"],
+        report["structure"].as_str().unwrap_or(""),
+        report["width"],
+        report["height"],
+        report["repeats"],
+        report["reference"]["step"].as_f64().unwrap_or(0.0)
+    );
+    outln!(
+        "{:>14} {:>9} {:>11} {:>9} {:>9} {:>9} {:>9}",
+        "setting", "time s", "samples", "refined", "max", "p99.9", "mean"
+    );
+    let rows = report["settings"].as_array().into_iter().flatten();
+    for run in rows.chain(std::iter::once(&report["fixed_step"])) {
+        let setting = match run["max_error"].as_f64() {
+            Some(e) => format!("max-error {e}"),
+            None => format!("step {:.3e}", run["step"].as_f64().unwrap_or(0.0)),
+        };
+        let e = &run["error"];
+        let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+        outln!(
+            "{:>14} {:>9.4} {:>11} {:>9} {:>9.3} {:>9.3} {:>9.4}",
+            setting,
+            f(&run["time_s"]),
+            run["samples"],
+            run["refined_samples"],
+            f(&e["max"]),
+            f(&e["p999"]),
+            f(&e["mean"])
+        );
     }
     Ok(())
 }

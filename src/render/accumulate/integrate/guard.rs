@@ -56,14 +56,6 @@ impl Guard {
             _ => f64::INFINITY,
         }
     }
-
-    /// The thickness of `cell` (`∞` for a cell out of range).
-    #[inline]
-    pub(crate) fn thickness(&self, cell: u32) -> f64 {
-        self.thickness
-            .get(cell as usize)
-            .map_or(f64::INFINITY, |&t| t.abs() as f64)
-    }
 }
 
 /// The least distance between the centres of two opposite faces of a cell.

@@ -47,9 +47,6 @@ use crate::render::ray::Ray;
 use crate::render::stats::RenderStats;
 use crate::render::transparency::TransparentCells;
 
-#[doc(hidden)]
-pub static TRACE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-fn tracing() -> bool { TRACE.load(std::sync::atomic::Ordering::Relaxed) }
 
 /// The share of the error allowed that the integration between samples may spend.
 pub(crate) const QUADRATURE_SHARE: f64 = 0.5;
@@ -74,6 +71,10 @@ const CAP_SLACK: f64 = 2.0;
 /// The share of a stretch's tolerance under which the straight line between two samples'
 /// values stands for the field between them.
 const LINE_SHARE: f64 = 0.125;
+
+/// The share of what a stretch followed along one sample's tangent adds that is taken as
+/// its error (its curvature unknown).
+const TANGENT_SHARE: f64 = 0.25;
 
 /// Most samples a refinement may stack up (the halvings from the longest step to the
 /// shortest, and one more).
@@ -103,6 +104,22 @@ struct Node {
     from: Option<f64>,
     /// Where its run ends if it is the last (the next sample's segment start).
     end: f64,
+    /// Whether `from` is only known to lie between it and the position before, which was in
+    /// a cell that adds nothing.
+    loose_from: bool,
+}
+
+/// Which stretch of a run is integrated: between two samples, or from a run's end known only
+/// to lie in it (the position beyond was in a cell that adds nothing, or outside the mesh)
+/// to its nearest sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Part {
+    /// Between two samples, or to a crossing or a plane.
+    Known,
+    /// From a loose start to the run's first sample.
+    LooseStart,
+    /// From the run's last sample to a loose end.
+    LooseEnd,
 }
 
 /// Error-bounded compositing along one ray (see the module documentation).
@@ -127,8 +144,12 @@ pub(crate) struct Integrate<'f> {
     close: Option<f64>,
     /// The sample taken and not yet composited.
     taken: Option<Node>,
-    /// The stretch whose middle was asked for.
-    asked: Option<Ask>,
+    /// The stretch whose middle was asked for, and whether it ends a run, and which part.
+    asked: Option<(Ask, bool, Part)>,
+    /// Whether the run's end (`close`) is loose (see [`Part`]).
+    loose_close: bool,
+    /// Whether the run being started has a loose start (see [`Part`]).
+    loose_start: bool,
     /// The stretch being integrated is taken as it is (its middle was not found).
     as_is: bool,
     /// The curvature of the scalar along the ray at the last sample, where known.
@@ -161,6 +182,8 @@ impl<'f> Integrate<'f> {
             close: None,
             taken: None,
             asked: None,
+            loose_close: false,
+            loose_start: false,
             as_is: false,
             curvature: f64::NAN,
             suggested: bounded.step,
@@ -218,14 +241,26 @@ impl<'f> Integrate<'f> {
     /// Integrates `[t0, t1]` along `field` where the error estimate and the active cells at
     /// its ends (`cells`) allow it; else the stretch whose middle to locate first (from
     /// `cells.0`).
-    fn stretch(&mut self, field: Field, (t0, t1): (f64, f64), cells: (u32, u32)) -> Option<Ask> {
+    fn stretch(
+        &mut self,
+        field: Field,
+        (t0, t1): (f64, f64),
+        cells: (u32, u32),
+        part: Part,
+    ) -> Option<Ask> {
+        let ends_run = matches!(field, Field::Tangent(..));
         let len = t1 - t0;
         if !(len > 0.0) || self.light.transmittance <= self.negligible {
             return None;
         }
-        let (crossed, estimate) = self.cross(&field, (t0, t1));
-        if tracing() {
-            eprintln!("  stretch [{t0:.5}, {t1:.5}] {field:?} cells {cells:?} caps {:.4} {:.4} est {estimate:.3e} allowed {:.3e} T {:.4} -> {:.4} C {:?}", self.bounded.guard.cap(cells.0), self.bounded.guard.cap(cells.1), self.tolerance * (t1 - t0), self.light.transmittance, crossed.light.transmittance, crossed.light.color);
+        let (crossed, mut estimate) = self.cross(&field, (t0, t1));
+        if part != Part::Known {
+            // Where the run really ends within it is unknown: all it adds may be wrong.
+            estimate = estimate.max(crossed.light.difference(&self.light));
+        } else if ends_run {
+            // A tangent followed from one sample: its curvature unknown, what it adds may be
+            // off by a share of it.
+            estimate = estimate.max(TANGENT_SHARE * crossed.light.difference(&self.light));
         }
         let allowed = self.tolerance * len;
         let guard = self.bounded.guard;
@@ -238,7 +273,7 @@ impl<'f> Integrate<'f> {
                 to: t1,
                 cell: cells.0,
             };
-            self.asked = Some(ask);
+            self.asked = Some((ask, ends_run, part));
             return Some(ask);
         }
         self.as_is = false;
@@ -303,9 +338,15 @@ impl<'f> Integrate<'f> {
             0.0
         };
         let field = Field::Tangent(b.knot, curvature);
-        if let Some(ask) = self.stretch(field, (self.at, e), (b.cell, b.cell)) {
+        let part = if self.loose_close {
+            Part::LooseEnd
+        } else {
+            Part::Known
+        };
+        if let Some(ask) = self.stretch(field, (self.at, e), (b.cell, b.cell), part) {
             return Some(ask);
         }
+        self.loose_close = false;
         self.at = e;
         self.behind = None;
         self.curvature = f64::NAN;
@@ -317,9 +358,15 @@ impl<'f> Integrate<'f> {
     fn reach(&mut self, top: Node) -> Option<Ask> {
         if let Some(a) = top.from {
             if let Some(b) = self.behind {
-                return self.end_run(b, b.end.max(self.at));
+                let end = *self.close.get_or_insert(b.end.max(self.at));
+                if let Some(ask) = self.end_run(b, end) {
+                    return Some(ask);
+                }
+                self.close = None;
+                return None;
             }
             self.at = a;
+            self.loose_start = top.loose_from;
             self.curvature = f64::NAN;
             if let Some(slot) = self.ahead_len.checked_sub(1) {
                 if let Some(node) = self.ahead[slot].as_mut() {
@@ -327,13 +374,19 @@ impl<'f> Integrate<'f> {
                 }
             }
         }
-        let (field, cells) = match self.behind {
-            Some(b) => (Field::Cubic(b.knot, top.knot), (b.cell, top.cell)),
-            None => (Field::Tangent(top.knot, 0.0), (top.cell, top.cell)),
+        let (field, cells, part) = match self.behind {
+            Some(b) => (Field::Cubic(b.knot, top.knot), (b.cell, top.cell), Part::Known),
+            None if self.loose_start => (
+                Field::Tangent(top.knot, 0.0),
+                (top.cell, top.cell),
+                Part::LooseStart,
+            ),
+            None => (Field::Tangent(top.knot, 0.0), (top.cell, top.cell), Part::Known),
         };
-        if let Some(ask) = self.stretch(field, (self.at, top.knot.t), cells) {
+        if let Some(ask) = self.stretch(field, (self.at, top.knot.t), cells, part) {
             return Some(ask);
         }
+        self.loose_start = false;
         if let Some(b) = self.behind {
             let dt = top.knot.t - b.knot.t;
             if dt > 0.0 {
@@ -384,6 +437,7 @@ impl Accumulate for Integrate<'_> {
             cell: sample.cell,
             from: None,
             end: f64::NAN,
+            loose_from: false,
         });
         // What the sample emits is integrated with its neighbours: nothing to report here.
         Some(Emission {
@@ -399,12 +453,14 @@ impl Accumulate for Integrate<'_> {
         segment: Segment,
         inside: (u32, DVec3),
     ) -> Open {
-        if tracing() { eprintln!("composite t {t:.5} {segment:?} cell {} behind {}", inside.0, self.behind.is_some()); }
         if let Some(mut node) = self.taken.take() {
             node.end = segment.end;
             node.from = match segment.start {
                 Some(a) => Some(a),
-                None if self.behind.is_none() => Some(segment.own_start),
+                None if self.behind.is_none() => {
+                    node.loose_from = true;
+                    Some(segment.own_start)
+                }
                 None => None,
             };
             self.push(node);
@@ -423,9 +479,9 @@ impl Accumulate for Integrate<'_> {
     }
 
     fn recomposite(&mut self, _open: Open, end: f64) {
-        if tracing() { eprintln!("recomposite {end:.5}"); }
         if self.behind.is_some() || self.ahead_len > 0 {
             self.close = Some(end);
+            self.loose_close = false;
         }
     }
 
@@ -433,12 +489,21 @@ impl Accumulate for Integrate<'_> {
         self.tolerance = QUADRATURE_SHARE * self.bounded.error / len.max(f64::MIN_POSITIVE);
     }
 
+    fn outside(&mut self) {
+        // The run ends no later than its last sample's own segment (or the crossing the cast
+        // loop cut it at, which is exact).
+        if self.close.is_none() && self.behind.is_some() && self.ahead_len == 0 {
+            self.interrupt(None);
+            self.loose_close = true;
+        }
+    }
+
     fn interrupt(&mut self, at: Option<f64>) {
-        if tracing() { eprintln!("interrupt {at:?}"); }
         if self.close.is_none() {
             if let Some(b) = self.behind {
                 if self.ahead_len == 0 {
                     self.close = Some(at.unwrap_or(b.end));
+                    self.loose_close = at.is_some();
                 }
             }
         }
@@ -466,9 +531,24 @@ impl Accumulate for Integrate<'_> {
     }
 
     fn answer(&mut self, sample: Option<&Sample>, ray: &Ray, stats: &mut RenderStats) {
-        let Some(ask) = self.asked.take() else {
+        let Some((ask, ends_run, part)) = self.asked.take() else {
             return;
         };
+        let middle = 0.5 * (ask.from + ask.to);
+        // A loose end's middle in a cell that adds nothing, or outside the mesh: the run ends
+        // (starts) before (after) it.
+        let adds_nothing = sample.is_none_or(|s| self.adds_nothing(s.cell));
+        match part {
+            Part::LooseEnd if adds_nothing => {
+                self.close = Some(middle);
+                return;
+            }
+            Part::LooseStart if adds_nothing => {
+                self.at = middle;
+                return;
+            }
+            _ => {}
+        }
         match sample {
             Some(sample) if self.ahead_len < STACK => {
                 stats.refined_samples += 1;
@@ -477,8 +557,14 @@ impl Accumulate for Integrate<'_> {
                     cell: sample.cell,
                     from: None,
                     end: ask.to,
+                    loose_from: false,
                 };
                 self.push(node);
+            }
+            // The middle of a run's last stretch lies outside the mesh: the run ends before
+            // it (the next ask halves what is left).
+            None if ends_run && self.close.is_some() => {
+                self.close = Some(0.5 * (ask.from + ask.to));
             }
             _ => self.as_is = true,
         }
