@@ -140,6 +140,8 @@ pub(crate) struct Integrate<'f> {
     /// The samples still to reach, the nearest last.
     ahead: [Option<Node>; STACK],
     ahead_len: usize,
+    /// Where the ray (the piece of it being cast) ends.
+    t_out: f64,
     /// Where the run ends once every sample ahead is reached.
     close: Option<f64>,
     /// The sample taken and not yet composited.
@@ -182,6 +184,7 @@ impl<'f> Integrate<'f> {
             close: None,
             taken: None,
             asked: None,
+            t_out: f64::INFINITY,
             loose_close: false,
             loose_start: false,
             as_is: false,
@@ -432,6 +435,7 @@ impl Accumulate for Integrate<'_> {
     }
 
     fn take(&mut self, sample: &Sample, ray: &Ray, _stats: &mut RenderStats) -> Option<Emission> {
+        self.t_out = ray.t_out;
         self.taken = Some(Node {
             knot: self.knot(sample, ray),
             cell: sample.cell,
@@ -502,7 +506,8 @@ impl Accumulate for Integrate<'_> {
         if self.close.is_none() {
             if let Some(b) = self.behind {
                 if self.ahead_len == 0 {
-                    self.close = Some(at.unwrap_or(b.end));
+                    // Not past the ray's end (a depth image's stop, a plane).
+                    self.close = Some(at.unwrap_or(b.end.min(self.t_out)));
                     self.loose_close = at.is_some();
                 }
             }

@@ -205,9 +205,7 @@ impl Light {
             .min(MAX_PIECES);
         if n == 1 && look0 == Look::PLAIN && look1 == Look::PLAIN {
             out.light = out.light.through(&whole, &Look::PLAIN);
-            if 1.0 - out.light.transmittance >= level {
-                out.reached = Some(0.5 * (t0 + t1));
-            }
+            out.reached = reached_in(self.transmittance, &whole, (t0, t1), level);
             return out;
         }
         let piece = len / n as f64;
@@ -226,9 +224,10 @@ impl Light {
             } else {
                 table.scaled_midpoint(0.5 * (p_a.s() + p_b.s()), t_b - t_a, look.opacity)
             };
+            let before = out.light.transmittance;
             out.light = out.light.through(&part, &look);
-            if out.reached.is_none() && 1.0 - out.light.transmittance >= level {
-                out.reached = Some(0.5 * (t_a + t_b));
+            if out.reached.is_none() {
+                out.reached = reached_in(before, &part, (t_a, t_b), level);
             }
             if out.light.transmittance <= negligible {
                 break;
@@ -287,6 +286,27 @@ impl Light {
             1.0 - self.transmittance,
         ]
     }
+}
+
+/// Where along a piece `[t_a, t_b]` entered with transmittance `before` the opacity `1 − T`
+/// reaches `level` (the optical depth taken uniform within it; an opaque part stops it
+/// where it turns opaque), if it does.
+fn reached_in(
+    before: f64,
+    part: &super::table::Stretch,
+    (t_a, t_b): (f64, f64),
+    level: f64,
+) -> Option<f64> {
+    let target = 1.0 - level;
+    if before <= target {
+        return Some(t_a);
+    }
+    let after = before * (-part.depth).exp();
+    if after <= target && part.depth > 0.0 {
+        let x = ((before / target).ln() / part.depth).clamp(0.0, 1.0);
+        return Some(t_a + (t_b - t_a) * x);
+    }
+    part.opaque.map(|(f, _)| t_a + (t_b - t_a) * f)
 }
 
 #[cfg(test)]
