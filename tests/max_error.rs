@@ -117,13 +117,13 @@ fn scenes(setup: &Setup) -> Vec<Scene> {
             name: "oblique",
             transfer: default.clone(),
             planes: ClipPlanes::NONE,
-            camera: camera.clone(),
+            camera,
         },
         Scene {
             name: "clip plane",
             transfer: default,
             planes: ClipPlanes::new(&[plane]).expect("a plane"),
-            camera: camera.clone(),
+            camera,
         },
         Scene {
             name: "narrow band",
@@ -135,11 +135,7 @@ fn scenes(setup: &Setup) -> Vec<Scene> {
 }
 
 /// The image of `scene` with `options` (premultiplied RGBA in `f64`) and the work done.
-fn render(
-    setup: &Setup,
-    scene: &Scene,
-    options: &RenderOptions,
-) -> (Vec<[f64; 4]>, RenderStats) {
+fn render(setup: &Setup, scene: &Scene, options: &RenderOptions) -> (Vec<[f64; 4]>, RenderStats) {
     let volume = Volume::new(&setup.mesh, &setup.accel).expect("volume");
     let options = RenderOptions {
         clip_planes: scene.planes,
@@ -165,7 +161,11 @@ fn errors(image: &[[f64; 4]], reference: &[[f64; 4]]) -> Vec<f64> {
     image
         .iter()
         .zip(reference)
-        .map(|(a, b)| (0..4).map(|k| (a[k] - b[k]).abs() * 255.0).fold(0.0, f64::max))
+        .map(|(a, b)| {
+            (0..4)
+                .map(|k| (a[k] - b[k]).abs() * 255.0)
+                .fold(0.0, f64::max)
+        })
         .collect()
 }
 
@@ -238,7 +238,10 @@ fn check_mesh(setup: &Setup) {
         for w in achieved.windows(2) {
             let (tight, loose) = (&w[0], &w[1]);
             assert!(tight.mean <= loose.mean + mean_uncertainty, "{what}");
-            assert!(tight.largest <= loose.max_error + largest_uncertainty, "{what}");
+            assert!(
+                tight.largest <= loose.max_error + largest_uncertainty,
+                "{what}"
+            );
             assert!(tight.samples > loose.samples, "{what}");
         }
         let (tightest, loosest) = (&achieved[0], &achieved[achieved.len() - 1]);

@@ -393,19 +393,11 @@ impl<'a> Renderer<'a> {
     fn with_parts<P: Parts>(&self, parts: P) -> P::Output {
         let bounded = self.extinction.is_some();
         match (self.options.path, self.options.blend, bounded) {
-            (RenderPath::Paper, Blend::Composite, false) => {
-                parts.run::<LookupEach, FrontToBack>()
-            }
-            (RenderPath::Paper, Blend::Composite, true) => {
-                parts.run::<LookupEach, Integrating>()
-            }
+            (RenderPath::Paper, Blend::Composite, false) => parts.run::<LookupEach, FrontToBack>(),
+            (RenderPath::Paper, Blend::Composite, true) => parts.run::<LookupEach, Integrating>(),
             (RenderPath::Paper, _, _) => parts.run::<LookupEach, Projection>(),
-            (RenderPath::Fast, Blend::Composite, false) => {
-                parts.run::<WalkCells, FrontToBack>()
-            }
-            (RenderPath::Fast, Blend::Composite, true) => {
-                parts.run::<WalkCells, Integrating>()
-            }
+            (RenderPath::Fast, Blend::Composite, false) => parts.run::<WalkCells, FrontToBack>(),
+            (RenderPath::Fast, Blend::Composite, true) => parts.run::<WalkCells, Integrating>(),
             (RenderPath::Fast, _, _) => parts.run::<WalkCells, Projection>(),
         }
     }

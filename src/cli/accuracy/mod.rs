@@ -447,7 +447,13 @@ fn print_settings(report: &Value, as_json: bool) -> Result<(), Error> {
     );
     outln!(
         "{:>14} {:>9} {:>11} {:>9} {:>9} {:>9} {:>9}",
-        "setting", "time s", "samples", "refined", "max", "p99.9", "mean"
+        "setting",
+        "time s",
+        "samples",
+        "refined",
+        "max",
+        "p99.9",
+        "mean"
     );
     let rows = report["settings"].as_array().into_iter().flatten();
     for run in rows.chain(std::iter::once(&report["fixed_step"])) {

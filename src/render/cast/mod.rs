@@ -56,8 +56,8 @@ use super::boundary::proof::ProvedExit;
 use super::boundary::Stretch;
 use super::frame::Frame;
 use super::locate::{Locate, LocatorKind, Next};
-use super::ray::{End, Ray};
 use super::options::Interpolation;
+use super::ray::{End, Ray};
 use super::stats::{RenderStats, Work};
 use crate::geometry::trilinear::physical_gradient;
 
@@ -435,8 +435,7 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
                 self.work.stats.samples_located += 1;
                 self.sample_at(chord.middle(), cell, q)
             });
-            self.acc
-                .answer(sample.as_ref(), self.ray, self.work.stats);
+            self.acc.answer(sample.as_ref(), self.ray, self.work.stats);
         }
     }
 

@@ -52,13 +52,7 @@ pub(crate) trait Steps: Sized {
 }
 
 /// What is known of the position `t_before` before a sample, `first` where there is none.
-fn before(
-    t_before: f64,
-    first: bool,
-    ray: &Ray,
-    was_in: bool,
-    after_jump: bool,
-) -> (f64, End) {
+fn before(t_before: f64, first: bool, ray: &Ray, was_in: bool, after_jump: bool) -> (f64, End) {
     if first {
         (ray.t_in, ray.start)
     } else if was_in {
@@ -217,13 +211,21 @@ impl Steps for AdaptiveSteps {
 
     fn pass_over(&mut self, until: f64, t_out: f64, stats: &mut RenderStats) {
         let until = until.min(t_out);
-        if !(self.next() < until) {
+        let next = self.next();
+        if next.is_nan() || next >= until {
             return;
         }
         // The positions before `until`, counted at once: `n` of them, the last `n − 1` steps on.
         let n = ((until - self.next()) / self.step).ceil().max(1.0);
         let last = self.next() + (n - 1.0) * self.step;
-        self.behind = [last, if n >= 2.0 { last - self.step } else { self.behind[0] }];
+        self.behind = [
+            last,
+            if n >= 2.0 {
+                last - self.step
+            } else {
+                self.behind[0]
+            },
+        ];
         // The segments start anew where the stretch passed over ends.
         self.start = until;
         self.k += n as u64;

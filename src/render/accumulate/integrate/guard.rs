@@ -29,7 +29,12 @@ pub(crate) struct Guard {
 impl Guard {
     /// The cells of `mesh`, whose scalar ranges are `ranges`, under `table`: a cell is active
     /// where the variation over its range times its extent exceeds `threshold`.
-    pub(crate) fn new(mesh: &Mesh, ranges: &[[f64; 2]], table: &Extinction, threshold: f64) -> Guard {
+    pub(crate) fn new(
+        mesh: &Mesh,
+        ranges: &[[f64; 2]],
+        table: &Extinction,
+        threshold: f64,
+    ) -> Guard {
         let thickness = (0..mesh.cell_count())
             .into_par_iter()
             .with_min_len(1024)

@@ -47,7 +47,6 @@ use crate::render::ray::Ray;
 use crate::render::stats::RenderStats;
 use crate::render::transparency::TransparentCells;
 
-
 /// The share of the error allowed that the integration between samples may spend.
 pub(crate) const QUADRATURE_SHARE: f64 = 0.5;
 
@@ -202,9 +201,7 @@ impl<'f> Integrate<'f> {
     }
 
     fn top(&self) -> Option<Node> {
-        self.ahead_len
-            .checked_sub(1)
-            .and_then(|k| self.ahead[k])
+        self.ahead_len.checked_sub(1).and_then(|k| self.ahead[k])
     }
 
     fn pop(&mut self) -> Option<Node> {
@@ -253,7 +250,7 @@ impl<'f> Integrate<'f> {
     ) -> Option<Ask> {
         let ends_run = matches!(field, Field::Tangent(..));
         let len = t1 - t0;
-        if !(len > 0.0) || self.light.transmittance <= self.negligible {
+        if len.is_nan() || len <= 0.0 || self.light.transmittance <= self.negligible {
             return None;
         }
         let (crossed, mut estimate) = self.cross(&field, (t0, t1));
@@ -378,13 +375,21 @@ impl<'f> Integrate<'f> {
             }
         }
         let (field, cells, part) = match self.behind {
-            Some(b) => (Field::Cubic(b.knot, top.knot), (b.cell, top.cell), Part::Known),
+            Some(b) => (
+                Field::Cubic(b.knot, top.knot),
+                (b.cell, top.cell),
+                Part::Known,
+            ),
             None if self.loose_start => (
                 Field::Tangent(top.knot, 0.0),
                 (top.cell, top.cell),
                 Part::LooseStart,
             ),
-            None => (Field::Tangent(top.knot, 0.0), (top.cell, top.cell), Part::Known),
+            None => (
+                Field::Tangent(top.knot, 0.0),
+                (top.cell, top.cell),
+                Part::Known,
+            ),
         };
         if let Some(ask) = self.stretch(field, (self.at, top.knot.t), cells, part) {
             return Some(ask);
@@ -474,11 +479,7 @@ impl Accumulate for Integrate<'_> {
             start: segment.start,
             emission,
             inside,
-            before: (
-                self.light.transmittance,
-                self.light.color,
-                self.depth,
-            ),
+            before: (self.light.transmittance, self.light.color, self.depth),
         }
     }
 
@@ -542,7 +543,7 @@ impl Accumulate for Integrate<'_> {
         let middle = 0.5 * (ask.from + ask.to);
         // A loose end's middle in a cell that adds nothing, or outside the mesh: the run ends
         // (starts) before (after) it.
-        let adds_nothing = sample.is_none_or(|s| self.adds_nothing(s.cell));
+        let adds_nothing = sample.map_or(true, |s| self.adds_nothing(s.cell));
         match part {
             Part::LooseEnd if adds_nothing => {
                 self.close = Some(middle);

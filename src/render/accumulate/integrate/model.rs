@@ -98,7 +98,7 @@ impl Field {
         match self {
             Field::Cubic(a, b) => {
                 let h = b.t - a.t;
-                if !(h > 0.0) {
+                if h.is_nan() || h <= 0.0 {
                     return 0.0;
                 }
                 let m = (b.s - a.s) / h;
@@ -143,7 +143,6 @@ impl Field {
             }
         }
     }
-
 }
 
 /// The light along a ray: what is let through from behind, and the premultiplied colour
@@ -189,7 +188,7 @@ impl Light {
             light: self,
             reached: None,
         };
-        if !(len > 0.0) || self.transmittance <= negligible {
+        if len.is_nan() || len <= 0.0 || self.transmittance <= negligible {
             return out;
         }
         // Pieces: the field's shape, and thin enough in optical depth (estimated from the
@@ -201,7 +200,11 @@ impl Light {
         let rough = whole.depth * look0.opacity.max(look1.opacity).max(1.0);
         let thin = (rough / PIECE_DEPTH).ceil();
         let n = shape
-            .max(if thin.is_finite() { thin as usize } else { MAX_PIECES })
+            .max(if thin.is_finite() {
+                thin as usize
+            } else {
+                MAX_PIECES
+            })
             .min(MAX_PIECES);
         if n == 1 && look0 == Look::PLAIN && look1 == Look::PLAIN {
             out.light = out.light.through(&whole, &Look::PLAIN);
@@ -258,9 +261,8 @@ impl Light {
             light.transmittance *= through;
         }
         if let Some((_, c)) = part.opaque {
-            for ch in 0..3 {
-                let color = (look.gain * c[ch] + look.specular).clamp(0.0, 1.0);
-                light.color[ch] += light.transmittance * color;
+            for (gathered, c) in light.color.iter_mut().zip(c) {
+                *gathered += light.transmittance * (look.gain * c + look.specular).clamp(0.0, 1.0);
             }
             light.transmittance = 0.0;
         }
@@ -317,7 +319,13 @@ mod tests {
     fn table() -> Extinction {
         let tf = TransferFunction {
             color: vec![(0.0, [1.0, 0.2, 0.0]), (1.0, [0.0, 0.4, 1.0])],
-            opacity: vec![(0.0, 0.05), (0.45, 0.05), (0.5, 0.9), (0.55, 0.05), (1.0, 0.3)],
+            opacity: vec![
+                (0.0, 0.05),
+                (0.45, 0.05),
+                (0.5, 0.9),
+                (0.55, 0.05),
+                (1.0, 0.3),
+            ],
             unit_distance: 0.2,
         };
         Extinction::new(&tf.table(0.0, 1.0, 0.01, 1024).unwrap(), 0.01)
@@ -353,8 +361,8 @@ mod tests {
             let (s, _) = field.at(t);
             let (sigma, c) = e.at(s);
             let alpha = -(-sigma * 0.6 / n as f64).exp_m1();
-            for ch in 0..3 {
-                want.color[ch] += want.transmittance * alpha * c[ch];
+            for (gathered, c) in want.color.iter_mut().zip(c) {
+                *gathered += want.transmittance * alpha * c;
             }
             want.transmittance *= 1.0 - alpha;
         }

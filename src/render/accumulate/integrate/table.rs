@@ -219,7 +219,7 @@ impl Extinction {
         let x = (s - self.lo) * self.inv_width;
         let last = (n - 1) as f64;
         // Beyond the ends: the part past the end entry at that entry's (constant) values.
-        let (entry, f, beyond) = if !(x > 0.0) || n < 2 {
+        let (entry, f, beyond) = if x.is_nan() || x <= 0.0 || n < 2 {
             (0, 0.0, if x < 0.0 { x } else { 0.0 })
         } else if x >= last {
             (n - 1, 0.0, x - last)
@@ -279,7 +279,8 @@ impl Extinction {
     fn linear(&self, a: &Point, b: &Point, len: f64) -> Stretch {
         let ds = b.s - a.s;
         // Within a millionth of an entry the integrand is its value at the middle.
-        if !(ds.abs() * self.inv_width > 1e-6) {
+        let entries = ds.abs() * self.inv_width;
+        if entries.is_nan() || entries <= 1e-6 {
             let (sigma, c) = self.at(0.5 * (a.s + b.s));
             let d = sigma * len;
             return Stretch {
@@ -374,11 +375,12 @@ fn steepest_table(sigma: &[f64], color: &[[f64; 3]], width: f64) -> Vec<Vec<f64>
         if k + 1 >= n {
             return 0.0;
         }
-        let mut m = (sigma[k + 1] - sigma[k]).abs();
-        for ch in 0..3 {
-            m = m.max((color[k + 1][ch] * sigma[k + 1] - color[k][ch] * sigma[k]).abs());
-        }
-        m * inv
+        let glow_slope = color[k + 1]
+            .iter()
+            .zip(&color[k])
+            .map(|(c1, c0)| (c1 * sigma[k + 1] - c0 * sigma[k]).abs())
+            .fold(0.0, f64::max);
+        (sigma[k + 1] - sigma[k]).abs().max(glow_slope) * inv
     };
     let mut levels = vec![(0..n).map(slope).collect::<Vec<f64>>()];
     let mut span = 1;
@@ -433,7 +435,12 @@ mod tests {
     fn stretches_are_exact_for_a_linear_scalar() {
         let (_, e) = ramp();
         assert_eq!(e.len(), 64);
-        for (s0, s1, len) in [(0.1, 0.9, 2.0), (0.9, 0.05, 0.3), (0.3, 0.3, 1.0), (-0.5, 0.4, 1.0)] {
+        for (s0, s1, len) in [
+            (0.1, 0.9, 2.0),
+            (0.9, 0.05, 0.3),
+            (0.3, 0.3, 1.0),
+            (-0.5, 0.4, 1.0),
+        ] {
             let got = e.stretch(s0, s1, len);
             let n = 200_000;
             let (mut depth, mut glow) = (0.0, [0.0; 3]);
@@ -446,9 +453,12 @@ mod tests {
                     glow[ch] += c[ch] * d;
                 }
             }
-            assert!((got.depth - depth).abs() < 1e-8 * (1.0 + depth), "{s0} {s1}: {got:?} {depth}");
-            for ch in 0..3 {
-                assert!((got.glow[ch] - glow[ch]).abs() < 1e-8 * (1.0 + glow[ch]));
+            assert!(
+                (got.depth - depth).abs() < 1e-8 * (1.0 + depth),
+                "{s0} {s1}: {got:?} {depth}"
+            );
+            for (got, want) in got.glow.iter().zip(glow) {
+                assert!((got - want).abs() < 1e-8 * (1.0 + want));
             }
             assert_eq!(got.opaque, None);
         }
