@@ -60,6 +60,9 @@ fn bench_reports_every_structure_and_path_with_quotient_ratios() {
         "pump-inlet:3000",
         "--size",
         "40",
+        // A fixed step: every structure and path takes the same sample positions.
+        "--step",
+        "0.05",
         "--json",
     ]);
     let reports = v.as_array().expect("an array, one object per input");
@@ -709,13 +712,15 @@ fn outputs_are_checked_before_any_work() {
 /// (`surface_visits`) and, where that cannot tell, by containment tests
 /// (`boundary_refinements`, counted in `hex_tests` too); with `--whole-steps` no crossing is
 /// sought (no refinement, fewer surface visits) and the error at the default step is larger.
+/// At a fixed step (whole steps are never error-bounded), so both take the same samples.
 #[test]
 fn boundary_segments_cost_tests_and_buy_accuracy() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("x.png");
     let png = png.to_str().unwrap();
     let render = |extra: &[&str]| {
-        let args = render_args("pump-rotor:5000", png, "48x48", &[&["--json"], extra]);
+        let fixed = ["--json", "--step", "0.05"];
+        let args = render_args("pump-rotor:5000", png, "48x48", &[&fixed, extra]);
         json_of(&args)["stats"].clone()
     };
     let cut = render(&[]);
@@ -910,7 +915,8 @@ fn render_takes_a_transfer_function_like_vtk_and_skips_what_it_makes_transparent
 /// `--opacity-convention attenuation` reads the opacity as VTK's unstructured ray caster does,
 /// as an attenuation coefficient (a unit distance lets `e^(−A)` through, more than the
 /// `1 − A` of the default `sampled`): in white, every pixel is at most as bright, the image
-/// darker, from the same samples.
+/// darker, from the same samples (at a fixed step: an error-bounded render places its samples
+/// for each transfer function).
 #[test]
 fn opacity_convention_attenuation_lets_more_through() {
     let dir = tempfile::tempdir().unwrap();
@@ -929,6 +935,8 @@ fn opacity_convention_attenuation_lets_more_through() {
                     "0%:1:1:1",
                     "--unit-distance",
                     "5%",
+                    "--step",
+                    "0.05",
                     "--json",
                 ],
                 extra,

@@ -503,6 +503,11 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
         if A::SLOPES {
             if let Some(values) = values {
                 self.work.stats.slopes += 1;
+                let options = self.frame.options;
+                // The same gradient shades and scales the opacity where the scene asks.
+                if options.shading.is_some() || options.gradient_opacity.is_some() {
+                    self.work.stats.gradient_evaluations += 1;
+                }
                 let corners = self.frame.volume.mesh().cell_corners(cell as usize);
                 sample.gradient = physical_gradient(&corners, &values, param);
                 if interpolation == Interpolation::Linear {
