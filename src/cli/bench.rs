@@ -195,7 +195,11 @@ pub fn bench_mesh(
     // Every structure and path's renderer, made before any frame is timed.
     let mut runs = Vec::new();
     for volume in &volumes {
-        let range = scene::transfer_range(volume.scalar_range());
+        let drawn_range = match copies {
+            Some(c) => c.scalar_range(volume)?,
+            None => volume.scalar_range(),
+        };
+        let range = scene::transfer_range(drawn_range);
         let transfer =
             setup
                 .transfer
@@ -208,7 +212,7 @@ pub fn bench_mesh(
                 renderer = renderer.with_topology(n);
             }
             if let Some(c) = copies {
-                renderer = renderer.with_copies(*c);
+                renderer = renderer.with_copies(*c)?;
             }
             let accel = volume.accel();
             runs.push((accel.kind(), accel.stats().build_s(), path, renderer));
@@ -269,11 +273,7 @@ pub fn bench_mesh(
         "step": step,
         "view": setup.view.unwrap_or(scene::DEFAULT_VIEW),
         "neighbours_s": neighbours.as_ref().map(|_| neighbours_s),
-        "periodic": copies.map(|c| json!({
-            "copies": c.periodicity().copies,
-            "first": c.range().0,
-            "end": c.range().1,
-        })),
+        "periodic": periodic::json(copies),
         "structures": structures,
         "ratios": ratios,
     });

@@ -290,11 +290,16 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
     let step = scene::step(&mesh, args.step)?;
-    if let Some(warning) = scene::constant_field_warning(&mesh, volume.scalar_range()) {
+    // The scene: the mesh, or the wheel its copies make (where a vector's component turns
+    // with the copies, over its range in every copy drawn).
+    let drawn_range = match &copies {
+        Some(c) => c.scalar_range(&volume)?,
+        None => volume.scalar_range(),
+    };
+    if let Some(warning) = scene::constant_field_warning(&mesh, drawn_range) {
         log(format_args!("warning: {warning}"));
     }
-    let range = scene::transfer_range(volume.scalar_range());
-    // The scene: the mesh, or the wheel its copies make.
+    let range = scene::transfer_range(drawn_range);
     let bounds = copies.as_ref().map_or(mesh.bounds(), |c| c.bounds());
     let diagonal = scene::diagonal_of(bounds);
     let transfer = args
@@ -319,7 +324,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     });
     let mut renderer = Renderer::new(&volume, &transfer, &options)?;
     if renderer.table().transparent_everywhere() {
-        let [lo, hi] = volume.scalar_range().map(show);
+        let [lo, hi] = drawn_range.map(show);
         log(format_args!(
             "warning: the transfer function's opacity is zero at every value of the scalar \
              (over [{lo}, {hi}]): the image is empty; give --opacity a non-zero opacity there"
@@ -329,7 +334,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         renderer = renderer.with_topology(n);
     }
     if let Some(c) = copies {
-        renderer = renderer.with_copies(c);
+        renderer = renderer.with_copies(c)?;
     }
     let camera = args.camera.camera_for(bounds, width, height)?;
     let started = Instant::now();
@@ -363,11 +368,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             "width": width,
             "height": height,
             "step": step,
-            "periodic": copies.as_ref().map(|c| json!({
-                "copies": c.periodicity().copies,
-                "first": c.range().0,
-                "end": c.range().1,
-            })),
+            "periodic": periodic::json(copies.as_ref()),
             "frame_s": frame_s,
             "stats": stats,
         });

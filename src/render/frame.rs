@@ -35,6 +35,9 @@ pub(crate) struct Frame<'a> {
     pub(crate) visible: Option<&'a CellMarks>,
     /// The scalar range below each node of a BVH (fast path, projections).
     pub(crate) ranges: Option<&'a NodeRanges>,
+    /// Each cell's scalar range over everything drawn (the volume's, or over every periodic
+    /// copy where what it draws turns with them).
+    pub(crate) cell_ranges: &'a [[f64; 2]],
 }
 
 impl Frame<'_> {
