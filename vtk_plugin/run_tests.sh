@@ -24,7 +24,7 @@ cmake --build "$build" -j "$jobs"
 # A test that fails is run once more: once locally a test aborted at its first Render() with
 # "bad X server connection" from Xvfb (an environment fault, gone on the rerun). The tests are
 # deterministic, so a real failure fails twice; --output-on-failure shows every failed try.
-(cd "$build" && xvfb-run -a ctest --output-on-failure -j "$jobs" --repeat until-pass:2)
+(cd "$build" && xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j "$jobs" --repeat until-pass:2)
 
 prefix="$(mktemp -d)"
 trap 'rm -rf "$prefix"' EXIT

@@ -319,6 +319,22 @@ pub fn check_copies(mesh: &Mesh, axis: &Axis, copies: u32) -> Result<Periodicity
     Ok(sector.periodicity(copies, &sides))
 }
 
+/// The faces of the sector's start side (`(cell, face)`, 0–5 in VTK's face order) each with
+/// the face of its end side it lands on turned by the pitch: the faces a periodic wheel joins.
+/// `neighbours` are the mesh's face neighbours (the faces without one are its boundary). Empty
+/// where no side face matches (sides that are not conformal, or not surfaces of constant angle).
+pub fn side_pairs(
+    mesh: &Mesh,
+    neighbours: &FaceNeighbours,
+    periodicity: &Periodicity,
+) -> Vec<[(u32, u8); 2]> {
+    let Ok(mut sector) = Sector::about(mesh, &periodicity.axis) else {
+        return Vec::new();
+    };
+    sector.faces = boundary_faces(mesh, neighbours);
+    match_sides(mesh, &sector, periodicity.pitch()).pairs
+}
+
 /// Resolves a request: `Ok(None)` for [`PeriodicRequest::Off`], the sector found or checked
 /// otherwise.
 pub fn resolve(
@@ -331,6 +347,93 @@ pub fn resolve(
         PeriodicRequest::Auto => detect(mesh, axis).map(Some),
         PeriodicRequest::Copies(n) => check_copies(mesh, axis, n).map(Some),
     }
+}
+
+/// The copies `first..end` of the wheel that `periodicity` makes of `mesh`, as one mesh: copy
+/// `k`'s points turned by `k · 360°/N` about the axis, its cells and arrays after copy
+/// `k − 1`'s, as VTK's `vtkAngularPeriodicFilter` makes them (the points where copies meet are
+/// kept once per copy). Three-component arrays are vectors and turn with their copy; every
+/// other array is copied as it is. The active scalar stays the same array.
+pub fn replicate(
+    mesh: &Mesh,
+    periodicity: &Periodicity,
+    (first, end): (u32, u32),
+) -> Result<Mesh, Error> {
+    let n = periodicity.copies;
+    if first >= end || end > n {
+        return Err(Error::Invalid(format!(
+            "copies {first}:{end} are not a range of the wheel's {n} copies"
+        )));
+    }
+    let frame = periodicity.frame();
+    let count = (end - first) as usize;
+    let points_per = mesh.point_count();
+    if (points_per * count) as u64 > u64::from(u32::MAX) {
+        return Err(Error::Invalid(format!(
+            "{count} copies of {points_per} points are more than 32-bit point ids address"
+        )));
+    }
+    let angles: Vec<f64> = (first..end)
+        .map(|k| f64::from(k) * periodicity.pitch())
+        .collect();
+    let points = angles
+        .iter()
+        .flat_map(|&a| mesh.points().iter().map(move |&p| turn(&frame, p, a)))
+        .collect();
+    let cells = (0..count)
+        .flat_map(|k| {
+            let offset = (k * points_per) as u32;
+            mesh.cells().iter().map(move |c| c.map(|i| i + offset))
+        })
+        .collect();
+    let kinds = mesh.kinds().repeat(count);
+    let copy_arrays = |arrays: &[crate::DataArray]| -> Vec<crate::DataArray> {
+        arrays
+            .iter()
+            .map(|a| {
+                let values = angles
+                    .iter()
+                    .flat_map(|&angle| turned_values(&frame, a, angle))
+                    .collect();
+                crate::DataArray {
+                    name: a.name.clone(),
+                    components: a.components,
+                    values,
+                }
+            })
+            .collect()
+    };
+    let mut out = Mesh::from_parts(crate::MeshParts {
+        points,
+        cells,
+        kinds,
+        point_data: copy_arrays(mesh.point_data()),
+        cell_data: copy_arrays(mesh.cell_data()),
+    })?;
+    if let Some(active) = mesh.active_scalar() {
+        let name = active.selector(mesh.point_data(), mesh.cell_data());
+        out.set_active_scalar(&name)?;
+    }
+    Ok(out)
+}
+
+/// The values of array `a` in a copy turned by `angle`: a vector's tuples turned with it.
+fn turned_values(frame: &CylFrame, a: &crate::DataArray, angle: f64) -> Vec<f64> {
+    if a.components != 3 {
+        return a.values.clone();
+    }
+    let (s, c) = angle.sin_cos();
+    a.values
+        .chunks_exact(3)
+        .flat_map(|v| {
+            let v = DVec3::new(v[0], v[1], v[2]);
+            let (x, y) = (v.dot(frame.e1), v.dot(frame.e2));
+            let w = frame.e1 * (x * c - y * s)
+                + frame.e2 * (x * s + y * c)
+                + frame.axis * v.dot(frame.axis);
+            [w.x, w.y, w.z]
+        })
+        .collect()
 }
 
 /// An angle in radians shown in degrees to a thousandth, without trailing zeros.
@@ -579,18 +682,24 @@ struct Sides {
     unmatched: usize,
     on_extremes: usize,
     worst: f64,
+    /// Each matched face of the sector's start with its partner on the end: `(cell, face)`.
+    pairs: Vec<[(u32, u8); 2]>,
 }
 
 /// Matches the boundary faces of the sector's start with those of its end turned by `pitch`.
 fn match_sides(mesh: &Mesh, sector: &Sector, pitch: f64) -> Sides {
     let faces = &sector.faces;
-    let keys: HashSet<FaceKey> = faces.iter().map(|f| FaceKey::new(f.ids)).collect();
+    let keys: HashMap<FaceKey, (u32, u8)> = faces
+        .iter()
+        .map(|f| (FaceKey::new(f.ids), (f.cell, f.face)))
+        .collect();
     let index = PointIndex::new(mesh, faces);
     let mut sides = Sides {
         matched: 0,
         unmatched: 0,
         on_extremes: 0,
         worst: 0.0,
+        pairs: Vec::new(),
     };
     for face in faces {
         let ends: Vec<Option<bool>> = face.ids.iter().map(|&i| sector.extreme(i)).collect();
@@ -615,13 +724,17 @@ fn match_sides(mesh: &Mesh, sector: &Sector, pitch: f64) -> Sides {
                 None => found = false,
             }
         }
+        let other = keys.get(&FaceKey::new(partner)).copied();
         let matched = found
             && worst <= MATCH_TOLERANCE
-            && keys.contains(&FaceKey::new(partner))
+            && other.is_some()
             && partner.iter().all(|&j| sector.extreme(j) == Some(!side));
-        if matched {
+        if let (true, Some(other)) = (matched, other) {
             sides.matched += 1;
             sides.worst = sides.worst.max(worst);
+            if !side {
+                sides.pairs.push([(face.cell, face.face), other]);
+            }
         } else {
             sides.unmatched += 1;
             if found {
@@ -636,8 +749,11 @@ fn match_sides(mesh: &Mesh, sector: &Sector, pitch: f64) -> Sides {
     sides
 }
 
-/// A boundary face: its four point ids as the cell lists them.
+/// A boundary face: its cell, its index in the cell (0–5) and its four point ids as the cell
+/// lists them.
 struct Face {
+    cell: u32,
+    face: u8,
     ids: [u32; 4],
 }
 
@@ -663,7 +779,11 @@ fn boundary_faces(mesh: &Mesh, neighbours: &FaceNeighbours) -> Vec<Face> {
             if FaceKey::new(ids).is_degenerate() || neighbours.is_seam(c as u32, f) {
                 continue;
             }
-            faces.push(Face { ids });
+            faces.push(Face {
+                cell: c as u32,
+                face: f as u8,
+                ids,
+            });
         }
     }
     faces

@@ -1,6 +1,7 @@
 //! `cylvol bench INPUT... [--json] [--size N] [--frames F] [--view A,E,Z] [--step S]
-//! [--opacity S:A,...] [--color S:R:G:B,...] [--unit-distance D] [--grid-order cells|share]`:
-//! renders every input with each of the four structures along both sampling paths and reports
+//! [--opacity S:A,...] [--color S:R:G:B,...] [--unit-distance D] [--grid-order cells|share]
+//! [--periodic auto|N [--copies K0:K1]]`: renders every input (the wheel of a periodic
+//! sector's copies with `--periodic`) with each of the four structures along both sampling paths and reports
 //! the talk's per-frame figures — samples, hexahedra tested, internal and leaf nodes visited, frame time
 //! — with cylindrical ÷ Cartesian ratios.
 //!
@@ -32,12 +33,13 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Map, Value};
 
+use super::periodic::{self, PeriodicArgs};
 use super::transfer::TransferArgs;
 use super::{log, scene, InputArgs};
 use cylvol::accel::{Accel, AccelParams, CandidateOrder, StructureKind};
 use cylvol::axis::Axis;
 use cylvol::render::{
-    Camera, Image, RenderOptions, RenderPath, RenderStats, Renderer, ScalarField, Volume,
+    Camera, Copies, Image, RenderOptions, RenderPath, RenderStats, Renderer, ScalarField, Volume,
 };
 use cylvol::{Error, Mesh};
 
@@ -75,6 +77,8 @@ pub struct BenchArgs {
     grid_order: CandidateOrder,
     #[command(flatten)]
     transfer: TransferArgs,
+    #[command(flatten)]
+    periodic: PeriodicArgs,
 }
 
 /// Parses `--frames F`, 1 to 100.
@@ -155,25 +159,28 @@ pub fn ratios(structures: &Map<String, Value>) -> Value {
     Value::Object(out)
 }
 
-/// Renders the same view of `mesh` with each structure in `built` (the four, built over
-/// `mesh`), along each of `paths`.
+/// Renders the same view of `mesh` (or of the wheel of its `copies`) with each structure in
+/// `built` (the four, built over `mesh`), along each of `paths`.
 pub fn bench_mesh(
     mesh: &Mesh,
     built: &[Accel],
     label: &str,
     setup: &BenchSetup,
-    paths: &[RenderPath],
+    (paths, copies): (&[RenderPath], Option<&Copies>),
 ) -> Result<BenchResult, Error> {
     let (width, height) = (setup.width, setup.height);
     let step = scene::step(mesh, setup.step)?;
-    let camera = scene::camera(mesh, width, height, setup.view);
+    let bounds = copies.map_or(mesh.bounds(), |c| c.bounds());
+    let [az, el, zoom] = setup.view.unwrap_or(scene::DEFAULT_VIEW);
+    let camera = Camera::view(bounds, width, height, az, el, zoom);
+    let diagonal = scene::diagonal_of(bounds);
     if built.is_empty() {
         return Err(Error::Invalid("bench: no structure to render with".into()));
     }
     let started = Instant::now();
     let neighbours = paths
         .contains(&RenderPath::Fast)
-        .then(|| scene::neighbours(mesh, &built[0]));
+        .then(|| periodic::wheel_topology(scene::neighbours(mesh, &built[0]), mesh, copies));
     let neighbours_s = started.elapsed().as_secs_f64();
     let bar = progress_bar(
         (built.len() * paths.len()) as u64 * setup.frames.max(1) as u64,
@@ -192,13 +199,16 @@ pub fn bench_mesh(
         let transfer =
             setup
                 .transfer
-                .apply(scene::transfer(mesh, range), range, scene::diagonal(mesh))?;
+                .apply(scene::transfer_over(diagonal, range), range, diagonal)?;
         for &path in paths {
             let mut options = RenderOptions::new(width, height, step);
             options.path = path;
             let mut renderer = Renderer::new(volume, &transfer, &options)?;
             if let (RenderPath::Fast, Some(n)) = (path, &neighbours) {
                 renderer = renderer.with_topology(n);
+            }
+            if let Some(c) = copies {
+                renderer = renderer.with_copies(*c);
             }
             let accel = volume.accel();
             runs.push((accel.kind(), accel.stats().build_s(), path, renderer));
@@ -259,6 +269,11 @@ pub fn bench_mesh(
         "step": step,
         "view": setup.view.unwrap_or(scene::DEFAULT_VIEW),
         "neighbours_s": neighbours.as_ref().map(|_| neighbours_s),
+        "periodic": copies.map(|c| json!({
+            "copies": c.periodicity().copies,
+            "first": c.range().0,
+            "end": c.range().1,
+        })),
         "structures": structures,
         "ratios": ratios,
     });
@@ -376,6 +391,7 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
         };
         let mesh = scene::renderable(input.load()?)?;
         let (axis, _) = input.axis(&mesh);
+        let copies = args.periodic.copies(&mesh, &axis)?;
         let label = cylvol::input::Input::parse(spec)?.label();
         let mut params = AccelParams::default();
         params.grid.order = args.grid_order;
@@ -385,7 +401,7 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
             &built,
             &label,
             &setup,
-            &[RenderPath::Paper, RenderPath::Fast],
+            (&[RenderPath::Paper, RenderPath::Fast], copies.as_ref()),
         )?;
         result.report["grid_order"] = json!(args.grid_order.name());
         if !args.json {

@@ -16,7 +16,7 @@ use glam::DVec3;
 use super::number::show;
 use super::scene;
 use cylvol::render::{Camera, Projection, DEFAULT_VIEW_ANGLE};
-use cylvol::{Error, Mesh};
+use cylvol::Error;
 
 /// The camera options.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -105,11 +105,11 @@ pub fn parse_parallel_scale(s: &str) -> Result<f64, String> {
 }
 
 impl CameraArgs {
-    /// The camera these options describe for a `width × height` image of `mesh`, checked: a
-    /// degenerate one (the position on the focal point, the view-up along the view) is an
-    /// error.
-    pub fn camera(&self, mesh: &Mesh, width: u32, height: u32) -> Result<Camera, Error> {
-        let bounds = mesh.bounds();
+    /// The camera these options describe for a `width × height` image of what `bounds`
+    /// (`[xmin, xmax, ymin, ymax, zmin, zmax]`: a mesh's, or the wheel of a periodic sector's
+    /// copies) holds, checked: a degenerate one (the position on the focal point, the view-up
+    /// along the view) is an error.
+    pub fn camera_for(&self, bounds: [f64; 6], width: u32, height: u32) -> Result<Camera, Error> {
         let mut camera = match self.camera {
             Some([eye, focal, up]) => {
                 let reset = Camera::reset(bounds, width, height, self.parallel);

@@ -233,7 +233,7 @@ fn render_views(
         built,
         DEMO_DATASET.name(),
         &setup,
-        &[RenderPath::Paper, RenderPath::Fast],
+        (&[RenderPath::Paper, RenderPath::Fast], None),
     )?;
     let mut images = Vec::new();
     for (kind, image) in &bench.images {

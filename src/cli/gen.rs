@@ -1,7 +1,8 @@
-//! `cylvol gen INPUT [--refine N] -o FILE`: writes a synthetic dataset, or any mesh it can
-//! read, as legacy VTK or VTU, optionally with every hexahedron cut into `N × N × N`
-//! ([`cylvol::Mesh::refined`]), e.g. the OpenFOAM mixer refined to the 2.15 M cells of the
-//! reference measurement.
+//! `cylvol gen INPUT [--refine N] [--periodic auto|N [--copies K0:K1]] -o FILE`: writes a
+//! synthetic dataset, or any mesh it can read, as legacy VTK or VTU, optionally with every
+//! hexahedron cut into `N × N × N` ([`cylvol::Mesh::refined`]), e.g. the OpenFOAM mixer
+//! refined to 2.15 M cells, and optionally as the wheel of a periodic sector's copies
+//! ([`cylvol::axis::periodic::replicate`]).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -23,6 +24,15 @@ pub struct GenArgs {
     /// geometry and fields with N³ times the cells.
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = parse_refinement, allow_hyphen_values = true)]
     refine: u32,
+    /// Write the wheel that copies of a rotationally periodic sector make (`auto`, or N
+    /// copies each turned by 360°/N, vectors turned with them), as VTK's angular periodic
+    /// filter does; `off` writes the mesh as it is.
+    #[command(flatten)]
+    periodic: super::periodic::PeriodicArgs,
+    /// The machine's axis the copies turn about (`x`, `y`, `z` or `ox,oy,oz:dx,dy,dz`;
+    /// default: detected).
+    #[arg(long, value_name = "AXIS")]
+    axis: Option<cylvol::axis::Axis>,
 }
 
 /// Parses `--refine N`, 1 to [`cylvol::mesh::MAX_REFINEMENT`].
@@ -62,6 +72,23 @@ pub fn run(args: &GenArgs) -> Result<(), Error> {
             started.elapsed().as_secs_f64()
         ));
         fine
+    };
+    let axis = args.axis.unwrap_or_else(|| cylvol::axis::detect(&mesh));
+    let mesh = match args.periodic.copies(&mesh, &axis)? {
+        None => mesh,
+        Some(copies) => {
+            let started = Instant::now();
+            let wheel =
+                cylvol::axis::periodic::replicate(&mesh, copies.periodicity(), copies.range())?;
+            log(format_args!(
+                "{} copies: {} cells, {} points in {:.2} s",
+                copies.count(),
+                wheel.cell_count(),
+                wheel.point_count(),
+                started.elapsed().as_secs_f64()
+            ));
+            wheel
+        }
     };
     let started = Instant::now();
     cylvol::io::write_file(&mesh, &args.output)?;

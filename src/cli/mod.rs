@@ -19,6 +19,7 @@ mod gen;
 mod info;
 mod number;
 mod output;
+mod periodic;
 mod render;
 mod scene;
 mod stats;

@@ -26,6 +26,7 @@ use serde_json::json;
 
 use super::camera::CameraArgs;
 use super::number::show;
+use super::periodic::{self, PeriodicArgs};
 use super::scene::StructureChoice;
 use super::transfer::TransferArgs;
 use super::{log, output, scene, InputArgs};
@@ -79,6 +80,8 @@ pub struct RenderArgs {
     blend: Blend,
     #[command(flatten)]
     transfer: TransferArgs,
+    #[command(flatten)]
+    periodic: PeriodicArgs,
     /// Also write the depth image as VTK image data (`.vti`, a `depth` point array over a
     /// WxH image, rows bottom to top): per pixel, the distance from the camera (from its plane
     /// with `--parallel`) of the sample at which the accumulated opacity reaches
@@ -278,6 +281,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         .transpose()?;
     let mesh = scene::renderable(args.input.load()?)?;
     let (axis, _) = args.input.axis(&mesh);
+    let copies = args.periodic.copies(&mesh, &axis)?;
     let kind = scene::structure(args.structure, &mesh, &axis);
     let (path, interpolation, blend) = (args.path, args.interpolation, args.blend);
     for warning in ignored_effects(&mesh, args.shade, args.gradient_opacity.as_deref(), blend) {
@@ -290,9 +294,12 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         log(format_args!("warning: {warning}"));
     }
     let range = scene::transfer_range(volume.scalar_range());
-    let transfer =
-        args.transfer
-            .apply(scene::transfer(&mesh, range), range, scene::diagonal(&mesh))?;
+    // The scene: the mesh, or the wheel its copies make.
+    let bounds = copies.as_ref().map_or(mesh.bounds(), |c| c.bounds());
+    let diagonal = scene::diagonal_of(bounds);
+    let transfer = args
+        .transfer
+        .apply(scene::transfer_over(diagonal, range), range, diagonal)?;
     let mut options = RenderOptions::new(width, height, step);
     options.path = path;
     options.shading = args.shade.then(Shading::default);
@@ -307,7 +314,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     }
     // The fast path walks from a sample's cell to its face neighbours (across duplicated
     // seams too); the paper path locates every sample from scratch and needs none.
-    let neighbours = (path == RenderPath::Fast).then(|| scene::neighbours(&mesh, &accel));
+    let neighbours = (path == RenderPath::Fast).then(|| {
+        periodic::wheel_topology(scene::neighbours(&mesh, &accel), &mesh, copies.as_ref())
+    });
     let mut renderer = Renderer::new(&volume, &transfer, &options)?;
     if renderer.table().transparent_everywhere() {
         let [lo, hi] = volume.scalar_range().map(show);
@@ -319,7 +328,10 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     if let Some(n) = &neighbours {
         renderer = renderer.with_topology(n);
     }
-    let camera = args.camera.camera(&mesh, width, height)?;
+    if let Some(c) = copies {
+        renderer = renderer.with_copies(c);
+    }
+    let camera = args.camera.camera_for(bounds, width, height)?;
     let started = Instant::now();
     let (image, stats) = renderer.render(&camera, depth_in.as_deref())?;
     let frame_s = started.elapsed().as_secs_f64();
@@ -351,6 +363,11 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             "width": width,
             "height": height,
             "step": step,
+            "periodic": copies.as_ref().map(|c| json!({
+                "copies": c.periodicity().copies,
+                "first": c.range().0,
+                "end": c.range().1,
+            })),
             "frame_s": frame_s,
             "stats": stats,
         });

@@ -146,7 +146,11 @@ fn drawable_arrays(mesh: &Mesh) -> Vec<String> {
 
 /// The length of the mesh's bounding-box diagonal.
 pub fn diagonal(mesh: &Mesh) -> f64 {
-    let b = mesh.bounds();
+    diagonal_of(mesh.bounds())
+}
+
+/// The length of the diagonal of `bounds` (`[xmin, xmax, ymin, ymax, zmin, zmax]`).
+pub fn diagonal_of(b: [f64; 6]) -> f64 {
     ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt()
 }
 
@@ -186,8 +190,14 @@ pub fn constant_field_warning(mesh: &Mesh, [lo, hi]: [f64; 2]) -> Option<String>
 /// The default transfer function over the scalar range `[lo, hi]`
 /// ([`TransferFunction::default_for_range`]) with a maximum opacity of [`MAX_OPACITY`] per
 /// hundredth of the mesh's diagonal.
-pub fn transfer(mesh: &Mesh, [lo, hi]: [f64; 2]) -> TransferFunction {
-    TransferFunction::default_for_range(lo, hi, MAX_OPACITY, (diagonal(mesh) / 100.0).max(1e-300))
+pub fn transfer(mesh: &Mesh, range: [f64; 2]) -> TransferFunction {
+    transfer_over(diagonal(mesh), range)
+}
+
+/// [`transfer`] for a scene whose bounding-box diagonal is `diagonal` (a mesh's, or the wheel
+/// of a periodic sector's copies).
+pub fn transfer_over(diagonal: f64, [lo, hi]: [f64; 2]) -> TransferFunction {
+    TransferFunction::default_for_range(lo, hi, MAX_OPACITY, (diagonal / 100.0).max(1e-300))
 }
 
 /// The camera of a `--view` preset (default [`DEFAULT_VIEW`]) for a `width × height` image.

@@ -529,6 +529,27 @@ impl FaceNeighbours {
                 .is_ok()
     }
 
+    /// Joins each pair of faces `[(cell, face), (cell, face)]` (faces 0–5) that have no
+    /// neighbour yet, both ways: the faces a rotationally periodic wheel makes interior (a
+    /// sector's start side with its end side, [`crate::axis::periodic::side_pairs`]). Pairs
+    /// out of range, of faces that have a neighbour, or of a face with itself are left alone.
+    /// Returns how many pairs were joined.
+    pub fn join(&mut self, pairs: &[[(u32, u8); 2]]) -> usize {
+        let mut joined = 0;
+        for &[(ca, fa), (cb, fb)] in pairs {
+            let (a, b) = (ca as usize * 6 + fa as usize, cb as usize * 6 + fb as usize);
+            let free = |i: usize| self.neighbours.get(i) == Some(&NONE);
+            if fa >= 6 || fb >= 6 || a == b || !free(a) || !free(b) {
+                continue;
+            }
+            self.neighbours[a] = cb;
+            self.neighbours[b] = ca;
+            self.boundary = self.boundary.saturating_sub(2);
+            joined += 1;
+        }
+        joined
+    }
+
     /// Checks that every non-degenerate face without a neighbour really is the mesh's
     /// boundary: `cell_at` (a point location, e.g. through an acceleration structure) must find
     /// no other cell just beyond the face. Each such face is probed at its centre and at the

@@ -6,6 +6,7 @@ use std::ops::Deref;
 
 use super::boundary::surface::BoundarySurface;
 use crate::accel::Accel;
+use crate::axis::periodic::Periodicity;
 use crate::mesh::topology::FaceNeighbours;
 use crate::Mesh;
 
@@ -38,6 +39,26 @@ impl Topology {
             |c, f, probes, r| surface.other_faces_near(mesh, c, f, probes, r),
             |p| accel.cell_at(mesh, p),
         )
+    }
+
+    /// The topology of the wheel that copies of this sector make about `periodicity`'s axis:
+    /// the sector's start and end sides, where their faces land on each other, are joined
+    /// ([`FaceNeighbours::join`]) and leave the boundary surface, so that rays cross from one
+    /// copy into the next without meeting a boundary there. Returns the pairs joined too.
+    pub fn with_periodic_sides(self, mesh: &Mesh, periodicity: &Periodicity) -> (Topology, usize) {
+        let pairs = crate::axis::periodic::side_pairs(mesh, &self.faces, periodicity);
+        let mut faces = self.faces;
+        let joined = faces.join(&pairs);
+        if joined == 0 {
+            return (
+                Topology {
+                    faces,
+                    surface: self.surface,
+                },
+                0,
+            );
+        }
+        (Topology::new(mesh, faces), joined)
     }
 
     /// The face neighbours.

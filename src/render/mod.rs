@@ -38,6 +38,7 @@ mod frame;
 mod image;
 mod locate;
 mod options;
+mod periodic;
 mod ray;
 mod renderer;
 mod shading;
@@ -60,6 +61,7 @@ pub use image::Image;
 pub use options::{
     Blend, Interpolation, RenderOptions, RenderPath, DEFAULT_MARCH_REACH, MAX_SAMPLES_PER_RAY,
 };
+pub use periodic::Copies;
 pub use renderer::{Derived, Renderer};
 pub use shading::Shading;
 pub use stats::RenderStats;

@@ -59,20 +59,21 @@ use std::sync::OnceLock;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::accumulate::{AccumulatorKind, FrontToBack, Projection, RayResult};
+use super::accumulate::{Accumulate, AccumulatorKind, FrontToBack, Projection, RayResult};
 use super::boundary::ray_faces::{FaceBins, TileFaces};
 use super::boundary::surface::BoundarySurface;
 use super::boundary::Boundary;
 use super::camera::{Camera, RayGenerator, RaySource};
-use super::cast::cast;
+use super::cast::{cast, cast_into};
 use super::faces::Topology;
 use super::field::Volume;
 use super::frame::Frame;
 use super::image::Image;
 use super::locate::{LocatorKind, LookupEach, WalkCells};
 use super::options::{Blend, RenderOptions, RenderPath, MAX_SAMPLES_PER_RAY};
-use super::ray::{box_span, Ray, RayFace};
-use super::stats::RenderStats;
+use super::periodic::{Copies, Piece};
+use super::ray::{box_span, End, Ray, RayFace};
+use super::stats::{RenderStats, Work};
 use super::transfer::{TransferFunction, TransferTable};
 use super::transparency::TransparentCells;
 use super::walk::{Cells, Neighbours, NoNeighbours};
@@ -108,6 +109,9 @@ pub struct Renderer<'a> {
     neighbours: &'a dyn Neighbours,
     surface: Option<&'a BoundarySurface>,
     clip_box: Aabb,
+    /// The periodic copies of the sector to draw instead of the sector alone, with the box
+    /// their rays are clipped to.
+    copies: Option<(Copies, Aabb)>,
     /// The cells the table makes wholly transparent, for the fast path; made before a render's
     /// rays are cast (or on a single ray's first use).
     transparent: OnceLock<TransparentCells>,
@@ -146,8 +150,7 @@ impl<'a> Renderer<'a> {
                 show_number(diag)
             )));
         }
-        let mag = bounds.min.abs().max(bounds.max.abs()).max_element();
-        let clip_box = bounds.padded(1e-9 * diag + 8.0 * f64::EPSILON * mag);
+        let clip_box = clip_box(bounds);
         Ok(Renderer {
             volume,
             table,
@@ -155,6 +158,7 @@ impl<'a> Renderer<'a> {
             neighbours: &NoNeighbours,
             surface: None,
             clip_box,
+            copies: None,
             transparent: OnceLock::new(),
             visible: OnceLock::new(),
             ranges: OnceLock::new(),
@@ -176,6 +180,17 @@ impl<'a> Renderer<'a> {
     pub fn with_topology(mut self, topology: &'a Topology) -> Renderer<'a> {
         self.neighbours = topology.faces();
         self.surface = Some(topology.surface());
+        self
+    }
+
+    /// Draws `copies` of the volume, a rotationally periodic sector, about their axis instead
+    /// of the sector alone: each ray is cast piece by piece through the copies' wedges, each
+    /// piece turned back into the sector (see [`super::periodic`]). Give it the topology of
+    /// the wheel ([`Topology::with_periodic_sides`]) on the fast path, so that no boundary is
+    /// met where the copies meet.
+    pub fn with_copies(mut self, copies: Copies) -> Renderer<'a> {
+        let wheel = clip_box(copies.wheel_box());
+        self.copies = Some((copies, wheel));
         self
     }
 
@@ -261,8 +276,13 @@ impl<'a> Renderer<'a> {
     /// The ray's `[t_in, t_out]` within the mesh's (padded) box, `t ≥ 0` and the clipping
     /// planes, if not empty.
     pub fn clip(&self, origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
-        let span = box_span(&self.clip_box, origin, dir)?;
+        let span = box_span(self.world_box(), origin, dir)?;
         self.options.clip_planes.clip_span(origin, dir, span)
+    }
+
+    /// The box the rays are clipped to: the mesh's, padded, or the wheel's of its copies.
+    fn world_box(&self) -> &Aabb {
+        self.copies.as_ref().map_or(&self.clip_box, |(_, b)| b)
     }
 
     /// What the rays of a render share.
@@ -348,10 +368,95 @@ impl<'a> Renderer<'a> {
             return RayResult::NONE;
         }
         let planes = &self.options.clip_planes;
-        let Some(ray) = Ray::clipped(origin, dir, &self.clip_box, planes, t_stop) else {
+        let Some(ray) = Ray::clipped(origin, dir, self.world_box(), planes, t_stop) else {
             return RayResult::NONE;
         };
-        cast::<L, A>(frame, &ray.with_faces(faces), hint, stats)
+        match &self.copies {
+            None => cast::<L, A>(frame, &ray.with_faces(faces), hint, stats),
+            Some((copies, _)) => self.cast_copies::<L, A>(frame, copies, &ray, hint, stats),
+        }
+    }
+
+    /// Casts `ray` through the periodic `copies`: piece by piece, each in its copy's frame,
+    /// into one accumulator.
+    fn cast_copies<L: LocatorKind, A: AccumulatorKind>(
+        &self,
+        frame: &Frame,
+        copies: &Copies,
+        ray: &Ray,
+        hint: &mut Option<u32>,
+        stats: &mut RenderStats,
+    ) -> RayResult {
+        let mut acc = A::start(frame);
+        let mut pieces = Vec::new();
+        copies.pieces(ray.origin, ray.dir, (ray.t_in, ray.t_out), &mut pieces);
+        for piece in &pieces {
+            let Some(sub) = self.piece_ray(copies, ray, piece, stats) else {
+                continue;
+            };
+            let (a, stopped) = cast_into::<L, _>(frame, &sub, hint, acc, stats);
+            acc = a;
+            if stopped {
+                break;
+            }
+        }
+        acc.finish()
+    }
+
+    /// The part of `ray` in `piece`, turned back into the sector and clipped to its box: its
+    /// ends on the wedges' half-planes are on the side of the mesh that locating them in the
+    /// sector finds, and the segment of its last sample ends there; `None` where the piece
+    /// misses the sector's box.
+    fn piece_ray<'r>(
+        &self,
+        copies: &Copies,
+        ray: &Ray,
+        piece: &Piece,
+        stats: &mut RenderStats,
+    ) -> Option<Ray<'r>> {
+        let origin = copies.point_in_sector(piece.copy, ray.origin);
+        let dir = copies.dir_in_sector(piece.copy, ray.dir);
+        let (b0, b1) = box_span(&self.clip_box, origin, dir)?;
+        let (t_in, t_out) = (piece.t0.max(b0), piece.t1.min(b1));
+        if t_in >= t_out {
+            return None;
+        }
+        let mut work = Work::new(stats);
+        let mut side = |t: f64, known: End| match known {
+            End::Outside => End::Outside,
+            _ => {
+                let p = origin + dir * t;
+                let mesh = self.volume.mesh();
+                match self.volume.accel().locate(mesh, p, &mut work.counters) {
+                    Some(_) => End::In,
+                    None => End::Outside,
+                }
+            }
+        };
+        // On the sector's box, outside; on the ray's own ends, what is known there; on a
+        // half-plane between copies, where the mesh is.
+        let start = match (t_in > piece.t0, piece.t0 == ray.t_in) {
+            (true, _) => End::Outside,
+            (false, true) => side(t_in, ray.start),
+            (false, false) => side(t_in, End::Unknown),
+        };
+        let end = match (t_out < piece.t1, piece.t1 == ray.t_out) {
+            (true, _) => End::Outside,
+            (false, true) => side(t_out, ray.end),
+            (false, false) => side(t_out, End::Unknown),
+        };
+        work.finish();
+        let on_half_plane = t_out == piece.t1 && piece.t1 < ray.t_out;
+        Some(Ray {
+            origin,
+            dir,
+            faces: None,
+            t_in,
+            t_out,
+            start,
+            end,
+            ends_on_plane: on_half_plane || (t_out == ray.t_out && ray.ends_on_plane),
+        })
     }
 
     /// Renders the image seen by `camera`; `depth_in` (one distance per pixel, rows top to
@@ -445,7 +550,8 @@ impl<'a> Renderer<'a> {
         &'s self,
         rays: &R,
     ) -> Option<(&'s BoundarySurface, FaceBins)> {
-        if self.options.path != RenderPath::Fast || self.nothing_visible() {
+        if self.options.path != RenderPath::Fast || self.nothing_visible() || self.copies.is_some()
+        {
             return None;
         }
         let surface = self.surface?;
@@ -479,6 +585,14 @@ impl<'a> Renderer<'a> {
             })
             .collect()
     }
+}
+
+/// The box rays are clipped to for a mesh of box `bounds`: padded by `1e-9` of its diagonal
+/// (and what `f64` resolves at its coordinates), so that samples on the boundary are kept.
+fn clip_box(bounds: &Aabb) -> Aabb {
+    let diag = bounds.diagonal();
+    let mag = bounds.min.abs().max(bounds.max.abs()).max_element();
+    bounds.padded(1e-9 * diag + 8.0 * f64::EPSILON * mag)
 }
 
 /// An image's rays cut into square tiles, with the opaque geometry's depth and the boundary

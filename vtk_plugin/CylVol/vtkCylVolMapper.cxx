@@ -146,6 +146,32 @@ vtkMTimeType GeometryMTime(vtkUnstructuredGrid* grid)
   return t;
 }
 
+// A cylvol mesh of the grid's points, cells and cell types (copied by cylvol).
+CylvolStatus NewMesh(vtkUnstructuredGrid* grid, CylvolMesh** mesh)
+{
+  ValueView points;
+  points.From(grid->GetPoints()->GetData());
+  vtkCellArray* cells = grid->GetCells();
+  IndexView index;
+  if (cells->IsStorage64Bit())
+  {
+    index.Offsets = cells->GetOffsetsArray64()->GetPointer(0);
+    index.Connectivity = cells->GetConnectivityArray64()->GetPointer(0);
+    index.Type = CYLVOL_INDEX_I64;
+    index.ConnectivityLength = static_cast<size_t>(cells->GetConnectivityArray64()->GetNumberOfValues());
+  }
+  else
+  {
+    index.Offsets = cells->GetOffsetsArray32()->GetPointer(0);
+    index.Connectivity = cells->GetConnectivityArray32()->GetPointer(0);
+    index.Type = CYLVOL_INDEX_I32;
+    index.ConnectivityLength = static_cast<size_t>(cells->GetConnectivityArray32()->GetNumberOfValues());
+  }
+  return cylvol_mesh_new(points.Data, points.Type, static_cast<size_t>(grid->GetNumberOfPoints()),
+    index.Offsets, index.Connectivity, index.Type, index.ConnectivityLength,
+    grid->GetCellTypesArray()->GetPointer(0), static_cast<size_t>(grid->GetNumberOfCells()), mesh);
+}
+
 std::string StatusText(CylvolStatus status)
 {
   std::string text = cylvol_status_message(status);
@@ -207,6 +233,9 @@ public:
   int ScalarCells = -1;
 
   vtkTimeStamp SettingsTime; // structure settings' last change
+
+  // How many cells of each VTK type the structure was last built over.
+  std::vector<vtkIdType> BuiltCellCounts = std::vector<vtkIdType>(256, 0);
 
   // What the last render left out for cell scalars (1: shading, 2: gradient opacity), so that
   // the warning saying so is given once per change.
@@ -518,6 +547,12 @@ void vtkCylVolMapper::SetScalarComponent(int component)
 }
 
 //------------------------------------------------------------------------------
+vtkIdType vtkCylVolMapper::GetBuiltCellCount(int cellType)
+{
+  return cellType >= 0 && cellType < 256 ? this->Internals->BuiltCellCounts[cellType] : 0;
+}
+
+//------------------------------------------------------------------------------
 int vtkCylVolMapper::FillInputPortInformation(int port, vtkInformation* info)
 {
   if (!this->Superclass::FillInputPortInformation(port, info))
@@ -538,10 +573,82 @@ void vtkCylVolMapper::ReleaseGraphicsResources(vtkWindow* win)
 }
 
 //------------------------------------------------------------------------------
+// One frame's state, filled in by the steps of Render in turn.
+struct vtkCylVolMapper::Frame
+{
+  CylvolBlend Blend = CYLVOL_BLEND_COMPOSITE;
+
+  // The input as given, and the grid drawn (the input without its ghost cells).
+  vtkUnstructuredGrid* Input = nullptr;
+  vtkUnstructuredGrid* Grid = nullptr;
+
+  // The scalars drawn (on Grid's points or cells), whether they are cell data, and the
+  // component drawn.
+  vtkVolumeProperty* Property = nullptr;
+  vtkDataArray* Scalars = nullptr;
+  int CellFlag = 0;
+  int Component = 0;
+
+  // The transfer tables and the CylvolTransfer that points into them.
+  std::vector<float> Rgb;
+  std::vector<float> Opacity;
+  std::vector<float> GradientOpacity;
+  CylvolTransfer Transfer;
+
+  // The image: its size, the viewport it covers, and the depth of what is already drawn
+  // (null when nothing stops the rays).
+  float OldImageSampleDistance = 1.0f;
+  int Width = 0;
+  int Height = 0;
+  int ViewportWidth = 0;
+  int ViewportHeight = 0;
+  int ViewportX = 0;
+  int ViewportY = 0;
+  size_t PixelCount = 0;
+  const float* DepthIn = nullptr;
+
+  // The camera: the view matrix in `Camera`, the whole image's projection in ProjectionRows.
+  double Aspect = 1.0;
+  CylvolCamera Camera;
+  double ProjectionRows[16];
+
+  CylvolRenderParams Params;
+};
+
+//------------------------------------------------------------------------------
 void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
-  vtkInternals& in = *this->Internals;
   this->Timer->StartTimer();
+  this->ResetRenderStatistics();
+  Frame frame;
+  // Settings that draw nothing are refused before any build.
+  if (!BlendOf(this->BlendMode, &frame.Blend))
+  {
+    vtkErrorMacro(<< "Unsupported blend mode " << this->BlendMode
+                  << "; vtkCylVolMapper composites (0), or projects the maximum (1) or the "
+                     "minimum (2) intensity: nothing drawn.");
+    return;
+  }
+  frame.Property = vol->GetProperty();
+  if (!this->SelectInput(frame) || !this->SelectScalars(frame) || !this->CheckCellTypes(frame) ||
+    !this->UpdateVolume(frame) || !this->MakeTransferTables(frame))
+  {
+    return;
+  }
+  this->SizeImage(frame, ren, vol);
+  this->ReadDepth(frame, ren);
+  this->SetCamera(frame, ren, vol);
+  this->SetRenderParameters(frame, vol);
+  if (!this->RenderBands(frame, ren))
+  {
+    return;
+  }
+  this->Display(frame, ren, vol);
+}
+
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::ResetRenderStatistics()
+{
   this->LastRays = this->LastSamples = this->LastSamplesLocated = this->LastHexTests = 0;
   this->LastInternalVisits = this->LastLeafVisits = 0;
   this->LastGradientEvaluations = this->LastEarlyTerminations = 0;
@@ -551,22 +658,15 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastExtremeJumps = 0;
   this->LastFarLocates = 0;
   this->LastRaySeconds = 0.0;
+}
 
-  // ---- settings that draw nothing: refused before any build ------------------------------
-  CylvolBlend blend = CYLVOL_BLEND_COMPOSITE;
-  if (!BlendOf(this->BlendMode, &blend))
-  {
-    vtkErrorMacro(<< "Unsupported blend mode " << this->BlendMode
-                  << "; vtkCylVolMapper composites (0), or projects the maximum (1) or the "
-                     "minimum (2) intensity: nothing drawn.");
-    return;
-  }
-
-  // ---- the input ---------------------------------------------------------------------
+//------------------------------------------------------------------------------
+bool vtkCylVolMapper::SelectInput(Frame& frame)
+{
   if (this->GetNumberOfInputConnections(0) == 0)
   {
     vtkErrorMacro(<< "No input: nothing drawn.");
-    return;
+    return false;
   }
   if (this->GetInputAlgorithm())
   {
@@ -574,8 +674,8 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     this->GetInputAlgorithm()->Update();
   }
   vtkUnstructuredGridBase* base = this->GetInput();
-  vtkUnstructuredGrid* grid = vtkUnstructuredGrid::SafeDownCast(base);
-  if (!grid)
+  vtkUnstructuredGrid* input = vtkUnstructuredGrid::SafeDownCast(base);
+  if (!input)
   {
     // What the pipeline gave: VTK's executive reports another type too, but leaves it to the
     // mapper to say what it draws.
@@ -592,19 +692,25 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                     << ") produced no data object; vtkCylVolMapper needs a vtkUnstructuredGrid: "
                        "nothing drawn.");
     }
-    return;
+    return false;
   }
-  vtkUnstructuredGrid* input = grid;
-  grid = in.WithoutGhostCells(input);
+  vtkUnstructuredGrid* grid = this->Internals->WithoutGhostCells(input);
   if (grid->GetNumberOfCells() == 0 || grid->GetNumberOfPoints() == 0 || !grid->GetPoints() ||
     !grid->GetCells() || !grid->GetCellTypesArray())
   {
     vtkErrorMacro(<< "The input grid is empty (" << grid->GetNumberOfPoints() << " points, "
                   << grid->GetNumberOfCells() << " cells): nothing drawn.");
-    return;
+    return false;
   }
+  frame.Input = input;
+  frame.Grid = grid;
+  return true;
+}
 
-  // ---- scalars -------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+bool vtkCylVolMapper::SelectScalars(Frame& frame)
+{
+  vtkUnstructuredGrid* input = frame.Input;
   int cellFlag = 0;
   vtkDataArray* scalars = vtkAbstractMapper::GetScalars(input, this->ScalarMode,
     this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
@@ -613,7 +719,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     vtkErrorMacro(<< "No scalars to render (scalar mode " << this->GetScalarModeAsString()
                   << (this->ArrayName ? ", array " : "") << (this->ArrayName ? this->ArrayName : "")
                   << "): nothing drawn.");
-    return;
+    return false;
   }
   // Several components. VTK's unstructured mappers draw each component through its own
   // transfer functions and mix them (the volume property's IndependentComponents, on by
@@ -622,13 +728,12 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   // it, drawn with the property's first transfer functions (as vtkSmartVolumeMapper's
   // component mode draws one); dependent components are refused. One component is drawn
   // whatever IndependentComponents says: nothing depends on anything.
-  vtkVolumeProperty* property = vol->GetProperty();
   int component = 0;
   const int components = scalars->GetNumberOfComponents();
   if (components > 1)
   {
     const char* arrayName = scalars->GetName() ? scalars->GetName() : "";
-    if (!property->GetIndependentComponents())
+    if (!frame.Property->GetIndependentComponents())
     {
       vtkErrorMacro(<< "The scalar array '" << arrayName << "' has " << components
                     << " components and the volume property's IndependentComponents is off, "
@@ -636,9 +741,13 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                        "components); vtkCylVolMapper draws one component through the transfer "
                        "functions: turn IndependentComponents on and choose the component with "
                        "SetScalarComponent: nothing drawn.");
-      return;
+      return false;
     }
-    if (this->ScalarComponent < 0 || this->ScalarComponent >= components)
+    if (this->ScalarComponent == SCALAR_MAGNITUDE)
+    {
+      component = -1; // cylvol's magnitude
+    }
+    else if (this->ScalarComponent < 0 || this->ScalarComponent >= components)
     {
       vtkErrorMacro(<< "The scalar array '" << arrayName << "' has " << components
                     << " components and no valid component is chosen (ScalarComponent = "
@@ -646,170 +755,199 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                     << "); VTK's unstructured mappers would mix all of them, each through its "
                        "own transfer functions (IndependentComponents), vtkCylVolMapper draws one: "
                        "choose it with SetScalarComponent(0.."
-                    << components - 1 << "): nothing drawn.");
-      return;
+                    << components - 1 << ") or draw the magnitude (SCALAR_MAGNITUDE): nothing "
+                       "drawn.");
+      return false;
     }
-    component = this->ScalarComponent;
+    else
+    {
+      component = this->ScalarComponent;
+    }
   }
   const vtkIdType expectedTuples = cellFlag ? input->GetNumberOfCells() : input->GetNumberOfPoints();
   if (scalars->GetNumberOfTuples() != expectedTuples)
   {
     vtkErrorMacro(<< "The scalar array has " << scalars->GetNumberOfTuples() << " tuples but the grid has "
                   << expectedTuples << (cellFlag ? " cells" : " points") << ": nothing drawn.");
-    return;
+    return false;
   }
   // Without ghost cells, the values on the points and cells drawn.
-  scalars = in.Scalars(scalars, cellFlag);
+  frame.Scalars = this->Internals->Scalars(scalars, cellFlag);
+  frame.CellFlag = cellFlag;
+  frame.Component = component;
+  return true;
+}
 
-  // ---- cell types ------------------------------------------------------------------------
-  vtkUnsignedCharArray* types = grid->GetCellTypesArray();
+//------------------------------------------------------------------------------
+bool vtkCylVolMapper::CheckCellTypes(Frame& frame)
+{
+  vtkUnsignedCharArray* types = frame.Grid->GetCellTypesArray();
+  const unsigned char* t = types->GetPointer(0);
+  const vtkIdType n = types->GetNumberOfTuples();
+  for (vtkIdType i = 0; i < n; ++i)
   {
-    const unsigned char* t = types->GetPointer(0);
-    const vtkIdType n = types->GetNumberOfTuples();
-    for (vtkIdType i = 0; i < n; ++i)
+    if (!SupportedCellType(t[i]))
     {
-      if (!SupportedCellType(t[i]))
-      {
-        const char* name = vtkCellTypes::GetClassNameFromTypeId(t[i]);
-        vtkErrorMacro(<< "Unsupported cell type " << static_cast<int>(t[i]) << " ("
-                      << (name ? name : "unknown") << ") at cell " << i
-                      << "; vtkCylVolMapper takes hexahedra, voxels, wedges, pyramids and "
-                         "tetrahedra: nothing drawn.");
-        return;
-      }
+      const char* name = vtkCellTypes::GetClassNameFromTypeId(t[i]);
+      vtkErrorMacro(<< "Unsupported cell type " << static_cast<int>(t[i]) << " ("
+                    << (name ? name : "unknown") << ") at cell " << i
+                    << "; vtkCylVolMapper takes hexahedra, voxels, wedges, pyramids and "
+                       "tetrahedra: nothing drawn.");
+      return false;
     }
   }
+  return true;
+}
 
-  // ---- build (or reuse) the structure ----------------------------------------------------
-  const vtkMTimeType geometryMTime = GeometryMTime(grid);
-  const vtkMTimeType settingsMTime = in.SettingsTime.GetMTime();
-
-  ValueView values;
-  values.From(scalars);
-  const CylvolAssociation association = cellFlag ? CYLVOL_CELL_DATA : CYLVOL_POINT_DATA;
-  const char* scalarName = scalars->GetName();
-
-  const bool rebuild = !in.Volume || in.BuiltInput != grid || in.BuiltGeometryMTime != geometryMTime ||
-    in.BuiltSettingsMTime != settingsMTime;
+//------------------------------------------------------------------------------
+bool vtkCylVolMapper::UpdateVolume(Frame& frame)
+{
+  vtkInternals& in = *this->Internals;
+  vtkDataArray* scalars = frame.Scalars;
+  const bool rebuild = !in.Volume || in.BuiltInput != frame.Grid ||
+    in.BuiltGeometryMTime != GeometryMTime(frame.Grid) ||
+    in.BuiltSettingsMTime != in.SettingsTime.GetMTime();
   if (rebuild)
   {
-    in.FreeVolume();
-    ValueView points;
-    points.From(grid->GetPoints()->GetData());
-    if (grid->GetPoints()->GetData()->GetNumberOfComponents() != 3)
-    {
-      vtkErrorMacro(<< "The points do not have 3 components: nothing drawn.");
-      return;
-    }
-    vtkCellArray* cells = grid->GetCells();
-    IndexView index;
-    if (cells->IsStorage64Bit())
-    {
-      index.Offsets = cells->GetOffsetsArray64()->GetPointer(0);
-      index.Connectivity = cells->GetConnectivityArray64()->GetPointer(0);
-      index.Type = CYLVOL_INDEX_I64;
-      index.ConnectivityLength = static_cast<size_t>(cells->GetConnectivityArray64()->GetNumberOfValues());
-    }
-    else
-    {
-      index.Offsets = cells->GetOffsetsArray32()->GetPointer(0);
-      index.Connectivity = cells->GetConnectivityArray32()->GetPointer(0);
-      index.Type = CYLVOL_INDEX_I32;
-      index.ConnectivityLength = static_cast<size_t>(cells->GetConnectivityArray32()->GetNumberOfValues());
-    }
-
-    CylvolMesh* mesh = nullptr;
-    CylvolStatus status = cylvol_mesh_new(points.Data, points.Type,
-      static_cast<size_t>(grid->GetNumberOfPoints()), index.Offsets, index.Connectivity, index.Type,
-      index.ConnectivityLength, types->GetPointer(0), static_cast<size_t>(grid->GetNumberOfCells()),
-      &mesh);
-    if (status != CYLVOL_STATUS_OK)
-    {
-      vtkErrorMacro(<< "cylvol rejected the grid: " << StatusText(status) << ": nothing drawn.");
-      return;
-    }
-    status = cylvol_mesh_set_scalars(mesh, scalarName, association, values.Data, values.Type,
-      static_cast<size_t>(scalars->GetNumberOfTuples()),
-      static_cast<size_t>(scalars->GetNumberOfComponents()), component);
-    if (status != CYLVOL_STATUS_OK)
-    {
-      vtkErrorMacro(<< "cylvol rejected the scalars: " << StatusText(status) << ": nothing drawn.");
-      cylvol_mesh_free(mesh);
-      return;
-    }
-    CylvolBuildParams params;
-    cylvol_build_params_default(&params);
-    params.structure = static_cast<CylvolStructure>(this->Structure);
-    params.axis_auto = this->AxisAuto ? 1 : 0;
-    for (int k = 0; k < 3; ++k)
-    {
-      params.axis_origin[k] = this->AxisOrigin[k];
-      params.axis_direction[k] = this->AxisDirection[k];
-    }
-    params.preset = this->BuildPreset;
-    CylvolVolume* volume = nullptr;
-    status = cylvol_volume_new(mesh, &params, &volume);
-    cylvol_mesh_free(mesh);
-    if (status != CYLVOL_STATUS_OK)
-    {
-      vtkErrorMacro(<< "cylvol could not build the structure: " << StatusText(status)
-                    << ": nothing drawn.");
-      return;
-    }
-    in.Volume = volume;
-    in.BuiltInput = grid;
-    in.BuiltGeometryMTime = geometryMTime;
-    in.BuiltSettingsMTime = settingsMTime;
-    in.ScalarArray = scalars;
-    in.ScalarMTime = scalars->GetMTime();
-    in.ScalarComponent = component;
-    in.ScalarCells = cellFlag;
-    this->BuildCount++;
-
-    CylvolBuildStats bs;
-    if (cylvol_volume_build_stats(volume, &bs) == CYLVOL_STATUS_OK)
-    {
-      this->LastBuildSeconds = bs.build_seconds;
-      this->LastBuildBytes = bs.bytes;
-      this->BuiltStructure = static_cast<int>(bs.structure);
-      for (int k = 0; k < 3; ++k)
-      {
-        this->BuiltAxisOrigin[k] = bs.axis_origin[k];
-        this->BuiltAxisDirection[k] = bs.axis_direction[k];
-      }
-    }
+    return this->BuildVolume(frame);
   }
-  else if (in.ScalarArray != scalars || in.ScalarMTime != scalars->GetMTime() ||
-    in.ScalarComponent != component || in.ScalarCells != cellFlag)
+  if (in.ScalarArray != scalars || in.ScalarMTime != scalars->GetMTime() ||
+    in.ScalarComponent != frame.Component || in.ScalarCells != frame.CellFlag)
   {
-    const CylvolStatus status = cylvol_volume_set_scalars(in.Volume, scalarName, association,
-      values.Data, values.Type, static_cast<size_t>(scalars->GetNumberOfTuples()),
-      static_cast<size_t>(scalars->GetNumberOfComponents()), component);
-    if (status != CYLVOL_STATUS_OK)
-    {
-      vtkErrorMacro(<< "cylvol rejected the new scalars: " << StatusText(status)
-                    << ": nothing drawn.");
-      in.ScalarArray = nullptr;
-      return;
-    }
-    in.ScalarArray = scalars;
-    in.ScalarMTime = scalars->GetMTime();
-    in.ScalarComponent = component;
-    in.ScalarCells = cellFlag;
-    this->ScalarUpdateCount++;
+    return this->ReplaceScalars(frame);
   }
+  return true;
+}
 
-  // ---- transfer functions ----------------------------------------------------------------
+//------------------------------------------------------------------------------
+bool vtkCylVolMapper::BuildVolume(Frame& frame)
+{
+  vtkInternals& in = *this->Internals;
+  vtkUnstructuredGrid* grid = frame.Grid;
+  vtkDataArray* scalars = frame.Scalars;
+  in.FreeVolume();
+  if (grid->GetPoints()->GetData()->GetNumberOfComponents() != 3)
+  {
+    vtkErrorMacro(<< "The points do not have 3 components: nothing drawn.");
+    return false;
+  }
+  CylvolMesh* mesh = nullptr;
+  CylvolStatus status = NewMesh(grid, &mesh);
+  if (status != CYLVOL_STATUS_OK)
+  {
+    vtkErrorMacro(<< "cylvol rejected the grid: " << StatusText(status) << ": nothing drawn.");
+    return false;
+  }
+  ValueView values;
+  values.From(scalars);
+  status = cylvol_mesh_set_scalars(mesh, scalars->GetName(),
+    frame.CellFlag ? CYLVOL_CELL_DATA : CYLVOL_POINT_DATA, values.Data, values.Type,
+    static_cast<size_t>(scalars->GetNumberOfTuples()),
+    static_cast<size_t>(scalars->GetNumberOfComponents()), frame.Component);
+  if (status != CYLVOL_STATUS_OK)
+  {
+    vtkErrorMacro(<< "cylvol rejected the scalars: " << StatusText(status) << ": nothing drawn.");
+    cylvol_mesh_free(mesh);
+    return false;
+  }
+  CylvolBuildParams params;
+  cylvol_build_params_default(&params);
+  params.structure = static_cast<CylvolStructure>(this->Structure);
+  params.axis_auto = this->AxisAuto ? 1 : 0;
+  for (int k = 0; k < 3; ++k)
+  {
+    params.axis_origin[k] = this->AxisOrigin[k];
+    params.axis_direction[k] = this->AxisDirection[k];
+  }
+  params.preset = this->BuildPreset;
+  CylvolVolume* volume = nullptr;
+  status = cylvol_volume_new(mesh, &params, &volume);
+  cylvol_mesh_free(mesh);
+  if (status != CYLVOL_STATUS_OK)
+  {
+    vtkErrorMacro(<< "cylvol could not build the structure: " << StatusText(status)
+                  << ": nothing drawn.");
+    return false;
+  }
+  in.Volume = volume;
+  in.BuiltInput = grid;
+  in.BuiltGeometryMTime = GeometryMTime(grid);
+  in.BuiltSettingsMTime = in.SettingsTime.GetMTime();
+  in.ScalarArray = scalars;
+  in.ScalarMTime = scalars->GetMTime();
+  in.ScalarComponent = frame.Component;
+  in.ScalarCells = frame.CellFlag;
+  this->BuildCount++;
+  this->RecordBuildStatistics();
+  std::fill(in.BuiltCellCounts.begin(), in.BuiltCellCounts.end(), 0);
+  const unsigned char* types = grid->GetCellTypesArray()->GetPointer(0);
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    in.BuiltCellCounts[types[c]]++;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::RecordBuildStatistics()
+{
+  CylvolBuildStats bs;
+  if (cylvol_volume_build_stats(this->Internals->Volume, &bs) != CYLVOL_STATUS_OK)
+  {
+    return;
+  }
+  this->LastBuildSeconds = bs.build_seconds;
+  this->LastBuildBytes = bs.bytes;
+  this->BuiltStructure = static_cast<int>(bs.structure);
+  for (int k = 0; k < 3; ++k)
+  {
+    this->BuiltAxisOrigin[k] = bs.axis_origin[k];
+    this->BuiltAxisDirection[k] = bs.axis_direction[k];
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkCylVolMapper::ReplaceScalars(Frame& frame)
+{
+  vtkInternals& in = *this->Internals;
+  vtkDataArray* scalars = frame.Scalars;
+  ValueView values;
+  values.From(scalars);
+  const CylvolStatus status = cylvol_volume_set_scalars(in.Volume, scalars->GetName(),
+    frame.CellFlag ? CYLVOL_CELL_DATA : CYLVOL_POINT_DATA, values.Data, values.Type,
+    static_cast<size_t>(scalars->GetNumberOfTuples()),
+    static_cast<size_t>(scalars->GetNumberOfComponents()), frame.Component);
+  if (status != CYLVOL_STATUS_OK)
+  {
+    vtkErrorMacro(<< "cylvol rejected the new scalars: " << StatusText(status)
+                  << ": nothing drawn.");
+    in.ScalarArray = nullptr;
+    return false;
+  }
+  in.ScalarArray = scalars;
+  in.ScalarMTime = scalars->GetMTime();
+  in.ScalarComponent = frame.Component;
+  in.ScalarCells = frame.CellFlag;
+  this->ScalarUpdateCount++;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkCylVolMapper::MakeTransferTables(Frame& frame)
+{
+  vtkVolumeProperty* property = frame.Property;
   double range[2];
-  scalars->GetRange(range, component);
+  frame.Scalars->GetRange(range, frame.Component);
   if (!(range[1] > range[0]))
   {
     const double pad = std::max(1e-6, std::abs(range[0]) * 1e-6);
     range[0] -= pad;
     range[1] += pad;
   }
-  std::vector<float> rgb(3 * kTableSize);
-  std::vector<float> opacity(kTableSize);
+  std::vector<float>& rgb = frame.Rgb;
+  std::vector<float>& opacity = frame.Opacity;
+  rgb.resize(3 * kTableSize);
+  opacity.resize(kTableSize);
   {
     std::vector<double> tmp(3 * kTableSize);
     if (property->GetColorChannels(0) == 1)
@@ -842,7 +980,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       opacity[i] = static_cast<float>(vtkMath::ClampValue(a, 0.0, 1.0));
     }
   }
-  CylvolTransfer transfer;
+  CylvolTransfer& transfer = frame.Transfer;
   transfer.rgb = rgb.data();
   transfer.n_color = kTableSize;
   transfer.opacity = opacity.data();
@@ -853,13 +991,12 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   if (!(transfer.unit_distance > 0.0))
   {
     vtkErrorMacro(<< "ScalarOpacityUnitDistance must be > 0: nothing drawn.");
-    return;
+    return false;
   }
   transfer.gradient_opacity = nullptr;
   transfer.n_gradient_opacity = 0;
   transfer.gradient_range[0] = 0.0;
   transfer.gradient_range[1] = 1.0;
-  std::vector<float> gradientTable;
   if (!property->GetDisableGradientOpacity(0) && property->HasGradientOpacity(0))
   {
     vtkPiecewiseFunction* go = property->GetStoredGradientOpacity(0);
@@ -881,6 +1018,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       }
       std::vector<double> tmp(kTableSize);
       go->GetTable(gr[0], gr[1], kTableSize, tmp.data());
+      std::vector<float>& gradientTable = frame.GradientOpacity;
       gradientTable.resize(kTableSize);
       for (int i = 0; i < kTableSize; ++i)
       {
@@ -892,9 +1030,14 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       transfer.gradient_range[1] = gr[1];
     }
   }
+  return true;
+}
 
-  // ---- image size --------------------------------------------------------------------------
-  const float oldImageSampleDistance = this->ImageSampleDistance;
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::SizeImage(Frame& frame, vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkInternals& in = *this->Internals;
+  frame.OldImageSampleDistance = this->ImageSampleDistance;
   if (this->AutoAdjustSampleDistances)
   {
     const double oldTime = in.RetrieveTime(ren, vol);
@@ -907,10 +1050,12 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       this->ImageSampleDistance = isd;
     }
   }
-  int viewportWidth = 0, viewportHeight = 0, viewportX = 0, viewportY = 0;
-  ren->GetTiledSizeAndOrigin(&viewportWidth, &viewportHeight, &viewportX, &viewportY);
-  const int width = std::max(1, static_cast<int>(viewportWidth / this->ImageSampleDistance));
-  const int height = std::max(1, static_cast<int>(viewportHeight / this->ImageSampleDistance));
+  ren->GetTiledSizeAndOrigin(
+    &frame.ViewportWidth, &frame.ViewportHeight, &frame.ViewportX, &frame.ViewportY);
+  const int width = std::max(1, static_cast<int>(frame.ViewportWidth / this->ImageSampleDistance));
+  const int height = std::max(1, static_cast<int>(frame.ViewportHeight / this->ImageSampleDistance));
+  frame.Width = width;
+  frame.Height = height;
   this->LastImageSize[0] = width;
   this->LastImageSize[1] = height;
   int memorySize[2] = { 32, 32 };
@@ -928,91 +1073,105 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     in.ImageMemorySize[0] = memorySize[0];
     in.ImageMemorySize[1] = memorySize[1];
   }
-  const size_t pixelCount = static_cast<size_t>(width) * static_cast<size_t>(height);
-  in.Tight.assign(pixelCount * 4, 0);
+  frame.PixelCount = static_cast<size_t>(width) * static_cast<size_t>(height);
+  in.Tight.assign(frame.PixelCount * 4, 0);
+}
 
-  // ---- z-buffer of what is already drawn -----------------------------------------------
-  vtkRenderWindow* renWin = ren->GetRenderWindow();
-  const float* depthIn = nullptr;
-  if (this->IntermixIntersectingGeometry && ren->GetNumberOfPropsRendered() > 0)
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::ReadDepth(Frame& frame, vtkRenderer* ren)
+{
+  vtkInternals& in = *this->Internals;
+  frame.DepthIn = nullptr;
+  if (!this->IntermixIntersectingGeometry || ren->GetNumberOfPropsRendered() == 0)
   {
-    float* z = renWin->GetZbufferData(
-      viewportX, viewportY, viewportX + viewportWidth - 1, viewportY + viewportHeight - 1);
-    if (z)
+    return;
+  }
+  const int vw = frame.ViewportWidth, vh = frame.ViewportHeight;
+  float* z = ren->GetRenderWindow()->GetZbufferData(
+    frame.ViewportX, frame.ViewportY, frame.ViewportX + vw - 1, frame.ViewportY + vh - 1);
+  if (!z)
+  {
+    return;
+  }
+  const int width = frame.Width, height = frame.Height;
+  in.Depth.resize(frame.PixelCount);
+  for (int j = 0; j < height; ++j)
+  {
+    int zy = static_cast<int>((j + 0.5) * vh / height);
+    zy = std::min(std::max(zy, 0), vh - 1);
+    for (int i = 0; i < width; ++i)
     {
-      in.Depth.resize(pixelCount);
-      for (int j = 0; j < height; ++j)
-      {
-        int zy = static_cast<int>((j + 0.5) * viewportHeight / height);
-        zy = std::min(std::max(zy, 0), viewportHeight - 1);
-        for (int i = 0; i < width; ++i)
-        {
-          int zx = static_cast<int>((i + 0.5) * viewportWidth / width);
-          zx = std::min(std::max(zx, 0), viewportWidth - 1);
-          in.Depth[static_cast<size_t>(j) * width + i] =
-            z[static_cast<size_t>(zy) * viewportWidth + zx];
-        }
-      }
-      delete[] z;
-      depthIn = in.Depth.data();
+      int zx = static_cast<int>((i + 0.5) * vw / width);
+      zx = std::min(std::max(zx, 0), vw - 1);
+      in.Depth[static_cast<size_t>(j) * width + i] = z[static_cast<size_t>(zy) * vw + zx];
     }
   }
+  delete[] z;
+  frame.DepthIn = in.Depth.data();
+}
 
-  // ---- camera ---------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::SetCamera(Frame& frame, vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkInternals& in = *this->Internals;
   vtkCamera* cam = ren->GetActiveCamera();
-  const double aspect = ren->GetTiledAspectRatio();
+  frame.Aspect = ren->GetTiledAspectRatio();
   vtkNew<vtkMatrix4x4> view;
   vtkMatrix4x4::Multiply4x4(cam->GetModelViewTransformMatrix(), vol->GetMatrix(), view);
   vtkNew<vtkMatrix4x4> projection;
-  projection->DeepCopy(cam->GetProjectionTransformMatrix(aspect, -1, 1));
+  projection->DeepCopy(cam->GetProjectionTransformMatrix(frame.Aspect, -1, 1));
 
-  CylvolCamera camera;
-  cylvol_camera_default(&camera);
-  camera.mode = CYLVOL_CAMERA_MATRICES;
-  ToRowMajor(view, camera.view);
+  cylvol_camera_default(&frame.Camera);
+  frame.Camera.mode = CYLVOL_CAMERA_MATRICES;
+  ToRowMajor(view, frame.Camera.view);
+  ToRowMajor(projection, frame.ProjectionRows);
 
   // The far clipping plane. The rays start on the near plane, but cylvol reads a window depth
   // of 1 (the far plane, and the z-buffer where nothing is drawn) as no depth at all, and
   // would march past it. vtkUnstructuredGridVolumeRayCastMapper bounds every ray by the
   // window depths [0, 1], so where the far plane cuts the volume's bounds each ray stops just
   // before it: its depth is at most the largest window depth below 1. A volume in front of
-  // the far plane is drawn as before, with the z-buffer alone.
+  // the far plane is drawn with the z-buffer alone.
+  double clippingRange[2];
+  cam->GetClippingRange(clippingRange);
+  double bounds[6];
+  vol->GetBounds(bounds);
+  vtkMatrix4x4* modelView = cam->GetModelViewTransformMatrix();
+  bool farCuts = false;
+  for (int k = 0; k < 8 && !farCuts; ++k)
   {
-    double clippingRange[2];
-    cam->GetClippingRange(clippingRange);
-    double bounds[6];
-    vol->GetBounds(bounds);
-    vtkMatrix4x4* modelView = cam->GetModelViewTransformMatrix();
-    bool farCuts = false;
-    for (int k = 0; k < 8 && !farCuts; ++k)
+    double p[4] = { bounds[k & 1], bounds[2 + ((k >> 1) & 1)], bounds[4 + ((k >> 2) & 1)], 1.0 };
+    modelView->MultiplyPoint(p, p);
+    // Eye space looks down -z; the clipping range holds distances along the view direction.
+    farCuts = -p[2] / p[3] > clippingRange[1];
+  }
+  if (!farCuts)
+  {
+    return;
+  }
+  const float farDepth = std::nextafter(1.0f, 0.0f);
+  if (frame.DepthIn)
+  {
+    for (float& z : in.Depth)
     {
-      double p[4] = { bounds[k & 1], bounds[2 + ((k >> 1) & 1)], bounds[4 + ((k >> 2) & 1)], 1.0 };
-      modelView->MultiplyPoint(p, p);
-      // Eye space looks down -z; the clipping range holds distances along the view direction.
-      farCuts = -p[2] / p[3] > clippingRange[1];
-    }
-    if (farCuts)
-    {
-      const float farDepth = std::nextafter(1.0f, 0.0f);
-      if (depthIn)
-      {
-        for (float& z : in.Depth)
-        {
-          z = std::min(z, farDepth);
-        }
-      }
-      else
-      {
-        in.Depth.assign(pixelCount, farDepth);
-        depthIn = in.Depth.data();
-      }
+      z = std::min(z, farDepth);
     }
   }
+  else
+  {
+    in.Depth.assign(frame.PixelCount, farDepth);
+    frame.DepthIn = in.Depth.data();
+  }
+}
 
-  // ---- render parameters -------------------------------------------------------------------
-  CylvolRenderParams params;
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::SetRenderParameters(Frame& frame, vtkVolume* vol)
+{
+  vtkInternals& in = *this->Internals;
+  vtkVolumeProperty* property = frame.Property;
+  CylvolRenderParams& params = frame.Params;
   cylvol_render_params_default(&params);
-  params.width = static_cast<uint32_t>(width);
+  params.width = static_cast<uint32_t>(frame.Width);
   params.step = this->SampleDistance;
   params.path = CYLVOL_PATH_FAST;
   params.interpolation = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION
@@ -1029,35 +1188,35 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   // shade nothing and apply no gradient opacity (on point data either); for cell scalars this
   // mapper does the same, with a warning once per change of what it leaves out. Intensity
   // projections use neither.
+  CylvolTransfer& transfer = frame.Transfer;
+  int ignored = 0;
+  if (frame.CellFlag && frame.Blend == CYLVOL_BLEND_COMPOSITE)
   {
-    int ignored = 0;
-    if (cellFlag && blend == CYLVOL_BLEND_COMPOSITE)
-    {
-      ignored |= params.shading ? 1 : 0;
-      ignored |= transfer.gradient_opacity ? 2 : 0;
-    }
-    if (ignored && ignored != in.CellScalarsIgnored)
-    {
-      vtkWarningMacro(<< "The scalars '" << (scalarName ? scalarName : "")
-                      << "' are cell data, constant in each cell, with a zero gradient: "
-                      << ((ignored & 1) ? "shading" : "")
-                      << (ignored == 3 ? " and " : "")
-                      << ((ignored & 2) ? "the gradient opacity function" : "")
-                      << ((ignored == 3) ? " are" : " is")
-                      << " left out, as VTK's unstructured volume mappers leave them out "
-                         "(point scalars, e.g. from vtkCellDataToPointData, are shaded).");
-    }
-    in.CellScalarsIgnored = ignored;
-    if (ignored)
-    {
-      params.shading = 0;
-      transfer.gradient_opacity = nullptr;
-      transfer.n_gradient_opacity = 0;
-    }
+    ignored |= params.shading ? 1 : 0;
+    ignored |= transfer.gradient_opacity ? 2 : 0;
+  }
+  if (ignored && ignored != in.CellScalarsIgnored)
+  {
+    const char* scalarName = frame.Scalars->GetName();
+    vtkWarningMacro(<< "The scalars '" << (scalarName ? scalarName : "")
+                    << "' are cell data, constant in each cell, with a zero gradient: "
+                    << ((ignored & 1) ? "shading" : "")
+                    << (ignored == 3 ? " and " : "")
+                    << ((ignored & 2) ? "the gradient opacity function" : "")
+                    << ((ignored == 3) ? " are" : " is")
+                    << " left out, as VTK's unstructured volume mappers leave them out "
+                       "(point scalars, e.g. from vtkCellDataToPointData, are shaded).");
+  }
+  in.CellScalarsIgnored = ignored;
+  if (ignored)
+  {
+    params.shading = 0;
+    transfer.gradient_opacity = nullptr;
+    transfer.n_gradient_opacity = 0;
   }
   params.early_termination = this->EarlyTermination;
   params.rows_bottom_up = 1;
-  params.blend = blend;
+  params.blend = frame.Blend;
   params.march_reach = this->MarchReach;
   // Clipping planes (vtkAbstractMapper::AddClippingPlane) in the data's coordinates, where the
   // rays are cast: the side each plane's normal points into is kept. More than cylvol takes
@@ -1078,15 +1237,23 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       params.step = this->LastSampleDistance;
     }
   }
+}
 
+//------------------------------------------------------------------------------
+bool vtkCylVolMapper::RenderBands(Frame& frame, vtkRenderer* ren)
+{
+  vtkInternals& in = *this->Internals;
+  vtkRenderWindow* renWin = ren->GetRenderWindow();
+  const int width = frame.Width, height = frame.Height;
   // Render in horizontal bands, so that progress can be reported and a pending abort can
   // stop the frame. A band is the full image seen through a projection narrowed to its
   // rows, so every pixel keeps exactly the ray it has in a one-piece render.
   // About 64k pixels a band (4 at 512x512): each cylvol_render call is one parallel job, and
   // more, smaller jobs measurably cost time on two cores.
-  const int bands = std::max(1, std::min(8, static_cast<int>(pixelCount / 65536)));
-  double projectionRows[16];
-  ToRowMajor(projection, projectionRows);
+  const int bands = std::max(1, std::min(8, static_cast<int>(frame.PixelCount / 65536)));
+  const double* projectionRows = frame.ProjectionRows;
+  CylvolCamera& camera = frame.Camera;
+  CylvolRenderParams& params = frame.Params;
   this->UpdateProgress(0.0);
   bool aborted = false;
   for (int b = 0; b < bands; ++b)
@@ -1115,49 +1282,62 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     params.height = static_cast<uint32_t>(r1 - r0);
     const size_t offset = static_cast<size_t>(r0) * width;
     const size_t bandPixels = static_cast<size_t>(r1 - r0) * width;
-    const CylvolStatus status = cylvol_render(in.Volume, &camera, &transfer, &params,
-      depthIn ? depthIn + offset : nullptr, nullptr, CYLVOL_PIXELS_RGBA8, in.Tight.data() + 4 * offset,
-      bandPixels * 4);
+    const CylvolStatus status = cylvol_render(in.Volume, &camera, &frame.Transfer, &params,
+      frame.DepthIn ? frame.DepthIn + offset : nullptr, nullptr, CYLVOL_PIXELS_RGBA8,
+      in.Tight.data() + 4 * offset, bandPixels * 4);
     if (status != CYLVOL_STATUS_OK)
     {
       const char* detail = cylvol_volume_last_error(in.Volume);
       vtkErrorMacro(<< "cylvol could not render: " << cylvol_status_message(status)
                     << (detail && *detail ? ": " : "") << (detail ? detail : "")
                     << ": nothing drawn.");
-      this->ImageSampleDistance = oldImageSampleDistance;
-      return;
+      this->ImageSampleDistance = frame.OldImageSampleDistance;
+      return false;
     }
-    CylvolRenderStats rs;
-    if (cylvol_volume_render_stats(in.Volume, &rs) == CYLVOL_STATUS_OK)
-    {
-      this->LastRaySeconds += rs.seconds;
-      this->LastRays += rs.rays;
-      this->LastSamples += rs.samples;
-      this->LastSamplesLocated += rs.samples_located;
-      this->LastHexTests += rs.hex_tests;
-      this->LastInternalVisits += rs.internal_visits;
-      this->LastLeafVisits += rs.leaf_visits;
-      this->LastGradientEvaluations += rs.gradient_evaluations;
-      this->LastEarlyTerminations += rs.early_terminations;
-      this->LastSamplesSkipped += rs.samples_skipped;
-      this->LastPlaneCertified += rs.plane_certified;
-      this->LastWalkSteps += rs.walk_steps;
-      this->LastTransparentJumps += rs.transparent_jumps;
-      this->LastExtremeSkips += rs.extreme_skips;
-      this->LastExtremeJumps += rs.extreme_jumps;
-      this->LastFarLocates += rs.far_locates;
-    }
+    this->AddRenderStatistics();
     this->UpdateProgress(static_cast<double>(b + 1) / bands);
   }
   if (aborted || renWin->GetAbortRender())
   {
-    this->ImageSampleDistance = oldImageSampleDistance;
+    this->ImageSampleDistance = frame.OldImageSampleDistance;
     this->Timer->StopTimer();
     this->LastRenderSeconds = this->Timer->GetElapsedTime();
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::AddRenderStatistics()
+{
+  CylvolRenderStats rs;
+  if (cylvol_volume_render_stats(this->Internals->Volume, &rs) != CYLVOL_STATUS_OK)
+  {
     return;
   }
+  this->LastRaySeconds += rs.seconds;
+  this->LastRays += rs.rays;
+  this->LastSamples += rs.samples;
+  this->LastSamplesLocated += rs.samples_located;
+  this->LastHexTests += rs.hex_tests;
+  this->LastInternalVisits += rs.internal_visits;
+  this->LastLeafVisits += rs.leaf_visits;
+  this->LastGradientEvaluations += rs.gradient_evaluations;
+  this->LastEarlyTerminations += rs.early_terminations;
+  this->LastSamplesSkipped += rs.samples_skipped;
+  this->LastPlaneCertified += rs.plane_certified;
+  this->LastWalkSteps += rs.walk_steps;
+  this->LastTransparentJumps += rs.transparent_jumps;
+  this->LastExtremeSkips += rs.extreme_skips;
+  this->LastExtremeJumps += rs.extreme_jumps;
+  this->LastFarLocates += rs.far_locates;
+}
 
-  // ---- show it ----------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+void vtkCylVolMapper::Display(Frame& frame, vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkInternals& in = *this->Internals;
+  const int width = frame.Width, height = frame.Height;
   for (int j = 0; j < height; ++j)
   {
     std::copy(in.Tight.begin() + static_cast<std::ptrdiff_t>(4) * j * width,
@@ -1171,7 +1351,8 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   {
     double bounds[6];
     vol->GetBounds(bounds);
-    vtkMatrix4x4* composite = cam->GetCompositeProjectionTransformMatrix(aspect, 0, 1);
+    vtkMatrix4x4* composite =
+      ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(frame.Aspect, 0, 1);
     double minZ = 1.0;
     for (int k = 0; k < 8; ++k)
     {

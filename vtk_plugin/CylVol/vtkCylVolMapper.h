@@ -193,14 +193,23 @@ public:
   vtkBooleanMacro(AutoAdjustSampleDistances, vtkTypeBool);
   ///@}
 
+  /// ScalarComponent values that choose no single component.
+  enum ScalarComponentChoice
+  {
+    SCALAR_COMPONENT_NONE = -1,
+    SCALAR_MAGNITUDE = -2
+  };
+
   ///@{
   /**
-   * Which component of a multi-component scalar array to render (-1, the default: none
-   * chosen, which is an error for arrays with more than one component). It is drawn through
-   * the volume property's first transfer functions, as vtkSmartVolumeMapper's component mode
-   * draws one; VTK's unstructured mappers would instead mix every component, each through its
-   * own functions. Several components with the property's IndependentComponents off (VTK reads
-   * them as colour and opacity) are an error, and nothing is drawn.
+   * Which component of a multi-component scalar array to render (SCALAR_COMPONENT_NONE, -1,
+   * the default: none chosen, which is an error for arrays with more than one component), or
+   * SCALAR_MAGNITUDE for the vectors' magnitude (as a colour map's magnitude mode shows
+   * them). It is drawn through the volume property's first transfer functions, as
+   * vtkSmartVolumeMapper's component mode draws one; VTK's unstructured mappers would
+   * instead mix every component, each through its own functions. Several components with the
+   * property's IndependentComponents off (VTK reads them as colour and opacity) are an error,
+   * and nothing is drawn. A one-component array is drawn as it is whatever this says.
    */
   virtual void SetScalarComponent(int component);
   vtkGetMacro(ScalarComponent, int);
@@ -272,6 +281,12 @@ public:
   vtkGetVector3Macro(BuiltAxisDirection, double);
   vtkGetMacro(LastSampleDistance, double);
   ///@}
+
+  /**
+   * How many cells of the given VTK cell type (VTK_HEXAHEDRON, VTK_TETRA, ...) the structure
+   * was last built over: the cells handed to cylvol, as they were given (0 before any build).
+   */
+  vtkIdType GetBuiltCellCount(int cellType);
 
   /**
    * The cylvol library version string.
@@ -349,6 +364,26 @@ protected:
   vtkInternals* Internals;
 
 private:
+  // The steps of Render, in order. Each returns false (after vtkErrorMacro) when the frame
+  // is to draw nothing; Frame carries what one step hands to the next.
+  struct Frame;
+  void ResetRenderStatistics();
+  bool SelectInput(Frame& frame);        // the input, without its ghost cells
+  bool SelectScalars(Frame& frame);      // the scalar array and component drawn
+  bool CheckCellTypes(Frame& frame);
+  bool UpdateVolume(Frame& frame);       // build, or hand over new scalars, or keep
+  bool BuildVolume(Frame& frame);
+  void RecordBuildStatistics();
+  bool ReplaceScalars(Frame& frame);
+  bool MakeTransferTables(Frame& frame); // colour, opacity and gradient opacity tables
+  void SizeImage(Frame& frame, vtkRenderer* ren, vtkVolume* vol);
+  void ReadDepth(Frame& frame, vtkRenderer* ren); // the z-buffer of what is drawn
+  void SetCamera(Frame& frame, vtkRenderer* ren, vtkVolume* vol);
+  void SetRenderParameters(Frame& frame, vtkVolume* vol);
+  bool RenderBands(Frame& frame, vtkRenderer* ren); // the cylvol_render calls
+  void AddRenderStatistics();
+  void Display(Frame& frame, vtkRenderer* ren, vtkVolume* vol);
+
   vtkCylVolMapper(const vtkCylVolMapper&) = delete;
   void operator=(const vtkCylVolMapper&) = delete;
 };

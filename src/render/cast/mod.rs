@@ -62,6 +62,22 @@ pub(crate) fn cast<'f, L: LocatorKind, A: AccumulatorKind>(
     hint: &mut Option<u32>,
     stats: &mut RenderStats,
 ) -> RayResult {
+    cast_into::<L, A::Accumulator<'f>>(frame, ray, hint, A::start(frame), stats)
+        .0
+        .finish()
+}
+
+/// Casts `ray` into `acc` (which may hold what earlier pieces of a longer ray accumulated: a
+/// ray through the copies of a periodic sector is cast piece by piece, each piece in its
+/// copy's frame), with a locator of kind `L` started from `hint`: the accumulator, and whether
+/// the ray became opaque enough to stop.
+pub(crate) fn cast_into<'f, L: LocatorKind, A: Accumulate>(
+    frame: &'f Frame<'f>,
+    ray: &'f Ray<'f>,
+    hint: &mut Option<u32>,
+    acc: A,
+    stats: &mut RenderStats,
+) -> (A, bool) {
     let mut work = Work::new(stats);
     let locator = <L::Locator<'f>>::start(frame, ray, *hint, &mut work);
     let cast = Cast {
@@ -69,18 +85,18 @@ pub(crate) fn cast<'f, L: LocatorKind, A: AccumulatorKind>(
         ray,
         steps: Steps::new(ray.t_in, frame.options.step),
         locator,
-        acc: A::start(frame),
+        acc,
         work,
         open: None,
         was_in: false,
         jumped: false,
         first_cell: None,
     };
-    let (result, first) = cast.run();
+    let (acc, first, terminated) = cast.run();
     if first.is_some() {
         *hint = first;
     }
-    result
+    (acc, terminated)
 }
 
 /// One ray being cast: its parts and what the loop knows of the position before the next
@@ -103,8 +119,9 @@ struct Cast<'f, 's, L, A> {
 }
 
 impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
-    /// The loop over the samples, then the ray's end: the pixel and the ray's first cell.
-    fn run(mut self) -> (RayResult, Option<u32>) {
+    /// The loop over the samples, then the ray's end: the accumulator, the ray's first cell,
+    /// and whether the ray stopped opaque.
+    fn run(mut self) -> (A, Option<u32>, bool) {
         let terminated = loop {
             let t = self.steps.next();
             if t >= self.ray.t_out || t.is_nan() {
@@ -116,7 +133,7 @@ impl<'f, L: Locate<'f>, A: Accumulate> Cast<'f, '_, L, A> {
         };
         self.end(terminated);
         self.work.finish();
-        (self.acc.finish(), self.first_cell)
+        (self.acc, self.first_cell, terminated)
     }
 
     /// The sample at `t`: located, then handled as in the mesh or outside, or passed over

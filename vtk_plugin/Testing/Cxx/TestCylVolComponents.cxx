@@ -5,9 +5,13 @@
 // - IndependentComponents on, no component chosen: an error that says so and how to choose
 //   one, nothing drawn, nothing built;
 // - on, component 1 chosen: the image of a one-component array holding U's component 1;
+// - on, SCALAR_MAGNITUDE: the image of a one-component array holding |U|;
 // - off: an error naming IndependentComponents, nothing drawn, nothing built, whichever
 //   component is chosen;
-// - a one-component array draws the same image with IndependentComponents off as on.
+// - a one-component array draws the same image with IndependentComponents off as on, and
+//   with SCALAR_MAGNITUDE as with no component chosen (its values, not their magnitude).
+// Each build records the cells it was given by type (GetBuiltCellCount): the mixer's
+// hexahedra, and no other cell.
 #include "vtkCylVolMapper.h"
 
 #include "vtkCellData.h"
@@ -17,6 +21,8 @@
 #include "vtkVolume.h"
 
 #include "CylVolTestUtilities.h"
+
+#include <cmath>
 
 namespace
 {
@@ -33,10 +39,13 @@ struct Result
   vtkIdType Lit = 0;
   std::string Error; // empty: none
   int Builds = 0;
+  vtkIdType Hexahedra = 0;
+  vtkIdType OtherCells = 0; // of any other type
 };
 
 // Draws `array` of `grid` (cell data when `cells`) with a fresh mapper, component `component`
-// (-1: none chosen), IndependentComponents `independent`, through `d`'s transfer functions.
+// (-1: none chosen; SCALAR_MAGNITUDE), IndependentComponents `independent`, through `d`'s
+// transfer functions.
 Result Draw(const cylvoltest::Dataset& d, vtkUnstructuredGrid* grid, const char* array, bool cells,
   int component, bool independent)
 {
@@ -77,6 +86,11 @@ Result Draw(const cylvoltest::Dataset& d, vtkUnstructuredGrid* grid, const char*
     }
   }
   r.Builds = mapper->GetBuildCount();
+  r.Hexahedra = mapper->GetBuiltCellCount(VTK_HEXAHEDRON);
+  for (int type = 0; type < 256; ++type)
+  {
+    r.OtherCells += type == VTK_HEXAHEDRON ? 0 : mapper->GetBuiltCellCount(type);
+  }
   return r;
 }
 
@@ -134,6 +148,29 @@ void Check(bool cells)
   Expect(alone.Error.empty() && cylvoltest::Compare(one.Image, alone.Image, 0).Within == 1.0,
     name + ", component 1 draws the image of U's component 1 alone");
 
+  // |U|, as floats like U.
+  vtkNew<vtkFloatArray> magnitude;
+  magnitude->SetName("Umag");
+  magnitude->SetNumberOfTuples(u->GetNumberOfTuples());
+  for (vtkIdType i = 0; i < u->GetNumberOfTuples(); ++i)
+  {
+    double t[3];
+    u->GetTuple(i, t);
+    magnitude->SetValue(i, static_cast<float>(std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])));
+  }
+  attributes->AddArray(magnitude);
+  cylvoltest::Dataset dm = d;
+  u->GetRange(dm.Range, -1);
+  const Result norm = Draw(dm, d.Grid, "U", cells, vtkCylVolMapper::SCALAR_MAGNITUDE, true);
+  const Result normAlone = Draw(dm, d.Grid, "Umag", cells, -1, true);
+  const cylvoltest::Agreement normAgreement = cylvoltest::Compare(norm.Image, normAlone.Image, 1);
+  Expect(norm.Error.empty() && norm.Lit > 1000 && normAgreement.Within >= 0.999,
+    name + ", independent, SCALAR_MAGNITUDE: the image of |U| alone (" +
+      std::to_string(100.0 * normAgreement.Within) + " % of pixels within 1/255)");
+  Expect(norm.Hexahedra == d.Grid->GetNumberOfCells() && norm.OtherCells == 0,
+    name + ": the structure was built over the mixer's " + std::to_string(norm.Hexahedra) +
+      " hexahedra and no other cell");
+
   for (int component : { -1, 1 })
   {
     const Result dependent = Draw(du, d.Grid, "U", cells, component, false);
@@ -147,6 +184,11 @@ void Check(bool cells)
   Expect(single.Error.empty() && singleOff.Error.empty() && single.Lit > 1000 &&
       cylvoltest::Compare(single.Image, singleOff.Image, 0).Within == 1.0,
     name + ": one component (p) draws the same image with IndependentComponents off");
+  const Result singleNorm = Draw(d, d.Grid, d.Scalar.c_str(), cells,
+    vtkCylVolMapper::SCALAR_MAGNITUDE, true);
+  Expect(singleNorm.Error.empty() &&
+      cylvoltest::Compare(single.Image, singleNorm.Image, 0).Within == 1.0,
+    name + ": one component (p) draws its values with SCALAR_MAGNITUDE too");
 }
 } // namespace
 
