@@ -481,25 +481,27 @@ impl<B: BvhBounds> Ctx<B> {
             if live & (1 << a) == 0 {
                 continue;
             }
+            // A split before bin s whose bin s − 1 is empty has both sides, and so its cost,
+            // the same as the split before bin s − 1, which the sweep meets first and keeps
+            // (only a strictly cheaper split replaces the best): such splits are not costed.
+            let costed = |s: usize| bins[s - 1].count != 0;
             // Right-hand areas × counts (and bounds) for splits before bin s.
-            let mut right_cost = [0.0f64; K];
+            let mut right_cost = [f64::NAN; K];
             let mut right_bounds = [Corners::EMPTY; K];
             let mut acc = EMPTY_BIN;
             for s in (1..k).rev() {
                 acc.bounds = acc.bounds.union(&bins[s].bounds);
                 acc.count += bins[s].count;
                 right_bounds[s] = acc.bounds;
-                right_cost[s] = if acc.count == 0 {
-                    f64::NAN
-                } else {
-                    acc.bounds.area::<B>() * acc.count as f64
-                };
+                if acc.count != 0 && costed(s) {
+                    right_cost[s] = acc.bounds.area::<B>() * acc.count as f64;
+                }
             }
             let mut left = EMPTY_BIN;
             for s in 1..k {
                 left.bounds = left.bounds.union(&bins[s - 1].bounds);
                 left.count += bins[s - 1].count;
-                if left.count == 0 || right_cost[s].is_nan() {
+                if left.count == 0 || !costed(s) || right_cost[s].is_nan() {
                     continue;
                 }
                 let cost = traversal + left.bounds.area::<B>() * left.count as f64 + right_cost[s];
