@@ -74,6 +74,7 @@ fn main() {
         Accel::build(&mesh, kind, &axis, &AccelParams::default()).expect("builds")
     });
     table.row(&format!("structure ({})", kind.name()), t, true);
+    structure_phases(&mesh, kind, &axis, repeats);
 
     let tolerance = FaceNeighbours::seam_tolerance(&mesh);
     let (t, faces) = best(repeats, || {
@@ -136,6 +137,52 @@ fn main() {
     transfer_table(repeats);
 
     c_abi(&mesh, repeats);
+}
+
+/// The structure's build in its two phases, not counted in the totals: the cells' pieces
+/// (boxes, or sectors about the axis with the seam placed) and the tree or grid over them.
+fn structure_phases(mesh: &Mesh, kind: StructureKind, axis: &cylvol::axis::Axis, repeats: usize) {
+    use cylvol::accel::bvh::build_bvh;
+    use cylvol::accel::grid::build_grid;
+    use cylvol::accel::space::{
+        cartesian_pieces, cylindrical_pieces, linear_boxes, seam_frame, DEFAULT_STRADDLE_SECTORS,
+    };
+    use cylvol::geometry::cylindrical::CylFrame;
+    let params = AccelParams::default();
+    let mut table = Table::default();
+    if kind.is_cylindrical() {
+        let frame = CylFrame::new(axis.origin, axis.direction).expect("a usable axis");
+        let (t, (seam, pieces)) = best(repeats, || {
+            let pieces = cylindrical_pieces(mesh, &frame, DEFAULT_STRADDLE_SECTORS);
+            seam_frame(axis, pieces).expect("a usable axis")
+        });
+        table.row("  cell pieces (sectors)", t, false);
+        let (t, _) = if kind.is_grid() {
+            let boxes = linear_boxes(&pieces);
+            let coordinates = cylvol::accel::Coordinates::Cylindrical(seam);
+            best(repeats, || {
+                build_grid(coordinates, &boxes, &params.grid);
+            })
+        } else {
+            best(repeats, || {
+                build_bvh(&pieces, &params.bvh);
+            })
+        };
+        table.row("  tree over them", t, false);
+    } else {
+        let (t, pieces) = best(repeats, || cartesian_pieces(mesh));
+        table.row("  cell pieces (boxes)", t, false);
+        let (t, _) = if kind.is_grid() {
+            best(repeats, || {
+                build_grid(cylvol::accel::Coordinates::Cartesian, &pieces, &params.grid);
+            })
+        } else {
+            best(repeats, || {
+                build_bvh(&pieces, &params.bvh);
+            })
+        };
+        table.row("  tree over them", t, false);
+    }
 }
 
 /// The fast frame through VTK-style matrices (`render` renders the rays of a matrix): the

@@ -250,6 +250,23 @@ typedef struct CylvolBuildParams {
    * as 2).
    */
   int32_t preset;
+  /**
+   * Periodic copies: 0 draws the mesh as it is; -1 finds whether the mesh is a
+   * rotationally periodic sector about the axis and how many copies close the wheel (the
+   * build fails, saying why, where it is not); N ≥ 1 draws N copies, each the sector
+   * turned by 360°/N (the sector's span must be 360°/N). Added after the fields above:
+   * fill the struct with cylvol_build_params_default() first.
+   */
+  int32_t periodic;
+  /**
+   * With `periodic`: draw copies `copies_first` to `copies_end − 1` only; both 0 draw
+   * every copy. A range outside 0..N is an error.
+   */
+  int32_t copies_first;
+  /**
+   * See `copies_first`.
+   */
+  int32_t copies_end;
 } CylvolBuildParams;
 
 /**
@@ -289,6 +306,36 @@ typedef struct CylvolBuildStats {
    * Cylindrical ÷ Cartesian bound surface area measured by AUTO (0 if not measured).
    */
   double area_ratio;
+  /**
+   * The copies that close the wheel where periodic copies are drawn (0 where not).
+   */
+  int32_t periodic_copies;
+  /**
+   * The first copy drawn.
+   */
+  int32_t copies_first;
+  /**
+   * One past the last copy drawn.
+   */
+  int32_t copies_end;
+  /**
+   * The sector's angular span in degrees (0 where no copies are drawn).
+   */
+  double periodic_span_degrees;
+  /**
+   * The side faces that land on the other side, turned by 360°/N, and are joined.
+   */
+  uint64_t periodic_matched_faces;
+  /**
+   * The worst distance between a side's point, turned, and the other side's, as a fraction
+   * of the cell edge there.
+   */
+  double periodic_worst_mismatch;
+  /**
+   * The box of what is drawn, `[xmin, xmax, ymin, ymax, zmin, zmax]` (VTK's order): the
+   * mesh's, or the cylinder about the axis that holds the copies drawn.
+   */
+  double bounds[6];
 } CylvolBuildStats;
 
 /**
@@ -760,6 +807,18 @@ enum CylvolStatus cylvol_volume_build_stats(const struct CylvolVolume *volume,
  * `volume` a live handle; `step` valid for writing.
  */
 enum CylvolStatus cylvol_volume_default_step(const struct CylvolVolume *volume, double *step);
+
+/**
+ * `[min, max]` of what the volume draws, into `range[0]` and `range[1]`: the active scalar's
+ * range, or where periodic copies draw a vector's component (which turns with each copy),
+ * its range over every copy drawn. Transfer tables made for the volume should span it.
+ *
+ * Errors: NULL_POINTER (`volume`, `range`), NO_SCALARS (the volume has no scalars).
+ *
+ * # Safety
+ * `volume` a live handle; `range` valid for writing two doubles.
+ */
+enum CylvolStatus cylvol_volume_scalar_range(struct CylvolVolume *volume, double *range);
 
 /**
  * Fills `camera` with the defaults: LOOK_AT from `(0, 0, 1)` at the origin, view-up `+y`,

@@ -67,6 +67,11 @@ def load(spec, workdir):
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
     name = spec.split(":")[0]
+    if name == "wheel":
+        r = vtkXMLUnstructuredGridReader()
+        r.SetFileName(wheel_file(spec, workdir))
+        r.Update()
+        return r.GetOutput(), "p"
     if name in ("mixer", "hexa") and ":" in spec:
         r = vtkXMLUnstructuredGridReader()
         r.SetFileName(refined_file(spec, workdir))
@@ -99,6 +104,11 @@ def load(spec, workdir):
 def refined_file(spec, workdir):
     name, n = spec.split(":")
     return os.path.join(workdir, "%s-refined-%s.vtu" % (name, n))
+
+
+def wheel_file(spec, workdir):
+    """wheel:mixer[:N]: the replicated wheel of that sector (`cylvol gen --periodic auto`)."""
+    return os.path.join(workdir, "wheel-%s.vtu" % spec.split(":", 1)[1].replace(":", "-"))
 
 
 def rotor_file(spec, workdir):
@@ -150,7 +160,6 @@ def worker(args):
     out["cells"] = grid.GetNumberOfCells()
     grid.GetPointData().SetActiveScalars(scalar)
     lo, hi = grid.GetPointData().GetArray(scalar).GetRange()
-    prop = make_property(lo, hi, grid.GetLength())
 
     t = time.perf_counter()
     if args.worker == "vtk":
@@ -172,9 +181,14 @@ def worker(args):
         mapper.SetInputData(grid)
         mapper.SetRelativeSampleDistance(args.relative_step)
         mapper.SetStructure(STRUCTURES[args.structure])
+        if args.periodic:
+            mapper.SetPeriodicCopies(args.periodic)
     out["prepare_s"] = time.perf_counter() - t
     mapper.SetScalarModeToUsePointFieldData()
     mapper.SelectScalarArray(scalar)
+    # The scene's size: the drawn box's diagonal (the wheel's, with periodic copies).
+    b = mapper.GetBounds()
+    prop = make_property(lo, hi, sum((b[2 * k + 1] - b[2 * k]) ** 2 for k in range(3)) ** 0.5)
 
     volume = vtkVolume()
     volume.SetMapper(mapper)
@@ -277,14 +291,14 @@ def image_difference(png_a, png_b):
     return total / (3.0 * n), 100.0 * within / n
 
 
-def run_worker(mapper, dataset, args, workdir, png, relative_step=1.0, frames=None):
+def run_worker(mapper, dataset, args, workdir, png, relative_step=1.0, frames=None, periodic=0):
     env = dict(os.environ)
     if args.pythonpath:
         env["PYTHONPATH"] = args.pythonpath + (":" + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     cmd = [sys.executable, os.path.abspath(__file__), "--worker", mapper, "--dataset", dataset,
            "--size", str(args.size), "--frames", str(args.frames if frames is None else frames),
            "--workdir", workdir, "--png", png, "--relative-step", str(relative_step),
-           "--structure", args.structure]
+           "--structure", args.structure, "--periodic", str(periodic)]
     t = time.perf_counter()
     try:
         proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -353,6 +367,7 @@ def main():
     p.add_argument("--workdir", help=argparse.SUPPRESS)
     p.add_argument("--png", help=argparse.SUPPRESS)
     p.add_argument("--relative-step", type=float, default=1.0, help=argparse.SUPPRESS)
+    p.add_argument("--periodic", type=int, default=0, help=argparse.SUPPRESS)
     p.add_argument("--structure", choices=sorted(STRUCTURES), default="auto",
                    help="cylvol's structure (the mapper's SetStructure), default auto")
     args = p.parse_args()

@@ -50,3 +50,35 @@ fn cube_has_no_clear_axis() {
     let report = axis::detect_with_report(&mesh);
     assert!(!report.clear, "{report:?}");
 }
+
+/// The detected axis is the same bits whatever the threads: the sample's sums are taken in
+/// fixed chunks, added in order. The mixer in pools of 1 to 4 threads, three times each.
+#[test]
+fn the_axis_is_the_same_whatever_the_threads() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mixer.vtk");
+    let mesh = cylvol::io::read_file(&path, &Default::default()).expect("mixer.vtk");
+    let bits = || {
+        let report = axis::detect_with_report(&mesh);
+        let line = [
+            report.axis.origin,
+            report.axis.direction,
+            report.best_fit.origin,
+        ];
+        (
+            line.map(|v| v.to_array().map(f64::to_bits)),
+            report.evaluations,
+            report.inliers.to_bits(),
+            report.residual.to_bits(),
+        )
+    };
+    let first = bits();
+    for threads in 1..=4 {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool");
+        for _ in 0..3 {
+            assert_eq!(pool.install(bits), first, "{threads} threads");
+        }
+    }
+}

@@ -232,6 +232,7 @@ fn cart_bvh_params() -> CylvolBuildParams {
         axis_origin: [0.0; 3],
         axis_direction: [0.0, 0.0, 1.0],
         preset: 0,
+        ..CylvolBuildParams::default()
     }
 }
 
@@ -736,6 +737,7 @@ fn volume_new_reports_bad_parameters_and_builds_every_structure() {
         axis_direction: [0.0; 3],
         axis_clear: -1,
         area_ratio: -1.0,
+        ..CylvolBuildStats::default()
     };
     // AUTO (NULL params = defaults) on a sector about z: the cylindrical BVH, about z.
     let v = new_volume(m, null());
@@ -769,6 +771,7 @@ fn volume_new_reports_bad_parameters_and_builds_every_structure() {
                 axis_origin: [0.0; 3],
                 axis_direction: [0.0, 0.0, -2.0],
                 preset,
+                ..CylvolBuildParams::default()
             };
             let v = new_volume(m, &p);
             unsafe { cylvol_volume_build_stats(v, &mut stats) };
@@ -1358,14 +1361,7 @@ fn volume_set_scalars_changes_the_picture_without_a_rebuild() {
     let m = mesh_with_field(&a);
     let v = new_volume(m, &cart_bvh_params());
     let mut before = CylvolBuildStats {
-        structure: CylvolStructure::Auto,
-        build_seconds: 0.0,
-        bytes: 0,
-        cells: 0,
-        axis_origin: [0.0; 3],
-        axis_direction: [0.0; 3],
-        axis_clear: 0,
-        area_ratio: 0.0,
+        ..CylvolBuildStats::default()
     };
     let mut after = before;
     unsafe { cylvol_volume_build_stats(v, &mut before) };
@@ -1890,5 +1886,237 @@ fn a_volume_and_its_mesh_keep_their_own_scalars_after_the_build() {
         cylvol_mesh_free(m);
         cylvol_volume_free(v);
         cylvol_volume_free(w);
+    }
+}
+
+/// A quarter annulus about z (r 1–2, θ 0–90°, z 0–1) of `nr × nt × nz` hexahedra.
+fn quarter_annulus(nr: usize, nt: usize, nz: usize) -> Arrays {
+    let mut a = Arrays {
+        points: Vec::new(),
+        offsets: vec![0],
+        conn: Vec::new(),
+        types: Vec::new(),
+    };
+    for k in 0..=nz {
+        for j in 0..=nt {
+            for i in 0..=nr {
+                let r = 1.0 + i as f64 / nr as f64;
+                let t = std::f64::consts::FRAC_PI_2 * j as f64 / nt as f64;
+                a.points
+                    .extend([r * t.cos(), r * t.sin(), k as f64 / nz as f64]);
+            }
+        }
+    }
+    let id = |i: usize, j: usize, k: usize| (i + (nr + 1) * (j + (nt + 1) * k)) as i64;
+    for k in 0..nz {
+        for j in 0..nt {
+            for i in 0..nr {
+                a.push_cell(
+                    12,
+                    &[
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ],
+                );
+            }
+        }
+    }
+    a
+}
+
+/// Periodic copies through the build parameters: found (`-1`) or given, said in the build's
+/// figures (copies, span, matched faces, the wheel's box), drawn as the Rust API draws them,
+/// a range of copies; bad requests refused with the reason.
+#[test]
+fn periodic_copies_are_built_said_and_drawn_as_the_rust_api_draws_them() {
+    let a = quarter_annulus(3, 6, 2);
+    let m = mesh_with_field(&a);
+    let build = |periodic: i32, first: i32, end: i32| {
+        let p = CylvolBuildParams {
+            periodic,
+            copies_first: first,
+            copies_end: end,
+            ..cart_bvh_params()
+        };
+        let mut v = null_mut();
+        let status = unsafe { cylvol_volume_new(m, &p, &mut v) };
+        (status, v)
+    };
+    let stats = |v: *mut CylvolVolume| {
+        let mut b = CylvolBuildStats::default();
+        assert_eq!(unsafe { cylvol_volume_build_stats(v, &mut b) }, S::Ok);
+        b
+    };
+    let (s0, sector) = build(0, 0, 0);
+    let (s1, wheel) = build(-1, 0, 0);
+    let (s2, three) = build(4, 1, 4);
+    assert_eq!((s0, s1, s2), (S::Ok, S::Ok, S::Ok), "{}", last_error());
+    let (b0, b1, b2) = (stats(sector), stats(wheel), stats(three));
+    assert_eq!((b0.periodic_copies, b0.copies_end), (0, 0));
+    assert!(b0.bounds[0].abs() < 1e-12 && (b0.bounds[1] - 2.0).abs() < 1e-12);
+    assert_eq!(
+        (b1.periodic_copies, b1.copies_first, b1.copies_end),
+        (4, 0, 4)
+    );
+    assert!((b1.periodic_span_degrees - 90.0).abs() < 1e-9);
+    // One side's faces: 3 radial by 2 high.
+    assert_eq!(b1.periodic_matched_faces, 3 * 2);
+    assert!(b1.periodic_worst_mismatch < 1e-9);
+    assert!((b1.bounds[0] + 2.0).abs() < 1e-9 && (b1.bounds[2] + 2.0).abs() < 1e-9);
+    assert_eq!((b2.copies_first, b2.copies_end), (1, 4));
+
+    // Drawn as the Rust API draws the copies, bit for bit.
+    let tables = Tables::ramp([-4.0, 4.0]);
+    let c = look_at([0.5, -1.0, 6.0], [0.0, 0.0, 0.5], None);
+    let camera = Camera::perspective(
+        DVec3::from_array(c.eye),
+        DVec3::from_array(c.focal_point),
+        DVec3::Y,
+        35.0,
+    )
+    .unwrap();
+    let (w, h) = (24, 20);
+    let lit = |img: &[f32]| img.chunks(4).filter(|p| p[3] > 0.01).count();
+    let drawn = render_f32(wheel, &c, &tables.c(), &params(w, h), None);
+    assert_eq!(drawn.status, S::Ok, "{}", last_error());
+    let alone = render_f32(sector, &c, &tables.c(), &params(w, h), None);
+    let part = render_f32(three, &c, &tables.c(), &params(w, h), None);
+    assert!(lit(&drawn.f32) > lit(&part.f32) && lit(&part.f32) > lit(&alone.f32));
+    let cells = cells_from_vtk(
+        &a.conn,
+        &a.offsets,
+        OffsetStyle::Starts,
+        &a.types,
+        a.n_points(),
+    )
+    .unwrap();
+    let mesh = Mesh::from_parts(MeshParts {
+        points: a
+            .points
+            .chunks(3)
+            .map(|p| DVec3::new(p[0], p[1], p[2]))
+            .collect(),
+        cells: cells.cells,
+        kinds: cells.kinds,
+        point_data: vec![DataArray::scalar("s", field(&a))],
+        cell_data: vec![],
+    })
+    .unwrap();
+    let accel = Accel::build(
+        &mesh,
+        StructureKind::CartBvh,
+        &Axis::Z,
+        &AccelParams::default(),
+    )
+    .unwrap();
+    let found = cylvol::axis::periodic::detect(&mesh, &Axis::Z).unwrap();
+    let topology = cylvol::render::face_neighbours(&mesh, &accel)
+        .with_periodic_sides(&mesh, &found)
+        .0;
+    let volume = Volume::new(&mesh, &accel).unwrap();
+    let options = RenderOptions::new(w, h, cylvol::render::default_step(&mesh));
+    let copies = cylvol::render::Copies::new(&mesh, found, None).unwrap();
+    let renderer = Renderer::new(&volume, &tables.function(), &options)
+        .unwrap()
+        .with_topology(&topology)
+        .with_copies(copies)
+        .unwrap();
+    let (image, _) = renderer.render(&camera, None).unwrap();
+    let reference: Vec<f32> = image.rgba.iter().flatten().copied().collect();
+    assert_eq!(drawn.f32, reference);
+
+    // The range the tables span: the scalar's own, whatever the copies.
+    let (mut r0, mut r1) = ([0.0; 2], [0.0; 2]);
+    unsafe {
+        assert_eq!(cylvol_volume_scalar_range(sector, r0.as_mut_ptr()), S::Ok);
+        assert_eq!(cylvol_volume_scalar_range(wheel, r1.as_mut_ptr()), S::Ok);
+        assert_eq!(
+            cylvol_volume_scalar_range(wheel, null_mut()),
+            S::NullPointer
+        );
+    }
+    assert_eq!(r0, r1);
+    assert_eq!(r0, volume.scalar_range());
+
+    // Refused, with the reason.
+    for (periodic, first, end, said) in [
+        (-2, 0, 0, "params->periodic"),
+        (0, 0, 2, "need params->periodic"),
+        (4, 2, 6, "not a range"),
+        (4, -1, 2, "numbered from 0"),
+        (3, 0, 0, "periodic copies:"),
+    ] {
+        let (status, v) = build(periodic, first, end);
+        assert_eq!(status, S::InvalidArgument, "{periodic} {first}:{end}");
+        assert!(v.is_null());
+        assert!(last_error().contains(said), "{}", last_error());
+    }
+    unsafe {
+        cylvol_volume_free(sector);
+        cylvol_volume_free(wheel);
+        cylvol_volume_free(three);
+        cylvol_mesh_free(m);
+    }
+}
+
+/// A vector's component given whole through the C ABI turns with the copies: the range the
+/// tables span is the turned components' over every copy, and the sector's where only copy 0
+/// is drawn.
+#[test]
+fn a_vector_component_turns_with_the_copies_through_the_c_abi() {
+    let a = quarter_annulus(3, 6, 2);
+    // A swirl: the vector turns with the angle, so its x component differs copy by copy.
+    let vectors: Vec<f64> = a
+        .points
+        .chunks(3)
+        .flat_map(|p| [-p[1] + 0.3, p[0], p[2]])
+        .collect();
+    let (s, m) = new_mesh(&a);
+    assert_eq!(s, S::Ok);
+    let status = unsafe {
+        cylvol_mesh_set_scalars(
+            m,
+            c"v".as_ptr(),
+            CylvolAssociation::POINT_DATA.into(),
+            vectors.as_ptr().cast(),
+            CylvolValueType::F64.into(),
+            a.n_points(),
+            3,
+            0,
+        )
+    };
+    assert_eq!(status, S::Ok, "{}", last_error());
+    let build = |first: i32, end: i32| {
+        let p = CylvolBuildParams {
+            periodic: 4,
+            copies_first: first,
+            copies_end: end,
+            ..cart_bvh_params()
+        };
+        new_volume(m, &p)
+    };
+    let (wheel, first) = (build(0, 0), build(0, 1));
+    let (mut all, mut one) = ([0.0; 2], [0.0; 2]);
+    unsafe {
+        assert_eq!(cylvol_volume_scalar_range(wheel, all.as_mut_ptr()), S::Ok);
+        assert_eq!(cylvol_volume_scalar_range(first, one.as_mut_ptr()), S::Ok);
+    }
+    // x of the swirl over the sector (x, y in [0, 2]) is -y + 0.3 in [-1.7, 0.3]; over the
+    // wheel, turned, it reaches +-(the largest radius) + 0.3 turned.
+    assert!(
+        (one[0] + 1.7).abs() < 1e-9 && (one[1] - 0.3).abs() < 1e-9,
+        "{one:?}"
+    );
+    assert!(all[0] < one[0] - 0.1 && all[1] > one[1] + 1.0, "{all:?}");
+    unsafe {
+        cylvol_volume_free(wheel);
+        cylvol_volume_free(first);
+        cylvol_mesh_free(m);
     }
 }

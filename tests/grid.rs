@@ -757,3 +757,60 @@ fn real_meshes() {
         }
     }
 }
+
+/// What two grids must share to be the same build: the resolution, the counts and every
+/// point's candidates in order.
+fn fingerprint(grid: &TwoLevelGrid, points: &[DVec3]) -> (String, Vec<Vec<u32>>) {
+    let s = grid.stats();
+    let sizes = format!(
+        "{:?} {:?} {} {} {}",
+        grid.domain(),
+        grid.top_resolution(),
+        s.top_cells,
+        s.leaf_cells,
+        s.references
+    );
+    let coords = grid.coordinates();
+    (
+        sizes,
+        points
+            .iter()
+            .map(|&p| grid.candidates(coords.query(p)).to_vec())
+            .collect(),
+    )
+}
+
+/// A build does not depend on the number of threads or on how the work was split: on the
+/// Cartesian cube, whose pieces' mean extent divides its extent exactly (so that the
+/// resolution sits on a rounding boundary), the grids built in pools of 1 to 8 threads, ten
+/// times each, are the same.
+#[test]
+fn builds_are_the_same_whatever_the_threads() {
+    let Some(mesh) = data("hexa.vtk") else {
+        return;
+    };
+    let points = sample_points(&mesh, 400, 7);
+    let build = || {
+        grids(&mesh, &GridParams::DEFAULT, None)
+            .iter()
+            .map(|(kind, grid, _)| (kind.clone(), fingerprint(grid, &points)))
+            .collect::<Vec<_>>()
+    };
+    let first = build();
+    for threads in 1..=8 {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        for _ in 0..10 {
+            let again = pool.install(build);
+            for ((kind, a), (_, b)) in first.iter().zip(&again) {
+                assert_eq!(a.0, b.0, "{kind} grid, {threads} threads");
+                assert!(
+                    a.1 == b.1,
+                    "{kind} grid, {threads} threads: candidates differ"
+                );
+            }
+        }
+    }
+}

@@ -69,7 +69,7 @@ impl<'m> Scene<'m> {
             renderer = renderer.with_topology(&topology);
         }
         if let Some(c) = copies {
-            renderer = renderer.with_copies(c);
+            renderer = renderer.with_copies(c).unwrap();
         }
         renderer.render(camera, None).unwrap().0
     }
@@ -169,6 +169,7 @@ fn a_constant_medium_through_the_copies_is_exact() {
             let renderer = Renderer::new(&volume, &transfer, &options)
                 .unwrap()
                 .with_copies(copies)
+                .unwrap()
                 .with_topology(&topology);
             // Rays across many copies, along an interface plane (x = 0), through the axis
             // where all copies meet, grazing the inner radius, and seeded ones.
@@ -267,7 +268,9 @@ fn copy_ranges_draw_only_their_copies() {
     let renderer = Renderer::new(&volume, &transfer, &options)
         .unwrap()
         .with_topology(&topology);
-    let all = renderer.with_copies(Copies::new(&sector, found, None).unwrap());
+    let all = renderer
+        .with_copies(Copies::new(&sector, found, None).unwrap())
+        .unwrap();
     let mut stats = Default::default();
     let frame = found.frame();
     // Along the axis direction, at 45° + k·90°: copy k's middle.
@@ -281,8 +284,76 @@ fn copy_ranges_draw_only_their_copies() {
     let renderer = Renderer::new(&volume, &transfer, &options)
         .unwrap()
         .with_topology(&topology)
-        .with_copies(three);
+        .with_copies(three)
+        .unwrap();
     assert_eq!(renderer.cast(o, d, f64::INFINITY, &mut stats).rgba[3], 0.0);
     let (o, d) = through(1);
     assert!(renderer.cast(o, d, f64::INFINITY, &mut stats).rgba[3] > 0.01);
+}
+
+/// A vector's component turns with the copies, as the replicated wheel's vectors were turned:
+/// the copies' range is the wheel's; at the default step the copies' image is as close to the
+/// converged one (the replicated wheel at an eighth of the step) as the replicated wheel's
+/// own (where the samples fall differs, and this field's error at that step is up to 20/255
+/// either way), and at the fine step the two are the same image. A magnitude keeps the
+/// sector's range.
+#[test]
+fn a_vector_component_turns_with_the_copies() {
+    let (mut sector, found, mut wheel) = mixer_wheel();
+    let axis = cylvol::axis::detect(&sector);
+    let copies = Copies::new(&sector, found, None).unwrap();
+    for name in ["U", "U[0]", "point:U[1]"] {
+        sector.set_active_scalar(name).unwrap();
+        wheel.set_active_scalar(name).unwrap();
+        let kind = StructureKind::CylBvh;
+        let (s, w) = (
+            Scene::new(&sector, kind, &axis),
+            Scene::new(&wheel, kind, &axis),
+        );
+        let sector_volume = Volume::new(&sector, &s.accel).unwrap();
+        let wheel_volume = Volume::new(&wheel, &w.accel).unwrap();
+        let range = copies.scalar_range(&sector_volume).unwrap();
+        let expected = wheel_volume.scalar_range();
+        assert!(
+            (range[0] - expected[0]).abs() < 1e-9 && (range[1] - expected[1]).abs() < 1e-9,
+            "{name}: copies' range {range:?}, the wheel's {expected:?}"
+        );
+        if name == "U" {
+            assert_eq!(range, sector_volume.scalar_range());
+        } else {
+            assert_ne!(range, sector_volume.scalar_range(), "{name}");
+        }
+        let b = copies.bounds();
+        let diagonal =
+            ((b[1] - b[0]).powi(2) + (b[3] - b[2]).powi(2) + (b[5] - b[4]).powi(2)).sqrt();
+        let transfer =
+            TransferFunction::default_for_range(range[0], range[1], 0.8, diagonal / 100.0);
+        let size = 64;
+        let camera = Camera::view(b, size, size, 30.0, 50.0, 1.0);
+        for path in [RenderPath::Fast, RenderPath::Paper] {
+            let options = |fraction: f64| {
+                let mut o = RenderOptions::new(size, size, default_step(&sector) * fraction);
+                o.path = path;
+                o
+            };
+            let reference = w.render(&transfer, &options(0.125), &camera, None);
+            let fine = s.render(&transfer, &options(0.125), &camera, Some(copies));
+            let (worst, mean, _) = difference(&fine, &reference);
+            assert!(
+                worst <= 1.0,
+                "{name} {path:?}, fine step: worst {worst:.2}/255, mean {mean:.4}/255"
+            );
+            let from_sector = s.render(&transfer, &options(1.0), &camera, Some(copies));
+            let replicated = w.render(&transfer, &options(1.0), &camera, None);
+            let (_, mean_copies, within_copies) = difference(&from_sector, &reference);
+            let (_, mean_wheel, within_wheel) = difference(&replicated, &reference);
+            assert!(
+                mean_copies <= mean_wheel * 1.05 + 0.01 && within_copies >= within_wheel - 0.001,
+                "{name} {path:?}: the copies' error mean {mean_copies:.3}/255 with {:.2} % \
+                 within 8/255, the replicated wheel's {mean_wheel:.3}/255 with {:.2} %",
+                within_copies * 100.0,
+                within_wheel * 100.0
+            );
+        }
+    }
 }

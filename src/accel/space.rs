@@ -268,24 +268,14 @@ pub fn seam_frame(axis: &Axis, pieces: Pieces<CylBounds>) -> Option<(CylFrame, P
         e1: frame.e1 * c + frame.e2 * s,
         e2: frame.e2 * c - frame.e1 * s,
     };
-    let Pieces { bounds, cells } = pieces;
-    let bounds = bounds
-        .into_par_iter()
-        .map(|b| {
-            if b.is_empty() || b.theta.is_full() {
-                b
-            } else {
-                CylBounds {
-                    theta: ThetaInterval::new(
-                        normalize_angle(b.theta.start() - shift),
-                        b.theta.width(),
-                    ),
-                    ..b
-                }
-            }
-        })
-        .collect();
-    Some((rotated, Pieces { bounds, cells }))
+    // Rotated in place: the pieces' bounds are the largest array of the build.
+    let mut pieces = pieces;
+    pieces.bounds.par_iter_mut().for_each(|b| {
+        if !(b.is_empty() || b.theta.is_full()) {
+            b.theta = ThetaInterval::new(normalize_angle(b.theta.start() - shift), b.theta.width());
+        }
+    });
+    Some((rotated, pieces))
 }
 
 /// Sector pieces as boxes in `(r, φ, h)`, the coordinates [`Coordinates::query`] makes: an arc

@@ -194,10 +194,13 @@ pub fn residual_about(mesh: &Mesh, axis: &Axis) -> f64 {
 }
 
 /// Cells' corners relative to the local origin, each edge's reciprocal length (0 for a
-/// zero-length edge), and the logarithm of the cells' volumes.
+/// zero-length edge), each edge's vector times that (about a unit vector; zero for a
+/// zero-length edge) with its squared length, for the straight sweeps, and the logarithm of
+/// the cells' volumes.
 struct Sample {
     corners: Vec<[DVec3; 8]>,
     inv_len: Vec<[f64; 12]>,
+    unit_edges: Vec<[(DVec3, f64); 12]>,
     ln_volume: Vec<f64>,
 }
 
@@ -218,6 +221,7 @@ impl Sample {
         let mut s = Sample {
             corners: Vec::with_capacity(take),
             inv_len: Vec::with_capacity(take),
+            unit_edges: Vec::with_capacity(take),
             ln_volume: Vec::with_capacity(take),
         };
         const PHI: f64 = 0.618_033_988_749_894_9;
@@ -249,8 +253,14 @@ impl Sample {
                     0.0
                 }
             });
+            let mut unit = [(DVec3::ZERO, 0.0); 12];
+            for (e, &[a, b]) in EDGES.iter().enumerate() {
+                let u = (x[b] - x[a]) * inv[e];
+                unit[e] = (u, u.length_squared());
+            }
             s.corners.push(x);
             s.inv_len.push(inv);
+            s.unit_edges.push(unit);
             s.ln_volume.push(v.ln());
         }
         s
@@ -296,29 +306,140 @@ impl Sample {
         out
     }
 
-    /// The robust loss of one edge.
-    fn edge_loss(v: &[f64; 3], class: Class) -> f64 {
+    /// An edge's squared residual over its σ² (the `q` of its robust loss `ln(1 + q)`).
+    fn edge_q(v: &[f64; 3], class: Class) -> f64 {
         match class {
-            Class::Circumferential => ((v[0] * v[0] + v[1] * v[1])
-                / (SIGMA_CIRCUMFERENTIAL * SIGMA_CIRCUMFERENTIAL))
-                .ln_1p(),
-            Class::Meridional => (v[2] * v[2] / (SIGMA_MERIDIONAL * SIGMA_MERIDIONAL)).ln_1p(),
+            Class::Circumferential => {
+                (v[0] * v[0] + v[1] * v[1]) / (SIGMA_CIRCUMFERENTIAL * SIGMA_CIRCUMFERENTIAL)
+            }
+            Class::Meridional => v[2] * v[2] / (SIGMA_MERIDIONAL * SIGMA_MERIDIONAL),
             Class::Degenerate => 0.0,
         }
+    }
+
+    /// The robust loss of cell `i`'s edges, `Σ ln(1 + q)`, taken as the logarithm of the
+    /// product of the `1 + q` (one logarithm a cell: each `q` is at most about 4·10⁶, as the
+    /// residuals are relative, so the product of twelve stays far within range).
+    fn cell_loss(&self, i: usize, o: DVec3, d: DVec3) -> f64 {
+        self.edge_terms(i, o, d)
+            .iter()
+            .map(|(v, c)| 1.0 + Self::edge_q(v, *c))
+            .product::<f64>()
+            .ln()
+    }
+
+    /// The robust loss over the first `n` cells about the line of `chart` (its base line, at
+    /// `x = 0`), with the normal equations of a reweighted Gauss–Newton step in the chart's
+    /// four parameters (see [`Normal`]), from one pass over the cells. The cells are taken
+    /// in chunks of a fixed size, in parallel, and the chunks' sums added in order: the
+    /// same bits whatever the threads.
+    fn normal_equations(&self, n: usize, chart: &Chart) -> Normal {
+        const CHUNK: usize = 256;
+        let n = n.min(self.len());
+        let chunks: Vec<Normal> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|k| {
+                let mut sum = Normal::ZERO;
+                for i in k * CHUNK..((k + 1) * CHUNK).min(n) {
+                    self.add_cell_normal(i, chart, &mut sum);
+                }
+                sum
+            })
+            .collect();
+        chunks.iter().fold(Normal::ZERO, |a, b| a.plus(b))
+    }
+
+    /// Adds cell `i`'s edges to `sum` (see [`Sample::normal_equations`]). The derivatives are
+    /// analytic. With `q` a corner's offset from the base line's origin `o` and `d` its
+    /// direction: `h = q·d`, `w = q − d h`, `r = |w|`, `û = w / r`; moving the origin by `δo`
+    /// (normal to `d`) and the direction by `δd` (normal to `d`, to first order) moves
+    /// `h` by `q·δd` (`δo·d = 0`) and `r` by `−û·δo − h û·δd`; a meridional edge's
+    /// `t = N / m`, `N = d·(q_a × q_b)`, `m = max(r_a, r_b)`, moves by `(δN − t δm) / m` with
+    /// `δN = δd·(q_a × q_b) + δo·(d × (q_b − q_a))`. The chart's parameters are `δd = e1 x₀ +
+    /// e2 x₁` and `δo = (e1 x₂ + e2 x₃) · scale`.
+    fn add_cell_normal(&self, i: usize, chart: &Chart, sum: &mut Normal) {
+        let (o, d) = (chart.origin, chart.direction);
+        let (e1, e2, scale) = (chart.e1, chart.e2, chart.scale);
+        let mut q = [DVec3::ZERO; 8];
+        let mut h = [0.0; 8];
+        let mut w = [DVec3::ZERO; 8];
+        let mut r = [0.0; 8];
+        // Per corner: û·e1, û·e2, q·e1, q·e2.
+        let mut proj = [[0.0; 4]; 8];
+        for (k, p) in self.corners[i].iter().enumerate() {
+            q[k] = *p - o;
+            h[k] = q[k].dot(d);
+            w[k] = q[k] - d * h[k];
+            r[k] = w[k].length();
+            let u = if r[k] > 0.0 { w[k] / r[k] } else { DVec3::ZERO };
+            proj[k] = [u.dot(e1), u.dot(e2), q[k].dot(e1), q[k].dot(e2)];
+        }
+        // The derivative of a corner's r in the four parameters.
+        let dr = |k: usize| {
+            [
+                -h[k] * proj[k][0],
+                -h[k] * proj[k][1],
+                -scale * proj[k][0],
+                -scale * proj[k][1],
+            ]
+        };
+        let mut product = 1.0;
+        for (e, &[a, b]) in EDGES.iter().enumerate() {
+            let s = self.inv_len[i][e];
+            if s == 0.0 {
+                continue;
+            }
+            let rm = r[a].max(r[b]);
+            let t = if rm > 0.0 {
+                d.dot(w[a].cross(w[b])) / rm
+            } else {
+                0.0
+            };
+            let v = [(r[b] - r[a]) * s, (h[b] - h[a]) * s, t * s];
+            if v[0] * v[0] + v[1] * v[1] <= v[2] * v[2] {
+                // Circumferential: Δr and Δh over σ.
+                let f = s / SIGMA_CIRCUMFERENTIAL;
+                let res = [v[0] / SIGMA_CIRCUMFERENTIAL, v[1] / SIGMA_CIRCUMFERENTIAL];
+                let (ra, rb) = (dr(a), dr(b));
+                let j_r: [f64; 4] = std::array::from_fn(|k| (rb[k] - ra[k]) * f);
+                let j_h = [
+                    (proj[b][2] - proj[a][2]) * f,
+                    (proj[b][3] - proj[a][3]) * f,
+                    0.0,
+                    0.0,
+                ];
+                let q2 = res[0] * res[0] + res[1] * res[1];
+                product *= 1.0 + q2;
+                sum.add(&j_r, res[0], 1.0 / (1.0 + q2));
+                sum.add(&j_h, res[1], 1.0 / (1.0 + q2));
+            } else {
+                // Meridional: t over σ.
+                let res = v[2] / SIGMA_MERIDIONAL;
+                let q2 = res * res;
+                product *= 1.0 + q2;
+                if rm > 0.0 {
+                    let f = s / SIGMA_MERIDIONAL;
+                    let cross = q[a].cross(q[b]);
+                    let edge = d.cross(q[b] - q[a]);
+                    let dn = [
+                        e1.dot(cross),
+                        e2.dot(cross),
+                        scale * e1.dot(edge),
+                        scale * e2.dot(edge),
+                    ];
+                    let dm = if r[a] > r[b] { dr(a) } else { dr(b) };
+                    let j_t: [f64; 4] = std::array::from_fn(|k| (dn[k] - t * dm[k]) / rm * f);
+                    sum.add(&j_t, res, 1.0 / (1.0 + q2));
+                }
+            }
+        }
+        sum.cost += product.ln();
     }
 
     /// Mean over the first `n` cells of the robust loss of their edges.
     fn robust_cost(&self, n: usize, o: DVec3, d: DVec3) -> f64 {
         let n = n.min(self.len());
-        (0..n)
-            .map(|i| {
-                self.edge_terms(i, o, d)
-                    .iter()
-                    .map(|(v, c)| Self::edge_loss(v, *c))
-                    .sum::<f64>()
-            })
-            .sum::<f64>()
-            / n.max(1) as f64
+        (0..n).map(|i| self.cell_loss(i, o, d)).sum::<f64>() / n.max(1) as f64
     }
 
     /// Inlier fraction and RMS relative residual of the edges of the first `n` cells.
@@ -349,16 +470,13 @@ impl Sample {
         let n = n.min(self.len());
         let tol2 = INLIER_TOLERANCE * INLIER_TOLERANCE;
         let (mut edges, mut inliers) = (0usize, 0usize);
-        for i in 0..n {
-            let c = &self.corners[i];
-            for (e, &[a, b]) in EDGES.iter().enumerate() {
-                let s = self.inv_len[i][e];
-                if s == 0.0 {
+        for (i, unit) in self.unit_edges[..n].iter().enumerate() {
+            for (e, &(u, len2)) in unit.iter().enumerate() {
+                if self.inv_len[i][e] == 0.0 {
                     continue;
                 }
-                let u = (c[b] - c[a]) * s;
                 let along = u.dot(t);
-                let across = (u.length_squared() - along * along).max(0.0);
+                let across = (len2 - along * along).max(0.0);
                 edges += 1;
                 if across.min(along * along) <= tol2 {
                     inliers += 1;
@@ -366,44 +484,6 @@ impl Sample {
             }
         }
         (inliers, edges)
-    }
-
-    /// The residual vector (2 per edge: `Δr, Δh` of a circumferential edge or `t, 0` of a
-    /// meridional one, divided by its `σ`), and the classes chosen (given ones are kept).
-    fn residuals(
-        &self,
-        n: usize,
-        o: DVec3,
-        d: DVec3,
-        classes: Option<&[Class]>,
-        out: &mut Vec<f64>,
-        chosen: &mut Vec<Class>,
-    ) {
-        out.clear();
-        chosen.clear();
-        for i in 0..n.min(self.len()) {
-            for (e, (v, class)) in self.edge_terms(i, o, d).into_iter().enumerate() {
-                let class = match classes.and_then(|cs| cs.get(12 * i + e)) {
-                    Some(&c) => c,
-                    None => class,
-                };
-                match class {
-                    Class::Circumferential => {
-                        out.push(v[0] / SIGMA_CIRCUMFERENTIAL);
-                        out.push(v[1] / SIGMA_CIRCUMFERENTIAL);
-                    }
-                    Class::Meridional => {
-                        out.push(v[2] / SIGMA_MERIDIONAL);
-                        out.push(0.0);
-                    }
-                    Class::Degenerate => {
-                        out.push(0.0);
-                        out.push(0.0);
-                    }
-                }
-                chosen.push(class);
-            }
-        }
     }
 
     /// Geometric mean of cylindrical box ÷ cell volume about the line over the first `n`
@@ -549,6 +629,52 @@ fn plane_basis(d: DVec3) -> (DVec3, DVec3) {
     (u, v)
 }
 
+/// A reweighted Gauss–Newton step's ingredients at a line: the robust loss `Σ ln(1 + q)`
+/// over the edges, and the normal equations `a = Σ w J Jᵀ`, `g = Σ w J ρ` over their
+/// residual components `ρ` (over σ) with gradients `J` in the chart's four parameters and
+/// weights `w = 1 / (1 + q)`.
+#[derive(Clone, Copy)]
+struct Normal {
+    cost: f64,
+    a: [[f64; 4]; 4],
+    g: [f64; 4],
+}
+
+impl Normal {
+    const ZERO: Normal = Normal {
+        cost: 0.0,
+        a: [[0.0; 4]; 4],
+        g: [0.0; 4],
+    };
+
+    /// Adds one residual component `rho` with gradient `j` and weight `w`.
+    #[inline]
+    fn add(&mut self, j: &[f64; 4], rho: f64, w: f64) {
+        for (row, &jr) in self.a.iter_mut().zip(j) {
+            for (x, &jc) in row.iter_mut().zip(j) {
+                *x += w * jr * jc;
+            }
+        }
+        for (x, &jr) in self.g.iter_mut().zip(j) {
+            *x += w * jr * rho;
+        }
+    }
+
+    fn plus(&self, o: &Normal) -> Normal {
+        let mut out = *self;
+        out.cost += o.cost;
+        for (row, orow) in out.a.iter_mut().zip(&o.a) {
+            for (x, y) in row.iter_mut().zip(orow) {
+                *x += y;
+            }
+        }
+        for (x, y) in out.g.iter_mut().zip(&o.g) {
+            *x += y;
+        }
+        out
+    }
+}
+
 /// A line parametrised for local search about a base line: two direction tilts (radians)
 /// and two origin offsets (in units of `scale`) in the base line's normal plane.
 #[derive(Clone, Copy)]
@@ -579,10 +705,11 @@ impl Chart {
     }
 }
 
-/// Levenberg–Marquardt on the robust loss from the line `(o, d)` on the first `n` cells
-/// (iteratively reweighted: each edge's residuals weighted by `1 / √(1 + q)`, `q` its scaled
-/// squared residual, at the current line, its class held fixed for the Jacobian); returns
-/// the refined line and the number of evaluations over the sample.
+/// Levenberg–Marquardt on the robust loss from the line `(o, d)` on the first `n` cells,
+/// iteratively reweighted: each step solves the damped normal equations of
+/// [`Sample::normal_equations`] (each edge weighted by `1 / (1 + q)`, `q` its scaled squared
+/// residual, and its class held fixed, at the current line), and is taken where it lowers the
+/// loss. Returns the refined line and the number of passes over the sample.
 fn refine(
     sample: &Sample,
     n: usize,
@@ -592,55 +719,11 @@ fn refine(
     max_iter: usize,
 ) -> (DVec3, DVec3, usize) {
     let mut chart = Chart::new(o, d, scale);
-    let mut evals = 0usize;
-    let (mut res, mut classes) = (Vec::new(), Vec::new());
-    let (mut plus, mut scratch) = (Vec::new(), Vec::new());
-    // Loss and per-edge weights of a residual vector (2 values per edge).
-    let robust = |res: &[f64]| -> (f64, Vec<f64>) {
-        let mut total = 0.0;
-        let mut weights = Vec::with_capacity(res.len() / 2);
-        for e in res.chunks(2) {
-            let q: f64 = e.iter().map(|v| v * v).sum();
-            total += q.ln_1p();
-            weights.push(1.0 / (1.0 + q).sqrt());
-        }
-        (total, weights)
-    };
-    sample.residuals(n, o, d, None, &mut res, &mut classes);
-    evals += 1;
-    let (mut cost, mut weights) = robust(&res);
+    let mut current = sample.normal_equations(n, &chart);
+    let mut evals = 1usize;
     let mut lambda = 1e-3;
-    const H: f64 = 1e-8;
     for _iter in 0..max_iter {
-        // Forward-difference Jacobian of the weighted residuals, classes held fixed.
-        let mut cols: [Vec<f64>; 4] = Default::default();
-        for (k, col) in cols.iter_mut().enumerate() {
-            let mut xp = [0.0; 4];
-            xp[k] = H;
-            let (op, dp) = chart.line(&xp);
-            sample.residuals(n, op, dp, Some(&classes), &mut plus, &mut scratch);
-            evals += 1;
-            *col = plus
-                .iter()
-                .zip(&res)
-                .enumerate()
-                .map(|(j, (p, q))| (p - q) / H * weights[j / 2])
-                .collect();
-        }
-        let mut a = [[0.0; 4]; 4];
-        let mut g = [0.0; 4];
-        for i in 0..4 {
-            for j in i..4 {
-                a[i][j] = cols[i].iter().zip(&cols[j]).map(|(p, q)| p * q).sum();
-                a[j][i] = a[i][j];
-            }
-            g[i] = cols[i]
-                .iter()
-                .zip(&res)
-                .enumerate()
-                .map(|(j, (p, q))| p * q * weights[j / 2])
-                .sum();
-        }
+        let Normal { cost, a, g } = current;
         let mut accepted = false;
         let mut step_norm = 0.0;
         while lambda < 1e12 {
@@ -653,19 +736,15 @@ fn refine(
                 continue;
             };
             let (o2, d2) = chart.line(&delta);
-            let (mut res2, mut classes2) = (Vec::new(), Vec::new());
-            sample.residuals(n, o2, d2, None, &mut res2, &mut classes2);
+            let moved = Chart::new(o2, d2, scale);
+            let trial = sample.normal_equations(n, &moved);
             evals += 1;
-            let (cost2, weights2) = robust(&res2);
-            if cost2.is_finite() && cost2 < cost {
+            if trial.cost.is_finite() && trial.cost < cost {
                 step_norm = delta.iter().map(|v| v.abs()).fold(0.0, f64::max);
-                let improvement = cost - cost2;
-                chart = Chart::new(o2, d2, scale);
-                res = res2;
-                classes = classes2;
-                weights = weights2;
+                let improvement = cost - trial.cost;
+                chart = moved;
+                current = trial;
                 let converged = improvement <= 1e-12 * cost.max(1e-300);
-                cost = cost2;
                 lambda = (lambda / 3.0).max(1e-9);
                 accepted = !converged;
                 break;

@@ -67,7 +67,7 @@ pub struct BenchArgs {
     #[arg(long, value_parser = super::number::parse_step, allow_hyphen_values = true)]
     step: Option<f64>,
     /// The largest colour error allowed, in 1/255 of a pixel's premultiplied RGBA against the
-    /// converged image [default: 2 unless --step is given].
+    /// converged image (e.g. 2; default: none, the fixed step).
     #[arg(long, value_name = "E", value_parser = scene::parse_max_error, allow_hyphen_values = true)]
     max_error: Option<f64>,
     /// Scalar array to render (for every input).
@@ -205,7 +205,11 @@ pub fn bench_mesh(
     // Every structure and path's renderer, made before any frame is timed.
     let mut runs = Vec::new();
     for volume in &volumes {
-        let range = scene::transfer_range(volume.scalar_range());
+        let drawn_range = match copies {
+            Some(c) => c.scalar_range(volume)?,
+            None => volume.scalar_range(),
+        };
+        let range = scene::transfer_range(drawn_range);
         let transfer =
             setup
                 .transfer
@@ -219,7 +223,7 @@ pub fn bench_mesh(
                 renderer = renderer.with_topology(n);
             }
             if let Some(c) = copies {
-                renderer = renderer.with_copies(*c);
+                renderer = renderer.with_copies(*c)?;
             }
             let accel = volume.accel();
             runs.push((accel.kind(), accel.stats().build_s(), path, renderer));
@@ -281,11 +285,7 @@ pub fn bench_mesh(
         "max_error": max_error,
         "view": setup.view.unwrap_or(scene::DEFAULT_VIEW),
         "neighbours_s": neighbours.as_ref().map(|_| neighbours_s),
-        "periodic": copies.map(|c| json!({
-            "copies": c.periodicity().copies,
-            "first": c.range().0,
-            "end": c.range().1,
-        })),
+        "periodic": periodic::json(copies),
         "structures": structures,
         "ratios": ratios,
     });

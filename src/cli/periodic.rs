@@ -8,6 +8,7 @@ use cylvol::axis::periodic::{self, PeriodicRequest};
 use cylvol::axis::Axis;
 use cylvol::render::{Copies, Topology};
 use cylvol::{Error, Mesh};
+use serde_json::{json, Value};
 
 /// The periodic options.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -80,5 +81,26 @@ pub fn wheel_topology(topology: Topology, mesh: &Mesh, copies: Option<&Copies>) 
     match copies {
         Some(c) => topology.with_periodic_sides(mesh, c.periodicity()).0,
         None => topology,
+    }
+}
+
+/// The JSON of the copies drawn (`null` for none): how many close the wheel, the copies drawn
+/// (`first` to `end` − 1), the sector's span, its side faces joined and their worst mismatch,
+/// and the wheel's box.
+pub fn json(copies: Option<&Copies>) -> Value {
+    match copies {
+        None => Value::Null,
+        Some(c) => {
+            let p = c.periodicity();
+            json!({
+                "copies": p.copies,
+                "first": c.range().0,
+                "end": c.range().1,
+                "span_deg": p.span_degrees(),
+                "matched_faces": p.matched_faces,
+                "worst_mismatch": p.worst_mismatch,
+                "bounds": c.bounds(),
+            })
+        }
     }
 }

@@ -57,7 +57,7 @@ pub struct RenderArgs {
     #[arg(long, value_parser = super::number::parse_step, allow_hyphen_values = true)]
     step: Option<f64>,
     /// The largest colour error allowed, in 1/255 of a pixel's premultiplied RGBA against the
-    /// converged image [default: 2 unless --step is given]: the samples are placed along each
+    /// converged image (e.g. 2; default: none, every ray sampled at the fixed step): the samples are placed along each
     /// ray where the field and the transfer function need them.
     #[arg(long, value_name = "E", value_parser = scene::parse_max_error, allow_hyphen_values = true)]
     max_error: Option<f64>,
@@ -296,11 +296,16 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
     let volume = Volume::new(&mesh, &accel)?;
     let (step, max_error) = scene::sampling(&mesh, args.step, args.max_error)?;
-    if let Some(warning) = scene::constant_field_warning(&mesh, volume.scalar_range()) {
+    // The scene: the mesh, or the wheel its copies make (where a vector's component turns
+    // with the copies, over its range in every copy drawn).
+    let drawn_range = match &copies {
+        Some(c) => c.scalar_range(&volume)?,
+        None => volume.scalar_range(),
+    };
+    if let Some(warning) = scene::constant_field_warning(&mesh, drawn_range) {
         log(format_args!("warning: {warning}"));
     }
-    let range = scene::transfer_range(volume.scalar_range());
-    // The scene: the mesh, or the wheel its copies make.
+    let range = scene::transfer_range(drawn_range);
     let bounds = copies.as_ref().map_or(mesh.bounds(), |c| c.bounds());
     let diagonal = scene::diagonal_of(bounds);
     let transfer = args
@@ -326,7 +331,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     });
     let mut renderer = Renderer::new(&volume, &transfer, &options)?;
     if renderer.table().transparent_everywhere() {
-        let [lo, hi] = volume.scalar_range().map(show);
+        let [lo, hi] = drawn_range.map(show);
         log(format_args!(
             "warning: the transfer function's opacity is zero at every value of the scalar \
              (over [{lo}, {hi}]): the image is empty; give --opacity a non-zero opacity there"
@@ -336,7 +341,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         renderer = renderer.with_topology(n);
     }
     if let Some(c) = copies {
-        renderer = renderer.with_copies(c);
+        renderer = renderer.with_copies(c)?;
     }
     let camera = args.camera.camera_for(bounds, width, height)?;
     let started = Instant::now();
@@ -371,11 +376,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             "height": height,
             "step": step,
             "max_error": options.error_bounded().then_some(max_error).flatten(),
-            "periodic": copies.as_ref().map(|c| json!({
-                "copies": c.periodicity().copies,
-                "first": c.range().0,
-                "end": c.range().1,
-            })),
+            "periodic": periodic::json(copies.as_ref()),
             "frame_s": frame_s,
             "stats": stats,
         });

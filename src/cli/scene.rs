@@ -232,20 +232,16 @@ pub fn neighbours(mesh: &Mesh, accel: &Accel) -> Topology {
 }
 
 /// How the samples are placed: `(step, max_error)` from `--step` and `--max-error`. An error
-/// given renders error-bounded from the step (given, or the default); a step alone renders at
-/// that fixed step; neither renders error-bounded at [`cylvol::render::DEFAULT_MAX_ERROR`]
-/// from the default step.
+/// given renders error-bounded from the step (given, or the default); without one, every ray
+/// is sampled at the fixed step (given, or the default: half the mean cell size, which is at
+/// least as accurate as VTK's ray caster on every mesh measured, and faster than an
+/// error-bounded render today).
 pub fn sampling(
     mesh: &Mesh,
     step: Option<f64>,
     max_error: Option<f64>,
 ) -> Result<(f64, Option<f64>), Error> {
-    let error = match (step, max_error) {
-        (_, Some(e)) => Some(e),
-        (Some(_), None) => None,
-        (None, None) => Some(cylvol::render::DEFAULT_MAX_ERROR),
-    };
-    Ok((self::step(mesh, step)?, error))
+    Ok((self::step(mesh, step)?, max_error))
 }
 
 /// The sample spacing: `--step` when given (it must be positive and finite, and not so small

@@ -4,6 +4,7 @@
 
 use serde_json::{json, Map, Value};
 
+use super::periodic::PeriodicArgs;
 use super::{log, InputArgs};
 use cylvol::accel::probe::{candidate_count, lookup_cost, points_in_cells};
 use cylvol::accel::{
@@ -39,6 +40,10 @@ pub struct StatsArgs {
     /// first).
     #[arg(long, value_name = "cells|share")]
     grid_order: Option<CandidateOrder>,
+    /// The wheel of a periodic sector: said in the report (the structures serve every copy,
+    /// so their figures are the sector's whatever the copies).
+    #[command(flatten)]
+    periodic: PeriodicArgs,
 }
 
 /// Parses `--lookups N`, 0 or more.
@@ -141,6 +146,7 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
     if let Some(order) = args.grid_order {
         params.grid.order = order;
     }
+    let copies = args.periodic.copies(&mesh, &axis)?;
     let built = build_all(&mesh, &axis, &params)?;
     let points = points_in_cells(&mesh, args.lookups, 0x00C7_1D0F);
     let mut structures = Map::new();
@@ -205,6 +211,7 @@ pub fn run(args: &StatsArgs) -> Result<(), Error> {
     let report = json!({
         "dataset": cylvol::input::Input::parse(&args.input.input)?.label(),
         "cells": mesh.cell_count(),
+        "periodic": super::periodic::json(copies.as_ref()),
         "structures": structures,
         "ratios": {
             "grid": ratios(&structures["cart-grid"], &structures["cyl-grid"], &grid_keys),

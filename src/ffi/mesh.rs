@@ -11,7 +11,7 @@ use super::arrays::{self, product};
 use super::codes::{AssociationCode, Code, CylvolAssociation, IndexTypeCode, ValueTypeCode};
 use super::status::{self, CylvolStatus, Failure};
 use crate::mesh::{cells_from_vtk, OffsetStyle};
-use crate::{Association, DataArray, Mesh, MeshParts};
+use crate::{Association, Component, DataArray, Mesh, MeshParts};
 
 /// An opaque mesh: geometry and (at most) one active scalar array. Volumes built from it
 /// share it rather than copy it; replacing its scalars afterwards copies it first (so a volume
@@ -37,8 +37,11 @@ impl CylvolMesh {
 pub struct Scalars {
     /// Point or cell data.
     pub association: Association,
-    /// The scalar values, one per point or cell.
+    /// The array: the scalar values, one per point or cell, or a vector whose component is
+    /// drawn (kept whole, so that periodic copies can turn it).
     pub array: DataArray,
+    /// The component drawn.
+    pub component: Component,
 }
 
 /// A scalar array as a caller passes it to the C ABI, unchecked.
@@ -107,12 +110,20 @@ pub unsafe fn read_scalars(
     let len = product(n_tuples, n_components, "values")?;
     // SAFETY: the caller vouches for `len` values.
     let raw = unsafe { arrays::values(values, value_type, len, "values")? };
+    // A vector's component is drawn from the whole vector, kept (a periodic copy draws the
+    // component of the vector turned with it); anything else is kept as the values drawn.
+    let mut vector = None;
     let scalars: Vec<f64> = if n_components == 1 {
         raw
     } else if component >= 0 {
-        raw.chunks_exact(n_components)
+        let drawn = raw
+            .chunks_exact(n_components)
             .map(|t| t[component as usize])
-            .collect()
+            .collect();
+        if n_components == 3 {
+            vector = Some(raw);
+        }
+        drawn
     } else {
         raw.chunks_exact(n_components)
             .map(|t| t.iter().map(|v| v * v).sum::<f64>().sqrt())
@@ -137,9 +148,17 @@ pub unsafe fn read_scalars(
     if let Some(refusal) = crate::mesh::non_finite_refusal(&what, association, &scalars) {
         return Err(Failure::invalid(refusal));
     }
+    let (array, component) = match vector {
+        Some(v) => (
+            DataArray::vector(name, v),
+            Component::Index(component as usize),
+        ),
+        None => (DataArray::scalar(name, scalars), Component::Index(0)),
+    };
     Ok(Scalars {
         association,
-        array: DataArray::scalar(name, scalars),
+        array,
+        component,
     })
 }
 
@@ -151,7 +170,10 @@ pub fn replace_scalars(slot: &mut Arc<Mesh>, scalars: Scalars) -> Result<(), Fai
         Association::Point => (vec![scalars.array], Vec::new()),
         Association::Cell => (Vec::new(), vec![scalars.array]),
     };
-    Arc::make_mut(slot).replace_arrays(point_data, cell_data)?;
+    let mesh = Arc::make_mut(slot);
+    mesh.replace_arrays(point_data, cell_data)?;
+    mesh.set_active_component(scalars.component)
+        .map_err(|e| Failure::invalid(e.to_string()))?;
     Ok(())
 }
 

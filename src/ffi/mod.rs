@@ -91,6 +91,6 @@ pub use status::{
 };
 pub use volume::{
     cylvol_build_params_default, cylvol_volume_build_stats, cylvol_volume_default_step,
-    cylvol_volume_free, cylvol_volume_last_error, cylvol_volume_new, cylvol_volume_set_scalars,
-    CylvolBuildParams, CylvolBuildStats, CylvolVolume,
+    cylvol_volume_free, cylvol_volume_last_error, cylvol_volume_new, cylvol_volume_scalar_range,
+    cylvol_volume_set_scalars, CylvolBuildParams, CylvolBuildStats, CylvolVolume,
 };

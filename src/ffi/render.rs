@@ -486,7 +486,13 @@ pub unsafe extern "C" fn cylvol_render(
                     ))
                 }
             };
-            let (tf, table_size, gradient) = transfer_function(transfer, [lo, hi])?;
+            let volume = Volume::with_field(mesh, &v.accel, field)?;
+            // Over every copy drawn where a vector's component turns with the copies.
+            let data = match &v.copies {
+                Some(c) => c.scalar_range(&volume)?,
+                None => [lo, hi],
+            };
+            let (tf, table_size, gradient) = transfer_function(transfer, data)?;
             let rays = camera.rays(w, h)?;
             let bottom_up = params.rows_bottom_up != 0;
             let depth = if depth_in.is_null() {
@@ -518,10 +524,12 @@ pub unsafe extern "C" fn cylvol_render(
             let mut options = options;
             options.table_size = table_size;
             options.gradient_opacity = gradient;
-            let volume = Volume::with_field(mesh, &v.accel, field)?;
             let mut renderer = Renderer::new(&volume, &tf, &options)?;
             if options.path == RenderPath::Fast {
                 renderer = renderer.with_topology(&v.neighbours);
+            }
+            if let Some(c) = v.copies {
+                renderer = renderer.with_copies(c)?;
             }
             // The last frame's transparent cells and visible nodes, where its table is this
             // one's (a mapper's next frame): same volume, since they are dropped with the

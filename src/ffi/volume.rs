@@ -15,9 +15,10 @@ use super::mesh::{read_scalars, replace_scalars, CylvolMesh, GivenScalars};
 use super::status::{self, c_string, CylvolStatus, Failure};
 use crate::accel::choose::{cylindrical_area_ratio, structure_for_ratio};
 use crate::accel::{Accel, AccelParams, BvhParams, GridParams, StructureKind};
+use crate::axis::periodic::{self, PeriodicRequest};
 use crate::axis::{detect_with_report, Axis};
-use crate::render::Topology;
-use crate::render::{Derived, RenderStats, ScalarField};
+use crate::render::{Copies, Topology};
+use crate::render::{Derived, RenderStats, ScalarField, Volume};
 use crate::Mesh;
 
 /// How to build a volume's structure.
@@ -36,6 +37,17 @@ pub struct CylvolBuildParams {
     /// (grids; BVHs as 0), 4 fine grids (fewest cells tested, about ten times the memory; BVHs
     /// as 2).
     pub preset: i32,
+    /// Periodic copies: 0 draws the mesh as it is; -1 finds whether the mesh is a
+    /// rotationally periodic sector about the axis and how many copies close the wheel (the
+    /// build fails, saying why, where it is not); N ≥ 1 draws N copies, each the sector
+    /// turned by 360°/N (the sector's span must be 360°/N). Added after the fields above:
+    /// fill the struct with cylvol_build_params_default() first.
+    pub periodic: i32,
+    /// With `periodic`: draw copies `copies_first` to `copies_end − 1` only; both 0 draw
+    /// every copy. A range outside 0..N is an error.
+    pub copies_first: i32,
+    /// See `copies_first`.
+    pub copies_end: i32,
 }
 
 impl Default for CylvolBuildParams {
@@ -47,6 +59,9 @@ impl Default for CylvolBuildParams {
             axis_origin: [0.0; 3],
             axis_direction: [0.0, 0.0, 1.0],
             preset: 0,
+            periodic: 0,
+            copies_first: 0,
+            copies_end: 0,
         }
     }
 }
@@ -72,6 +87,45 @@ pub struct CylvolBuildStats {
     pub axis_clear: i32,
     /// Cylindrical ÷ Cartesian bound surface area measured by AUTO (0 if not measured).
     pub area_ratio: f64,
+    /// The copies that close the wheel where periodic copies are drawn (0 where not).
+    pub periodic_copies: i32,
+    /// The first copy drawn.
+    pub copies_first: i32,
+    /// One past the last copy drawn.
+    pub copies_end: i32,
+    /// The sector's angular span in degrees (0 where no copies are drawn).
+    pub periodic_span_degrees: f64,
+    /// The side faces that land on the other side, turned by 360°/N, and are joined.
+    pub periodic_matched_faces: u64,
+    /// The worst distance between a side's point, turned, and the other side's, as a fraction
+    /// of the cell edge there.
+    pub periodic_worst_mismatch: f64,
+    /// The box of what is drawn, `[xmin, xmax, ymin, ymax, zmin, zmax]` (VTK's order): the
+    /// mesh's, or the cylinder about the axis that holds the copies drawn.
+    pub bounds: [f64; 6],
+}
+
+impl Default for CylvolBuildStats {
+    /// Zeros, the structure AUTO (what a build never reports).
+    fn default() -> Self {
+        CylvolBuildStats {
+            structure: CylvolStructure::Auto,
+            build_seconds: 0.0,
+            bytes: 0,
+            cells: 0,
+            axis_origin: [0.0; 3],
+            axis_direction: [0.0; 3],
+            axis_clear: 0,
+            area_ratio: 0.0,
+            periodic_copies: 0,
+            copies_first: 0,
+            copies_end: 0,
+            periodic_span_degrees: 0.0,
+            periodic_matched_faces: 0,
+            periodic_worst_mismatch: 0.0,
+            bounds: [0.0; 6],
+        }
+    }
 }
 
 /// An opaque volume: the mesh (shared with the mesh handle it was built from, until either
@@ -88,6 +142,8 @@ pub struct CylvolVolume {
     /// same table; dropped when the scalars change.
     pub(crate) derived: Option<Derived>,
     pub(crate) default_step: f64,
+    /// The periodic copies drawn instead of the mesh alone, if any.
+    pub(crate) copies: Option<Copies>,
     pub(crate) build: CylvolBuildStats,
     /// The last successful render's time in seconds and counters (zeros before the first).
     pub(crate) last_render: (f64, RenderStats),
@@ -176,6 +232,12 @@ pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<Cylvo
     );
     let (accel, axis, clear, ratio) = built?;
     neighbours.check_boundary(&mesh, &accel);
+    let copies = periodic_copies(&mesh, &axis, params)?;
+    if let Some(c) = &copies {
+        neighbours = neighbours.with_periodic_sides(&mesh, c.periodicity()).0;
+    }
+    let found = copies.as_ref().map(|c| *c.periodicity());
+    let (first, end) = copies.as_ref().map_or((0, 0), Copies::range);
     let build = CylvolBuildStats {
         structure: to_c(accel.kind()),
         build_seconds: started.elapsed().as_secs_f64(),
@@ -185,6 +247,13 @@ pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<Cylvo
         axis_direction: axis.direction.to_array(),
         axis_clear: i32::from(clear),
         area_ratio: ratio,
+        periodic_copies: found.map_or(0, |p| p.copies as i32),
+        copies_first: first as i32,
+        copies_end: end as i32,
+        periodic_span_degrees: found.map_or(0.0, |p| p.span_degrees()),
+        periodic_matched_faces: found.map_or(0, |p| p.matched_faces as u64),
+        periodic_worst_mismatch: found.map_or(0.0, |p| p.worst_mismatch),
+        bounds: copies.as_ref().map_or(mesh.bounds(), Copies::bounds),
     };
     Ok(CylvolVolume {
         mesh,
@@ -193,10 +262,52 @@ pub(crate) fn build(mesh: Arc<Mesh>, params: &CylvolBuildParams) -> Result<Cylvo
         field,
         derived: None,
         default_step,
+        copies,
         build,
         last_render: (0.0, RenderStats::default()),
         last_error: CString::default(),
     })
+}
+
+/// The periodic copies `params` ask for about `axis`: found, checked, or none.
+fn periodic_copies(
+    mesh: &Mesh,
+    axis: &Axis,
+    params: &CylvolBuildParams,
+) -> Result<Option<Copies>, Failure> {
+    let request = match params.periodic {
+        0 => PeriodicRequest::Off,
+        -1 => PeriodicRequest::Auto,
+        n if n >= 1 => PeriodicRequest::Copies(n as u32),
+        n => {
+            return Err(Failure::invalid(format!(
+                "params->periodic = {n} (0 off, -1 auto, or the number of copies)"
+            )))
+        }
+    };
+    let range = match (params.copies_first, params.copies_end) {
+        (0, 0) => None,
+        (a, b) if a >= 0 && b >= 0 => Some((a as u32, b as u32)),
+        (a, b) => {
+            return Err(Failure::invalid(format!(
+                "params->copies_first, copies_end = {a}, {b} (copies are numbered from 0)"
+            )))
+        }
+    };
+    if request == PeriodicRequest::Off {
+        if range.is_some() {
+            return Err(Failure::invalid(
+                "params->copies_first and copies_end need params->periodic (-1 auto or N)",
+            ));
+        }
+        return Ok(None);
+    }
+    let found = periodic::resolve(mesh, axis, request)
+        .map_err(|e| Failure::invalid(format!("periodic copies: {e}")))?;
+    found
+        .map(|p| Copies::new(mesh, p, range))
+        .transpose()
+        .map_err(|e| Failure::invalid(format!("periodic copies: {e}")))
 }
 
 /// The structure `params` ask for, built (AUTO's choice made), with the axis used (detected
@@ -371,4 +482,34 @@ pub unsafe extern "C" fn cylvol_volume_default_step(
         let v = unsafe { arrays::handle(volume, "volume")? };
         unsafe { arrays::write(step, v.default_step, "step") }
     })
+}
+
+/// `[min, max]` of what the volume draws, into `range[0]` and `range[1]`: the active scalar's
+/// range, or where periodic copies draw a vector's component (which turns with each copy),
+/// its range over every copy drawn. Transfer tables made for the volume should span it.
+///
+/// Errors: NULL_POINTER (`volume`, `range`), NO_SCALARS (the volume has no scalars).
+///
+/// # Safety
+/// `volume` a live handle; `range` valid for writing two doubles.
+#[no_mangle]
+pub unsafe extern "C" fn cylvol_volume_scalar_range(
+    volume: *mut CylvolVolume,
+    range: *mut f64,
+) -> CylvolStatus {
+    // SAFETY: the caller vouches for the pointers.
+    unsafe {
+        on_volume("cylvol_volume_scalar_range", volume, |v| {
+            let out = arrays::slice_mut(range, 2, "range")?;
+            let field = v.field.as_ref().ok_or_else(|| {
+                Failure::new(CylvolStatus::NoScalars, "the volume has no scalar array")
+            })?;
+            let drawn = match &v.copies {
+                Some(c) => c.scalar_range(&Volume::with_field(&v.mesh, &v.accel, field)?)?,
+                None => field.range(),
+            };
+            out.copy_from_slice(&drawn);
+            Ok(())
+        })
+    }
 }

@@ -413,6 +413,28 @@ impl Mesh {
         )))
     }
 
+    /// Draws `component` of the active array (an error where the mesh has no array or the
+    /// array has no such component).
+    pub fn set_active_component(&mut self, component: Component) -> Result<(), Error> {
+        let Some(active) = self.active.clone() else {
+            return Err(Error::Invalid("the mesh has no array to draw".into()));
+        };
+        let array = &self.arrays(active.association)[active.array];
+        if let Component::Index(k) = component {
+            if k >= array.components {
+                return Err(Error::Invalid(format!(
+                    "{} array '{}' has {} components; component {k} does not exist",
+                    active.association, array.name, array.components
+                )));
+            }
+        }
+        self.active = Some(ActiveScalar {
+            component,
+            ..active
+        });
+        Ok(())
+    }
+
     /// The active scalar's values (per point or per cell), `None` if the mesh has no array.
     pub fn active_scalars(&self) -> Option<(Association, Vec<f64>)> {
         let a = self.active.as_ref()?;

@@ -4,13 +4,13 @@
 
 use std::borrow::Cow;
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
 use super::options::Interpolation;
 use crate::accel::Accel;
 use crate::geometry::bounds::{cell_bounds, Aabb};
-use crate::mesh::Association;
+use crate::mesh::{Association, Component};
 use crate::{Error, Mesh};
 
 /// The default step: half the mean cell size, the cell size being its box diagonal ÷ √3 (the
@@ -65,6 +65,28 @@ impl ScalarField {
         let range = mesh
             .scalar_range()
             .ok_or_else(|| Error::Invalid("the mesh has no scalar array to render".into()))?;
+        Ok(ScalarField::from_values(mesh, association, scalars, range))
+    }
+
+    /// The field of `mesh`'s drawn vector component in a copy whose vectors are the mesh's
+    /// turned by the rotation `turn`, as the Angular Periodic Filter rotates vectors: `None` where turning
+    /// changes nothing drawn (a one-component array, a vector's magnitude). Tensors' components
+    /// are refused, and so is a turned value that is not finite (a non-finite value in another
+    /// component of the vector).
+    pub(crate) fn turned(mesh: &Mesh, turn: DMat3) -> Result<Option<ScalarField>, Error> {
+        Ok(turned_values(mesh, turn)?.map(|(association, scalars)| {
+            let range = range_of(&scalars);
+            ScalarField::from_values(mesh, association, scalars, range)
+        }))
+    }
+
+    /// The field of `scalars` over `mesh` with the range `range`.
+    fn from_values(
+        mesh: &Mesh,
+        association: Association,
+        scalars: Vec<f64>,
+        range: [f64; 2],
+    ) -> ScalarField {
         let cell_ranges = match association {
             Association::Point => mesh
                 .cells()
@@ -81,13 +103,13 @@ impl ScalarField {
         };
         let b = mesh.bounds();
         let bounds = Aabb::new(DVec3::new(b[0], b[2], b[4]), DVec3::new(b[1], b[3], b[5]));
-        Ok(ScalarField {
+        ScalarField {
             association,
             scalars,
             cell_ranges,
             range,
             bounds,
-        })
+        }
     }
 
     /// `[min, max]` of the scalar.
@@ -103,6 +125,65 @@ impl ScalarField {
         };
         self.cell_ranges.len() == mesh.cell_count() && self.scalars.len() == values
     }
+}
+
+/// The drawn vector component of `mesh` in a copy whose vectors are turned by the rotation `turn`, with
+/// its association ([`ScalarField::turned`]).
+fn turned_values(mesh: &Mesh, turn: DMat3) -> Result<Option<(Association, Vec<f64>)>, Error> {
+    let (Some(active), Some(array)) = (mesh.active_scalar(), mesh.active_array()) else {
+        return Ok(None);
+    };
+    let Component::Index(c) = active.component else {
+        return Ok(None);
+    };
+    match array.components {
+        1 => return Ok(None),
+        3 => {}
+        n => {
+            return Err(Error::Invalid(format!(
+                "component {c} of the {n}-component array '{}' cannot be drawn in periodic \
+                 copies (only a vector's components are turned with the copies): draw its \
+                 magnitude, or draw the sector alone",
+                array.name
+            )))
+        }
+    }
+    let scalars: Vec<f64> = array
+        .values
+        .par_chunks_exact(3)
+        .map(|v| (turn * DVec3::from_slice(v))[c])
+        .collect();
+    if let Some(i) = scalars.iter().position(|v| !v.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "{} array '{}' turned into a periodic copy has a non-finite component {c} at tuple \
+             {i} (another of its components is not finite there)",
+            active.association, array.name
+        )));
+    }
+    Ok(Some((active.association, scalars)))
+}
+
+/// `[min, max]` of `values` (all finite).
+fn range_of(values: &[f64]) -> [f64; 2] {
+    values
+        .iter()
+        .fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], &v| {
+            [lo.min(v), hi.max(v)]
+        })
+}
+
+/// `[min, max]` of `mesh`'s drawn vector component over copies whose vectors are turned by
+/// each of the rotations `turns` (`None` where turning changes nothing drawn).
+pub(crate) fn turned_range(mesh: &Mesh, turns: &[DMat3]) -> Result<Option<[f64; 2]>, Error> {
+    let mut range: Option<[f64; 2]> = None;
+    for &turn in turns {
+        let Some((_, values)) = turned_values(mesh, turn)? else {
+            return Ok(None);
+        };
+        let [lo, hi] = range_of(&values);
+        range = Some(range.map_or([lo, hi], |[a, b]| [a.min(lo), b.max(hi)]));
+    }
+    Ok(range)
 }
 
 /// A mesh with its structure and active scalar ([`ScalarField`]), ready to render.
@@ -157,6 +238,16 @@ impl<'a> Volume<'a> {
             accel,
             field: Cow::Borrowed(field),
         })
+    }
+
+    /// This volume with its drawn vector component as it reads in a copy whose vectors are
+    /// turned by the rotation `turn` ([`ScalarField::turned`]; `None` where that changes nothing).
+    pub(crate) fn turned(&self, turn: DMat3) -> Result<Option<Volume<'a>>, Error> {
+        Ok(ScalarField::turned(self.mesh, turn)?.map(|field| Volume {
+            mesh: self.mesh,
+            accel: self.accel,
+            field: Cow::Owned(field),
+        }))
     }
 
     /// The mesh.

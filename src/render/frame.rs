@@ -38,6 +38,9 @@ pub(crate) struct Frame<'a> {
     pub(crate) ranges: Option<&'a NodeRanges>,
     /// What an error-bounded render's integration reads (`None` for the others).
     pub(crate) bounded: Option<Bounded<'a>>,
+    /// Each cell's scalar range over everything drawn (the volume's, or over every periodic
+    /// copy where what it draws turns with them).
+    pub(crate) cell_ranges: &'a [[f64; 2]],
 }
 
 impl Frame<'_> {

@@ -13,7 +13,7 @@
 //! that land on each other are joined in its topology
 //! ([`super::Topology::with_periodic_sides`]), so no boundary is met there.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use crate::axis::periodic::Periodicity;
 use crate::error::show_number;
@@ -112,10 +112,34 @@ impl Copies {
 
     /// The direction `d` in copy `copy`, turned back into the sector.
     pub(crate) fn dir_in_sector(&self, copy: u32, d: DVec3) -> DVec3 {
+        self.turn_dir(d, -self.angle(copy))
+    }
+
+    /// The sector's vector `v` as it points in copy `copy` (turned with the copy).
+    pub(crate) fn dir_in_copy(&self, copy: u32, v: DVec3) -> DVec3 {
+        self.turn_dir(v, self.angle(copy))
+    }
+
+    /// The rotation that turns the sector's vectors into copy `copy`'s.
+    pub(crate) fn turn_of(&self, copy: u32) -> DMat3 {
+        let turn = |v| self.dir_in_copy(copy, v);
+        DMat3::from_cols(turn(DVec3::X), turn(DVec3::Y), turn(DVec3::Z))
+    }
+
+    /// `d` turned by `angle` about the axis.
+    fn turn_dir(&self, d: DVec3, angle: f64) -> DVec3 {
         let f = &self.frame;
-        let (s, c) = (-self.angle(copy)).sin_cos();
+        let (s, c) = angle.sin_cos();
         let (x, y) = (d.dot(f.e1), d.dot(f.e2));
         f.e1 * (x * c - y * s) + f.e2 * (x * s + y * c) + f.axis * d.dot(f.axis)
+    }
+
+    /// `[min, max]` of what `volume` draws over these copies: its own range, or where it draws
+    /// a vector's component, which turns with the copies, the range over the copies drawn
+    /// (the range a transfer function for the wheel spans).
+    pub fn scalar_range(&self, volume: &super::Volume) -> Result<[f64; 2], Error> {
+        let turns: Vec<DMat3> = (self.first..self.end).map(|k| self.turn_of(k)).collect();
+        Ok(super::field::turned_range(volume.mesh(), &turns)?.unwrap_or(volume.scalar_range()))
     }
 
     /// The copy whose wedge holds the angle `theta`.

@@ -119,6 +119,13 @@ pub struct Renderer<'a> {
     /// The periodic copies of the sector to draw instead of the sector alone, with the box
     /// their rays are clipped to.
     copies: Option<(Copies, Aabb)>,
+    /// The volume as it reads in each copy drawn (from the first), where what it draws is a
+    /// vector's component that turns with the copies; empty otherwise.
+    turned: Vec<Volume<'a>>,
+    /// Each cell's scalar range over every copy drawn, where they differ (see `turned`).
+    wheel_ranges: Option<Vec<[f64; 2]>>,
+    /// The transfer function, sampled again over the copies' range where it differs.
+    transfer: TransferFunction,
     /// The cells the table makes wholly transparent, for the fast path; made before a render's
     /// rays are cast (or on a single ray's first use).
     transparent: OnceLock<TransparentCells>,
@@ -189,6 +196,9 @@ impl<'a> Renderer<'a> {
             surface: None,
             clip_box,
             copies: None,
+            turned: Vec::new(),
+            wheel_ranges: None,
+            transfer: transfer.clone(),
             transparent: OnceLock::new(),
             visible: OnceLock::new(),
             ranges: OnceLock::new(),
@@ -220,10 +230,44 @@ impl<'a> Renderer<'a> {
     /// piece turned back into the sector (see [`super::periodic`]). Give it the topology of
     /// the wheel ([`Topology::with_periodic_sides`]) on the fast path, so that no boundary is
     /// met where the copies meet.
-    pub fn with_copies(mut self, copies: Copies) -> Renderer<'a> {
+    ///
+    /// Where the volume draws a component of a vector array, each copy draws the component
+    /// of the vector turned with it (as the Angular Periodic Filter rotates vectors): the
+    /// renderer holds that component per copy drawn (8 bytes a point or cell value and 16 a
+    /// cell's range, per copy), and samples the transfer function over the copies' range
+    /// ([`Copies::scalar_range`]). Scalars and magnitudes are the sector's in every copy. An
+    /// error for a tensor's component, or a turned value that is not finite.
+    pub fn with_copies(mut self, copies: Copies) -> Result<Renderer<'a>, Error> {
         let wheel = clip_box(copies.wheel_box());
+        let (first, end) = copies.range();
+        let mut turned = Vec::new();
+        for copy in first..end {
+            match self.volume.turned(copies.turn_of(copy))? {
+                Some(volume) => turned.push(volume),
+                None => break,
+            }
+        }
+        if !turned.is_empty() {
+            let ranges = wheel_cell_ranges(&turned);
+            let [lo, hi] = copies.scalar_range(self.volume)?;
+            let o = &self.options;
+            self.table = self.transfer.table(lo, hi, o.step, o.table_size)?;
+            self.wheel_ranges = Some(ranges);
+            self.transparent = OnceLock::new();
+            self.visible = OnceLock::new();
+            self.ranges = OnceLock::new();
+        }
+        self.turned = turned;
         self.copies = Some((copies, wheel));
-        self
+        Ok(self)
+    }
+
+    /// Every cell's `[min, max]` of the scalar over what the renderer draws: the volume's, or
+    /// over every copy drawn where they differ.
+    fn cell_ranges(&self) -> &[[f64; 2]] {
+        self.wheel_ranges
+            .as_deref()
+            .unwrap_or_else(|| self.volume.cell_ranges())
     }
 
     /// What this renderer derived before its rays (`None` if it made nothing yet), for a later
@@ -281,9 +325,8 @@ impl<'a> Renderer<'a> {
     /// The cells the transfer table makes wholly transparent (made on first use, on the
     /// calling thread; [`Renderer::render_rays`] makes it in parallel before casting).
     fn transparent_cells(&self) -> &TransparentCells {
-        self.transparent.get_or_init(|| {
-            TransparentCells::new_sequential(self.volume.cell_ranges(), &self.table)
-        })
+        self.transparent
+            .get_or_init(|| TransparentCells::new_sequential(self.cell_ranges(), &self.table))
     }
 
     /// Where the structure holds a cell the table does not make wholly transparent: made on
@@ -308,7 +351,8 @@ impl<'a> Renderer<'a> {
     }
 
     fn make_node_ranges(&self, parallel: bool) -> Option<NodeRanges> {
-        let range = |c: u32| self.volume.cell_range(c);
+        let ranges = self.cell_ranges();
+        let range = |c: u32| ranges[c as usize];
         self.volume.accel().node_ranges(range, parallel)
     }
 
@@ -377,6 +421,7 @@ impl<'a> Renderer<'a> {
             } else {
                 None
             },
+            cell_ranges: self.cell_ranges(),
             bounded: self.extinction.as_ref().and_then(|table| {
                 Some(Bounded {
                     table,
@@ -460,7 +505,14 @@ impl<'a> Renderer<'a> {
             let Some(sub) = self.piece_ray(copies, ray, piece, stats) else {
                 continue;
             };
-            let (a, stopped) = cast_into::<L, _>(frame, &sub, hint, acc, stats);
+            // A copy whose vectors turn reads its own component (its transparent cells are
+            // among the frame's, made from every copy's ranges).
+            let turned = self.turned.get((piece.copy - copies.range().0) as usize);
+            let copy_frame = Frame {
+                volume: turned.unwrap_or(frame.volume),
+                ..*frame
+            };
+            let (a, stopped) = cast_into::<L, _>(&copy_frame, &sub, hint, acc, stats);
             acc = a;
             if stopped {
                 break;
@@ -588,7 +640,7 @@ impl<'a> Renderer<'a> {
                 let _ = self.ranges.set(self.make_node_ranges(true));
             }
             if self.transparent.get().is_none() {
-                let mask = TransparentCells::new(self.volume.cell_ranges(), &self.table);
+                let mask = TransparentCells::new(self.cell_ranges(), &self.table);
                 let _ = self.transparent.set(mask);
             }
             if self.visible.get().is_none() {
@@ -785,4 +837,15 @@ impl<R: RaySource + ?Sized> Tiles<'_, R> {
         }
         (image, stats)
     }
+}
+
+/// Every cell's `[min, max]` of the scalar over the volumes of `copies`.
+fn wheel_cell_ranges(copies: &[Volume]) -> Vec<[f64; 2]> {
+    let first = copies[0].cell_ranges().to_vec();
+    copies[1..].iter().fold(first, |mut all, v| {
+        for (a, b) in all.iter_mut().zip(v.cell_ranges()) {
+            *a = [a[0].min(b[0]), a[1].max(b[1])];
+        }
+        all
+    })
 }

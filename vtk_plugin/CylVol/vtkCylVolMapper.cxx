@@ -415,6 +415,12 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->AxisDirection[0] = this->AxisDirection[1] = 0.0;
   this->AxisDirection[2] = 1.0;
   this->BuildPreset = 0;
+  this->PeriodicCopies = 0;
+  this->CopyRange[0] = this->CopyRange[1] = 0;
+  this->BuiltPeriodicCopies = 0;
+  this->BuiltCopyRange[0] = this->BuiltCopyRange[1] = 0;
+  this->BuiltPeriodicSpan = 0.0;
+  this->BuiltPeriodicMismatch = 0.0;
   this->EarlyTermination = 0.99;
   this->SampleDistance = 0.0;
   this->RelativeSampleDistance = 1.0;
@@ -537,6 +543,27 @@ void vtkCylVolMapper::SetBuildPreset(int preset)
   }
 }
 
+void vtkCylVolMapper::SetPeriodicCopies(int copies)
+{
+  if (copies != this->PeriodicCopies)
+  {
+    this->PeriodicCopies = copies;
+    this->Internals->SettingsTime.Modified();
+    this->Modified();
+  }
+}
+
+void vtkCylVolMapper::SetCopyRange(int first, int end)
+{
+  if (first != this->CopyRange[0] || end != this->CopyRange[1])
+  {
+    this->CopyRange[0] = first;
+    this->CopyRange[1] = end;
+    this->Internals->SettingsTime.Modified();
+    this->Modified();
+  }
+}
+
 void vtkCylVolMapper::SetScalarComponent(int component)
 {
   if (component != this->ScalarComponent)
@@ -630,8 +657,7 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     return;
   }
   frame.Property = vol->GetProperty();
-  if (!this->SelectInput(frame) || !this->SelectScalars(frame) || !this->CheckCellTypes(frame) ||
-    !this->UpdateVolume(frame) || !this->MakeTransferTables(frame))
+  if (!this->PrepareVolume(frame) || !this->MakeTransferTables(frame))
   {
     return;
   }
@@ -644,6 +670,35 @@ void vtkCylVolMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     return;
   }
   this->Display(frame, ren, vol);
+}
+
+//------------------------------------------------------------------------------
+bool vtkCylVolMapper::PrepareVolume(Frame& frame)
+{
+  return this->SelectInput(frame) && this->SelectScalars(frame) && this->CheckCellTypes(frame) &&
+    this->UpdateVolume(frame);
+}
+
+//------------------------------------------------------------------------------
+double* vtkCylVolMapper::GetBounds()
+{
+  double* bounds = this->Superclass::GetBounds();
+  if (this->PeriodicCopies == 0)
+  {
+    return bounds;
+  }
+  // The bounds are asked for before any render (a camera reset): the volume property's
+  // defaults choose the component here, as they would have the volume's.
+  vtkNew<vtkVolumeProperty> defaults;
+  Frame frame;
+  frame.Property = defaults;
+  CylvolBuildStats bs;
+  if (this->PrepareVolume(frame) &&
+    cylvol_volume_build_stats(this->Internals->Volume, &bs) == CYLVOL_STATUS_OK)
+  {
+    std::copy(bs.bounds, bs.bounds + 6, this->Bounds);
+  }
+  return this->Bounds;
 }
 
 //------------------------------------------------------------------------------
@@ -860,6 +915,9 @@ bool vtkCylVolMapper::BuildVolume(Frame& frame)
     params.axis_direction[k] = this->AxisDirection[k];
   }
   params.preset = this->BuildPreset;
+  params.periodic = this->PeriodicCopies;
+  params.copies_first = this->CopyRange[0];
+  params.copies_end = this->CopyRange[1];
   CylvolVolume* volume = nullptr;
   status = cylvol_volume_new(mesh, &params, &volume);
   cylvol_mesh_free(mesh);
@@ -904,6 +962,11 @@ void vtkCylVolMapper::RecordBuildStatistics()
     this->BuiltAxisOrigin[k] = bs.axis_origin[k];
     this->BuiltAxisDirection[k] = bs.axis_direction[k];
   }
+  this->BuiltPeriodicCopies = bs.periodic_copies;
+  this->BuiltCopyRange[0] = bs.copies_first;
+  this->BuiltCopyRange[1] = bs.copies_end;
+  this->BuiltPeriodicSpan = bs.periodic_span_degrees;
+  this->BuiltPeriodicMismatch = bs.periodic_worst_mismatch;
 }
 
 //------------------------------------------------------------------------------
@@ -938,6 +1001,16 @@ bool vtkCylVolMapper::MakeTransferTables(Frame& frame)
   vtkVolumeProperty* property = frame.Property;
   double range[2];
   frame.Scalars->GetRange(range, frame.Component);
+  if (this->BuiltPeriodicCopies > 0)
+  {
+    // A vector's component turns with each copy: the tables span its range over them all.
+    double drawn[2];
+    if (cylvol_volume_scalar_range(this->Internals->Volume, drawn) == CYLVOL_STATUS_OK)
+    {
+      range[0] = drawn[0];
+      range[1] = drawn[1];
+    }
+  }
   if (!(range[1] > range[0]))
   {
     const double pad = std::max(1e-6, std::abs(range[0]) * 1e-6);
@@ -1390,6 +1463,8 @@ void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AxisDirection: " << this->AxisDirection[0] << " " << this->AxisDirection[1]
      << " " << this->AxisDirection[2] << "\n";
   os << indent << "BuildPreset: " << this->BuildPreset << "\n";
+  os << indent << "PeriodicCopies: " << this->PeriodicCopies << "\n";
+  os << indent << "CopyRange: " << this->CopyRange[0] << " " << this->CopyRange[1] << "\n";
   os << indent << "EarlyTermination: " << this->EarlyTermination << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "RelativeSampleDistance: " << this->RelativeSampleDistance << "\n";

@@ -131,6 +131,36 @@ public:
 
   ///@{
   /**
+   * Periodic copies: the input is one rotationally periodic sector of a machine (a blade
+   * passage), and the whole wheel is drawn from it without copying the mesh. 0 (the default)
+   * draws the input as it is; PERIODIC_AUTO (-1) finds whether the input is such a sector
+   * about the machine axis and how many copies close the wheel (nothing is drawn, with an
+   * error saying why, where it is not); N >= 1 draws N copies, each the sector turned by
+   * 360/N degrees. A vector's component turns with its copy, as vtkAngularPeriodicFilter
+   * turns vectors; scalars and magnitudes are the sector's. SetCopyRange(first, end) draws
+   * copies first to end - 1 only (0, 0: all of them). GetBounds() gives the wheel's box.
+   * Changing these rebuilds the structure at the next render.
+   */
+  enum
+  {
+    PERIODIC_AUTO = -1
+  };
+  virtual void SetPeriodicCopies(int copies);
+  vtkGetMacro(PeriodicCopies, int);
+  void SetPeriodicCopiesToAuto() { this->SetPeriodicCopies(PERIODIC_AUTO); }
+  virtual void SetCopyRange(int first, int end);
+  vtkGetVector2Macro(CopyRange, int);
+  ///@}
+
+  /**
+   * The box of what is drawn: the input's, or with periodic copies the cylinder about the
+   * machine axis that holds the copies drawn (the structure is built here if it is not yet).
+   */
+  double* GetBounds() override;
+  void GetBounds(double bounds[6]) override { this->Superclass::GetBounds(bounds); }
+
+  ///@{
+  /**
    * Rays stop once their accumulated opacity reaches this value (default 0.99; 1 disables
    * early ray termination).
    */
@@ -282,6 +312,18 @@ public:
   vtkGetMacro(LastSampleDistance, double);
   ///@}
 
+  ///@{
+  /**
+   * The periodic copies of the last build: how many close the wheel (0 where none are
+   * drawn), the copies drawn (first, end), the sector's span in degrees, and the worst
+   * mismatch of its sides (a fraction of the cell edge there).
+   */
+  vtkGetMacro(BuiltPeriodicCopies, int);
+  vtkGetVector2Macro(BuiltCopyRange, int);
+  vtkGetMacro(BuiltPeriodicSpan, double);
+  vtkGetMacro(BuiltPeriodicMismatch, double);
+  ///@}
+
   /**
    * How many cells of the given VTK cell type (VTK_HEXAHEDRON, VTK_TETRA, ...) the structure
    * was last built over: the cells handed to cylvol, as they were given (0 before any build).
@@ -318,6 +360,8 @@ protected:
   double AxisOrigin[3];
   double AxisDirection[3];
   int BuildPreset;
+  int PeriodicCopies;
+  int CopyRange[2];
   double EarlyTermination;
   double SampleDistance;
   double RelativeSampleDistance;
@@ -356,6 +400,10 @@ protected:
   double BuiltAxisOrigin[3];
   double BuiltAxisDirection[3];
   double LastSampleDistance;
+  int BuiltPeriodicCopies;
+  int BuiltCopyRange[2];
+  double BuiltPeriodicSpan;
+  double BuiltPeriodicMismatch;
 
   vtkRayCastImageDisplayHelper* ImageDisplayHelper;
   vtkTimerLog* Timer;
@@ -372,6 +420,7 @@ private:
   bool SelectScalars(Frame& frame);      // the scalar array and component drawn
   bool CheckCellTypes(Frame& frame);
   bool UpdateVolume(Frame& frame);       // build, or hand over new scalars, or keep
+  bool PrepareVolume(Frame& frame);      // the input, scalars and cell types, then UpdateVolume
   bool BuildVolume(Frame& frame);
   void RecordBuildStatistics();
   bool ReplaceScalars(Frame& frame);

@@ -75,18 +75,12 @@ pub fn build_grid(
         .len()
         .min(pieces.cells.len())
         .min(u32::MAX as usize);
-    let valid = |b: &Aabb| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
-    let (domain, count, extents, weights) = pieces.bounds[..n]
-        .par_iter()
-        .filter(|b| valid(b))
-        .map(|b| {
-            let w = volume_weight(b, cylindrical);
-            (*b, 1usize, b.extent() * w, w)
-        })
-        .reduce(
-            || (Aabb::EMPTY, 0, DVec3::ZERO, 0.0),
-            |a, b| (a.0.union(&b.0), a.1 + b.1, a.2 + b.2, a.3 + b.3),
-        );
+    let Totals {
+        domain,
+        count,
+        extents,
+        weights,
+    } = totals(&pieces.bounds[..n], cylindrical);
     let piece_extent = extents / weights;
 
     let mut top_density = params.top_density;
@@ -112,6 +106,64 @@ pub fn build_grid(
             Err(_) => top_density /= 4.0,
         }
     }
+}
+
+/// What the build needs of all valid pieces together.
+#[derive(Clone, Copy)]
+struct Totals {
+    /// The union of their boxes.
+    domain: Aabb,
+    /// How many there are.
+    count: usize,
+    /// The sum of their extents, each times its [`volume_weight`].
+    extents: DVec3,
+    /// The sum of their weights.
+    weights: f64,
+}
+
+impl Totals {
+    const NONE: Totals = Totals {
+        domain: Aabb::EMPTY,
+        count: 0,
+        extents: DVec3::ZERO,
+        weights: 0.0,
+    };
+
+    fn add(self, other: Totals) -> Totals {
+        Totals {
+            domain: self.domain.union(&other.domain),
+            count: self.count + other.count,
+            extents: self.extents + other.extents,
+            weights: self.weights + other.weights,
+        }
+    }
+}
+
+/// The [`Totals`] of the valid boxes among `bounds`, the same bits whatever the threads: the
+/// boxes are summed in chunks of a fixed size in parallel, each chunk in order, and the
+/// chunks' sums in order (a parallel reduction would round differently as the work is split,
+/// and the grid's resolution, a floor of these sums, could change from one run to the next).
+fn totals(bounds: &[Aabb], cylindrical: bool) -> Totals {
+    let valid = |b: &Aabb| !b.is_empty() && b.min.is_finite() && b.max.is_finite();
+    bounds
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            chunk
+                .iter()
+                .filter(|b| valid(b))
+                .fold(Totals::NONE, |sum, b| {
+                    let w = volume_weight(b, cylindrical);
+                    sum.add(Totals {
+                        domain: *b,
+                        count: 1,
+                        extents: b.extent() * w,
+                        weights: w,
+                    })
+                })
+        })
+        .collect::<Vec<Totals>>()
+        .into_iter()
+        .fold(Totals::NONE, Totals::add)
 }
 
 /// The weight of a piece in its region's mean extent: the share of the region's volume its

@@ -47,9 +47,10 @@ impl Accumulate for Extreme<'_> {
     #[inline]
     fn adds_nothing(&self, cell: u32) -> bool {
         self.passes
-            && !self
-                .blend
-                .may_replace_in(self.frame.volume.cell_range(cell), self.best.map(|e| e.0))
+            && !self.blend.may_replace_in(
+                self.frame.cell_ranges[cell as usize],
+                self.best.map(|e| e.0),
+            )
     }
 
     fn chord_adds_nothing(&self, _cell: u32) -> bool {

@@ -633,6 +633,45 @@ GUI_EVENTS = """<?xml version="1.0" ?>
 """
 
 
+def case_periodic(args, pv, work):
+    """The mixer's 90-degree sector drawn as its wheel: four copies found, the view framed on
+    the wheel, three of them; over two MPI ranks the sector is drawn, with the error."""
+    base = os.path.join(work, "periodic")
+    scenes = [{"out": base + "-sector", "dataset": "mixer"},
+              {"out": base + "-wheel", "dataset": "mixer", "periodic": -1},
+              {"out": base + "-three", "dataset": "mixer", "periodic": 4, "copy_range": [0, 3]}]
+    text = pv.pvbatch(scenes, "periodic")
+    check(not errors_in(text), "ParaView reports no error (%s)" % errors_in(text)[:3])
+    sector, wheel, three = (load_rgb(base + s + ".png") for s in ("-sector", "-wheel", "-three"))
+    copies = figures(base + "-wheel")["figures"]["BuiltPeriodicCopies"]
+    copies3 = figures(base + "-three")["figures"]["BuiltPeriodicCopies"]
+    print("  built copies: %s and %s; lit pixels: sector %d, wheel %d, three copies %d"
+          % (copies, copies3, lit(sector), lit(wheel), lit(three)))
+    check(copies == [4, 0, 4] and copies3 == [4, 0, 3], "four copies found, three drawn")
+    check(figures(base + "-sector")["figures"]["BuiltPeriodicCopies"] == [0, 0, 0],
+          "no copies unless asked for")
+    # The view framed on the wheel (about the z axis), not on the sector (off it).
+    focal = [figures(base + s)["camera"]["focal_point"] for s in ("-sector", "-wheel", "-three")]
+    off_axis = [math.hypot(f[0], f[1]) for f in focal]
+    print("  the camera's focal point from the axis: sector %.4f, wheel %.4f, three %.4f"
+          % tuple(off_axis))
+    check(off_axis[1] < 1e-3 and off_axis[2] < 1e-3 and off_axis[0] > 0.02,
+          "the view is framed on the wheel")
+    # The wheel's image reaches all four quadrants of the view.
+    size = int(round(len(wheel) ** 0.5))
+    quadrants = [0, 0, 0, 0]
+    for k, p in enumerate(wheel):
+        if max(p) > 10:
+            quadrants[2 * ((k // size) >= size // 2) + ((k % size) >= size // 2)] += 1
+    check(min(quadrants) > len(wheel) // 50, "the wheel fills the view (%s)" % quadrants)
+    out = os.path.join(work, "periodic-mpi")
+    scene = dict({"out": out, "dataset": "mixer", "periodic": -1},
+                 **whole_dataset_figures(mixer_grid(args.data), "p"))
+    text = pv.pvbatch([scene], "periodic-mpi", ranks=2)
+    check("Periodic copies are drawn in one process only" in text,
+          "over two ranks the error says why the copies are not drawn")
+
+
 def case_bad_input(args, pv, work):
     write_bad_meshes(work)
     scenes = [{"out": os.path.join(work, name), "dataset": name}
@@ -656,6 +695,7 @@ CASES = {
     "comb": lambda a, p, w: case_compare(a, p, w, "comb"),
     "blocks": lambda a, p, w: case_compare(a, p, w, "blocks"),
     "mpi": case_mpi,
+    "periodic": case_periodic,
     "slab": case_slab,
     "empty-rank": case_empty_rank,
     "server": case_server,

@@ -39,7 +39,7 @@ COLORS = [(0.0, (0.1, 0.2, 0.9)), (0.35, (0.1, 0.8, 0.8)), (0.7, (0.95, 0.85, 0.
 OPACITIES = [0.0, 0.1, 0.5, 1.0]
 SIZE = 200
 FIGURES = ["BuiltStructure", "BuiltAxis", "CellTypeCounts", "PieceBox", "RenderStatistics",
-           "WholeDataset"]
+           "WholeDataset", "BuiltPeriodicCopies"]
 
 
 def parse():
@@ -134,6 +134,9 @@ def render(scene, args):
         display.SetRepresentationType(representation)
         if scene.get("mapper"):
             display.SelectMapper = scene["mapper"]
+        if "periodic" in scene:
+            display.CylVolPeriodicCopies = scene["periodic"]
+            display.CylVolCopyRange = scene.get("copy_range", [0, 0])
         if "range" in scene:
             # Under MPI with --symmetric each rank's data information is its own piece's:
             # the driver gives the whole dataset's figures.

@@ -30,6 +30,7 @@
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 vtkStandardNewMacro(vtkCylVolRepresentation);
@@ -40,6 +41,41 @@ vtkMultiProcessController* Ranks()
 {
   vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
   return controller && controller->GetNumberOfProcesses() > 1 ? controller : nullptr;
+}
+
+// The box of the cylinder about the axis (origin, direction) that holds every copy of the
+// grid's points turned about it: the wheel a periodic sector makes.
+void WheelBounds(vtkDataSet* grid, const double origin[3], const double direction[3],
+  double bounds[6])
+{
+  double axis[3] = { direction[0], direction[1], direction[2] };
+  const double length = vtkMath::Normalize(axis);
+  if (!(length > 0.0))
+  {
+    return;
+  }
+  double radius = 0.0, h0 = VTK_DOUBLE_MAX, h1 = -VTK_DOUBLE_MAX;
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    grid->GetPoint(i, p);
+    double d[3] = { p[0] - origin[0], p[1] - origin[1], p[2] - origin[2] };
+    const double h = vtkMath::Dot(d, axis);
+    for (int k = 0; k < 3; ++k)
+    {
+      d[k] -= h * axis[k];
+    }
+    radius = std::max(radius, vtkMath::Norm(d));
+    h0 = std::min(h0, h);
+    h1 = std::max(h1, h);
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    const double a = origin[k] + h0 * axis[k], b = origin[k] + h1 * axis[k];
+    const double half = radius * std::sqrt(std::max(0.0, 1.0 - axis[k] * axis[k]));
+    bounds[2 * k] = std::min(a, b) - half;
+    bounds[2 * k + 1] = std::max(a, b) + half;
+  }
 }
 
 // The sums over all ranks of `values` (this process's alone without MPI).
@@ -116,6 +152,7 @@ public:
   double CellTypeCounts[5] = { 0.0, 0.0, 0.0, 0.0, 0.0 };
   double RenderStatistics[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
   double WholeDataset[4] = { 0.0, 0.0, 0.0, 0.0 };
+  int BuiltPeriodicCopies[3] = { 0, 0, 0 };
 };
 
 //------------------------------------------------------------------------------
@@ -165,6 +202,22 @@ int vtkCylVolRepresentation::RequestData(
   {
     in.VolumeCells->GetBounds(this->DataBounds);
     this->DataSize = in.VolumeCells->GetActualMemorySize();
+  }
+  if (this->PeriodicCopies != 0)
+  {
+    vtkMultiProcessController* ranks = Ranks();
+    if (ranks && ranks->GetLocalProcessId() == 0)
+    {
+      vtkErrorMacro(<< "Periodic copies are drawn in one process only (a builtin session, "
+                       "pvpython, pvbatch or one pvserver rank); over "
+                    << ranks->GetNumberOfProcesses()
+                    << " ranks each rank's box holds its part of the sector, not of the wheel: "
+                       "the sector is drawn as it is.");
+    }
+    else if (!ranks && in.Choice.Valid && in.VolumeCells->GetNumberOfCells() > 0)
+    {
+      WheelBounds(in.VolumeCells, in.Choice.AxisOrigin, in.Choice.AxisDirection, this->DataBounds);
+    }
   }
   return this->Superclass::RequestData(request, inputVector, outputVector);
 }
@@ -399,6 +452,8 @@ void vtkCylVolRepresentation::UpdateMapperParameters()
   mapper->SetSampleDistance(this->SampleDistance > 0.0 ? this->SampleDistance
       : choice.Valid                                    ? choice.DefaultStep
                                                         : 0.0);
+  mapper->SetPeriodicCopies(Ranks() ? 0 : this->PeriodicCopies);
+  mapper->SetCopyRange(this->CopyRange[0], this->CopyRange[1]);
   mapper->SetEarlyTermination(in.EarlyTermination);
   mapper->SetImageSampleDistance(static_cast<float>(in.ImageSampleDistance));
 
@@ -490,6 +545,21 @@ void vtkCylVolRepresentation::SetSampleDistance(double distance)
   this->SampleDistance = distance;
 }
 
+void vtkCylVolRepresentation::SetPeriodicCopies(int copies)
+{
+  if (copies != this->PeriodicCopies)
+  {
+    this->PeriodicCopies = copies;
+    this->MarkModified(); // the view's bounds are the wheel's
+  }
+}
+
+void vtkCylVolRepresentation::SetCopyRange(int first, int end)
+{
+  this->CopyRange[0] = first;
+  this->CopyRange[1] = end;
+}
+
 void vtkCylVolRepresentation::SetEarlyTermination(double value)
 {
   this->Internals->EarlyTermination = value;
@@ -529,6 +599,14 @@ void vtkCylVolRepresentation::SetSpecularPower(double value)
 int vtkCylVolRepresentation::GetBuiltStructure()
 {
   return this->Mapper->GetBuiltStructure();
+}
+
+int* vtkCylVolRepresentation::GetBuiltPeriodicCopies()
+{
+  int* copies = this->Internals->BuiltPeriodicCopies;
+  copies[0] = this->Mapper->GetBuiltPeriodicCopies();
+  this->Mapper->GetBuiltCopyRange(copies + 1);
+  return copies;
 }
 
 double* vtkCylVolRepresentation::GetBuiltAxis()

@@ -68,6 +68,21 @@ public:
 
   ///@{
   /**
+   * Periodic copies (vtkCylVolMapper's PeriodicCopies and CopyRange): 0 draws the input as it
+   * is, -1 finds how many copies of the sector close the wheel, N draws N copies; CopyRange
+   * (first, end) draws some of them (0 0: all). The view's bounds are the wheel's. Drawn in
+   * one process only (a builtin session, pvpython, pvbatch or one pvserver rank): under MPI
+   * each rank's box holds its part of the sector, not of the wheel, so the sector is drawn
+   * as it is, with an error saying so.
+   */
+  void SetPeriodicCopies(int copies);
+  vtkGetMacro(PeriodicCopies, int);
+  void SetCopyRange(int first, int end);
+  vtkGetVector2Macro(CopyRange, int);
+  ///@}
+
+  ///@{
+  /**
    * Lighting, forwarded to the volume property.
    */
   void SetShade(int value);
@@ -103,6 +118,12 @@ public:
   ///@}
 
   /**
+   * The periodic copies of the last build: how many close the wheel (0 where none are
+   * drawn), then the first and one past the last copy drawn.
+   */
+  int* GetBuiltPeriodicCopies() VTK_SIZEHINT(3);
+
+  /**
    * The mapper that draws the volume.
    */
   vtkCylVolMapper* GetCylVolMapper();
@@ -122,6 +143,8 @@ protected:
   double AxisOrigin[3] = { 0.0, 0.0, 0.0 };
   double AxisDirection[3] = { 0.0, 0.0, 1.0 };
   double SampleDistance = 0.0;
+  int PeriodicCopies = 0;
+  int CopyRange[2] = { 0, 0 };
 
 private:
   vtkCylVolRepresentation(const vtkCylVolRepresentation&) = delete;
