@@ -89,6 +89,23 @@ fn bench_and_stats_say_the_copies_and_the_structures_do_not_grow() {
     ]);
     let p = &bench[0]["periodic"];
     assert_eq!((p["first"].as_u64(), p["end"].as_u64()), (Some(1), Some(3)));
+    // The accuracy of the wheel drawn from the sector, against its own converged reference.
+    let (accuracy, _) = json_of(&[
+        "accuracy",
+        mixer,
+        "--json",
+        "--size",
+        "24",
+        "--periodic",
+        "auto",
+        "--max-error",
+        "2",
+        "--repeats",
+        "1",
+    ]);
+    assert_eq!(accuracy["periodic"]["copies"].as_u64(), Some(4));
+    let run = &accuracy["settings"][0];
+    assert!(run["error"]["max"].as_f64().unwrap() <= 2.0, "{run}");
 }
 
 #[test]

@@ -247,7 +247,7 @@ fn load(file: &str) -> Mesh {
 }
 
 #[test]
-fn the_default_setting_is_at_least_as_accurate_as_vtk() {
+fn the_default_step_and_setting_2_are_at_least_as_accurate_as_vtk() {
     if !vtk_available() {
         eprintln!("note: VTK's Python (/usr/bin/python3) unavailable, not compared with VTK");
         return;

@@ -299,18 +299,18 @@ fn price_of_accuracy(
         .find(|a| a.kind() == StructureKind::CylBvh)
         .ok_or_else(|| Error::Invalid("demo: the cylindrical BVH is missing".into()))?;
     let neighbours = super::scene::neighbours(mesh, cyl_bvh);
-    let accuracy = super::accuracy::study(
+    let of = super::accuracy::SceneOf {
         mesh,
-        cyl_bvh,
-        &neighbours,
-        DEMO_DATASET.name(),
-        DEMO_ACCURACY_IMAGE,
-        Some(DEMO_VIEW),
-        super::accuracy::Sampling {
+        accel: cyl_bvh,
+        neighbours: &neighbours,
+        view: Some(DEMO_VIEW),
+        sampling: super::accuracy::Sampling {
             path: RenderPath::Fast,
             boundary_segments: true,
         },
-    )?;
+        copies: None,
+    };
+    let accuracy = super::accuracy::study(&of, DEMO_DATASET.name(), DEMO_ACCURACY_IMAGE)?;
     let plot_path = out.join("accuracy.svg");
     let svg = super::accuracy::plot(
         &accuracy.study,

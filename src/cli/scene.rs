@@ -11,7 +11,7 @@ use cylvol::accel::Accel;
 use cylvol::accel::StructureKind;
 use cylvol::axis::Axis;
 use cylvol::render::Topology;
-use cylvol::render::{Camera, TransferFunction, MAX_SAMPLES_PER_RAY};
+use cylvol::render::{TransferFunction, MAX_SAMPLES_PER_RAY};
 use cylvol::{Error, Mesh};
 
 /// The default `--view`: VTK's reset camera (looking down `−z` at the bounds' centre).
@@ -199,21 +199,10 @@ pub fn constant_field_warning(mesh: &Mesh, [lo, hi]: [f64; 2]) -> Option<String>
 
 /// The default transfer function over the scalar range `[lo, hi]`
 /// ([`TransferFunction::default_for_range`]) with a maximum opacity of [`MAX_OPACITY`] per
-/// hundredth of the mesh's diagonal.
-pub fn transfer(mesh: &Mesh, range: [f64; 2]) -> TransferFunction {
-    transfer_over(diagonal(mesh), range)
-}
-
-/// [`transfer`] for a scene whose bounding-box diagonal is `diagonal` (a mesh's, or the wheel
-/// of a periodic sector's copies).
+/// hundredth of the scene's bounding-box diagonal `diagonal` (a mesh's, or the wheel of a
+/// periodic sector's copies).
 pub fn transfer_over(diagonal: f64, [lo, hi]: [f64; 2]) -> TransferFunction {
     TransferFunction::default_for_range(lo, hi, MAX_OPACITY, (diagonal / 100.0).max(1e-300))
-}
-
-/// The camera of a `--view` preset (default [`DEFAULT_VIEW`]) for a `width × height` image.
-pub fn camera(mesh: &Mesh, width: u32, height: u32, view: Option<[f64; 3]>) -> Camera {
-    let [az, el, zoom] = view.unwrap_or(DEFAULT_VIEW);
-    Camera::view(mesh.bounds(), width, height, az, el, zoom)
 }
 
 /// The face neighbours the fast path walks (duplicated seams joined by position, the faces

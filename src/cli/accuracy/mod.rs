@@ -42,7 +42,9 @@ use serde_json::{json, Value};
 use super::scene::StructureChoice;
 use super::{log, scene, InputArgs};
 use cylvol::accel::{Accel, AccelParams};
-use cylvol::render::{RenderOptions, RenderPath, Topology, Volume};
+use cylvol::render::{
+    Camera, Copies, RenderOptions, RenderPath, Topology, TransferFunction, Volume,
+};
 use cylvol::{Error, Mesh};
 use plot::{Plot, Scale, Series};
 use study::{
@@ -81,6 +83,9 @@ pub struct AccuracyArgs {
     /// converged reference instead of the step study.
     #[arg(long, value_name = "E,E,...", value_delimiter = ',', value_parser = scene::parse_max_error, allow_hyphen_values = true)]
     max_error: Vec<f64>,
+    /// The wheel of a periodic sector (see `render --periodic`).
+    #[command(flatten)]
+    periodic: super::periodic::PeriodicArgs,
     /// Timed renders per setting (the least time is reported).
     #[arg(long, default_value = "3", value_parser = clap::value_parser!(u32).range(1..=100), requires = "max_error")]
     repeats: u32,
@@ -125,21 +130,19 @@ pub struct Sampling {
     pub boundary_segments: bool,
 }
 
-/// Runs the step study on `mesh` through `accel` (built over it) on an `size × size` image;
-/// `neighbours` serve the fast path.
-pub fn study(
-    mesh: &Mesh,
-    accel: &Accel,
-    neighbours: &Topology,
-    label: &str,
-    size: u32,
-    view: Option<[f64; 3]>,
-    sampling: Sampling,
-) -> Result<AccuracyResult, Error> {
+/// Runs the step study of the scene `of` on an `size × size` image.
+pub fn study(of: &SceneOf<'_>, label: &str, size: u32) -> Result<AccuracyResult, Error> {
+    let SceneOf {
+        mesh,
+        accel,
+        neighbours,
+        view,
+        sampling,
+        copies,
+    } = *of;
     let kind = accel.kind();
     let volume = Volume::new(mesh, accel)?;
-    let transfer = scene::transfer(mesh, scene::transfer_range(volume.scalar_range()));
-    let camera = scene::camera(mesh, size, size, view);
+    let (transfer, camera) = scene_of(mesh, &volume, copies.as_ref(), size, view)?;
     let base = mean_cell_size(mesh);
     let mut options = RenderOptions::new(size, size, base);
     options.path = sampling.path;
@@ -151,6 +154,7 @@ pub fn study(
         options,
         neighbours,
         camera: &camera,
+        copies,
     };
     // One tick per image: the reference, each step, and the early-terminated run.
     let bar = super::bench::progress_bar(STEP_FACTORS.len() as u64 + 2, label);
@@ -179,6 +183,7 @@ pub fn study(
         "structure": kind.name(),
         "path": sampling.path.name(),
         "boundary_segments": sampling.boundary_segments,
+        "periodic": super::periodic::json(copies.as_ref()),
         "width": size,
         "height": size,
         "mean_cell_size": study.mean_cell_size,
@@ -197,6 +202,24 @@ pub fn study(
         },
     });
     Ok(AccuracyResult { report, study })
+}
+
+/// The default transfer function and the `size × size` camera of `view` for the mesh, or for
+/// the wheel of its `copies` (their bounds, and the range of what they draw).
+fn scene_of(
+    mesh: &Mesh,
+    volume: &Volume,
+    copies: Option<&Copies>,
+    size: u32,
+    view: Option<[f64; 3]>,
+) -> Result<(TransferFunction, Camera), Error> {
+    let (bounds, range) = match copies {
+        Some(c) => (c.bounds(), c.scalar_range(volume)?),
+        None => (mesh.bounds(), volume.scalar_range()),
+    };
+    let transfer = scene::transfer_over(scene::diagonal_of(bounds), scene::transfer_range(range));
+    let [az, el, zoom] = view.unwrap_or(scene::DEFAULT_VIEW);
+    Ok((transfer, Camera::view(bounds, size, size, az, el, zoom)))
 }
 
 /// The error-against-time plot of a study: rmse and max error, one labelled point per run.
@@ -293,7 +316,9 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
     let kind = scene::structure(args.structure, &mesh, &axis);
     let label = cylvol::input::Input::parse(&args.input.input)?.label();
     let accel = super::build_logged(&mesh, kind, &axis, &AccelParams::default())?;
-    let neighbours = scene::neighbours(&mesh, &accel);
+    let copies = args.periodic.copies(&mesh, &axis)?;
+    let neighbours =
+        super::periodic::wheel_topology(scene::neighbours(&mesh, &accel), &mesh, copies.as_ref());
     let view = Some(args.view.unwrap_or(DEFAULT_VIEW));
     if !args.max_error.is_empty() {
         let scene = SceneOf {
@@ -305,23 +330,24 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
                 path,
                 boundary_segments: !args.whole_steps,
             },
+            copies,
         };
         let size = args.size.unwrap_or(SETTINGS_SIDE);
         let report = settings_study(&scene, &label, size, &args.max_error, args.repeats)?;
         return print_settings(&report, args.json);
     }
-    let result = study(
-        &mesh,
-        &accel,
-        &neighbours,
-        &label,
-        args.size.unwrap_or(STUDY_SIDE),
+    let of = SceneOf {
+        mesh: &mesh,
+        accel: &accel,
+        neighbours: &neighbours,
         view,
-        Sampling {
+        sampling: Sampling {
             path,
             boundary_segments: !args.whole_steps,
         },
-    )?;
+        copies,
+    };
+    let result = study(&of, &label, args.size.unwrap_or(STUDY_SIDE))?;
     if let Some(path) = &args.plot {
         let title = format!(
             "{label} ({} cells): error against time as the step shrinks",
@@ -343,8 +369,9 @@ pub fn run(args: &AccuracyArgs) -> Result<(), Error> {
     Ok(())
 }
 
-/// What a settings study renders: the mesh, its structure and neighbours, the view and the
-/// sampling.
+/// What a study renders: the mesh, its structure and neighbours, the view, the sampling and
+/// the periodic copies.
+#[derive(Clone, Copy)]
 pub struct SceneOf<'a> {
     /// The mesh.
     pub mesh: &'a Mesh,
@@ -356,6 +383,8 @@ pub struct SceneOf<'a> {
     pub view: Option<[f64; 3]>,
     /// How rays are sampled.
     pub sampling: Sampling,
+    /// The periodic copies drawn instead of the mesh alone, if any.
+    pub copies: Option<Copies>,
 }
 
 /// Renders the reference, then each of `errors` and the default fixed step, each timed over
@@ -369,8 +398,7 @@ pub fn settings_study(
 ) -> Result<Value, Error> {
     let mesh = of.mesh;
     let volume = Volume::new(mesh, of.accel)?;
-    let transfer = scene::transfer(mesh, scene::transfer_range(volume.scalar_range()));
-    let camera = scene::camera(mesh, size, size, of.view);
+    let (transfer, camera) = scene_of(mesh, &volume, of.copies.as_ref(), size, of.view)?;
     let base = mean_cell_size(mesh);
     let mut options = RenderOptions::new(size, size, base);
     options.path = of.sampling.path;
@@ -384,6 +412,7 @@ pub fn settings_study(
         },
         neighbours: of.neighbours,
         camera: &camera,
+        copies: of.copies,
     };
     let bar = super::bench::progress_bar(errors.len() as u64 + 2, label);
     let step = base * SETTINGS_REFERENCE_FACTOR;
@@ -411,6 +440,7 @@ pub fn settings_study(
         "structure": of.accel.kind().name(),
         "path": of.sampling.path.name(),
         "boundary_segments": of.sampling.boundary_segments,
+        "periodic": super::periodic::json(of.copies.as_ref()),
         "width": size,
         "height": size,
         "mean_cell_size": base,

@@ -23,7 +23,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::study::{render_f64, Rgba64, Scene};
-use cylvol::render::{RenderOptions, RenderStats, Renderer};
+use cylvol::render::{RenderOptions, RenderStats};
 use cylvol::Error;
 
 /// The errors of an image against the reference, per pixel, in 1/255.
@@ -95,8 +95,7 @@ pub fn timed(
     options: &RenderOptions,
     repeats: u32,
 ) -> Result<(Rgba64, RenderStats, f64), Error> {
-    let renderer =
-        Renderer::new(scene.volume, scene.transfer, options)?.with_topology(scene.neighbours);
+    let renderer = scene.renderer(options)?;
     let (image, stats) = render_f64(&renderer, scene.camera)?;
     let mut best = f64::INFINITY;
     for _ in 0..repeats.max(1) {

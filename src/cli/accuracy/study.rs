@@ -35,7 +35,7 @@ use serde::Serialize;
 
 use cylvol::error::show_number;
 use cylvol::render::{
-    default_step, Camera, RayGenerator, RenderOptions, RenderStats, Renderer, Topology,
+    default_step, Camera, Copies, RayGenerator, RenderOptions, RenderStats, Renderer, Topology,
     TransferFunction, Volume,
 };
 use cylvol::{Error, Mesh};
@@ -167,17 +167,28 @@ pub struct Scene<'a> {
     pub neighbours: &'a Topology,
     /// The view.
     pub camera: &'a Camera,
+    /// The periodic copies drawn instead of the mesh alone, if any.
+    pub copies: Option<Copies>,
 }
 
 impl Scene<'_> {
+    /// The renderer of this scene with `options` (its copies, if any).
+    pub fn renderer(&self, options: &RenderOptions) -> Result<Renderer<'_>, Error> {
+        let renderer =
+            Renderer::new(self.volume, self.transfer, options)?.with_topology(self.neighbours);
+        match self.copies {
+            Some(c) => renderer.with_copies(c),
+            None => Ok(renderer),
+        }
+    }
+
     /// Renders at `step` in `f64`, timed.
     pub fn render_at(&self, step: f64) -> Result<(Rgba64, RenderStats, f64), Error> {
         let options = RenderOptions {
             step,
             ..self.options
         };
-        let renderer =
-            Renderer::new(self.volume, self.transfer, &options)?.with_topology(self.neighbours);
+        let renderer = self.renderer(&options)?;
         let started = Instant::now();
         let (image, stats) = render_f64(&renderer, self.camera)?;
         Ok((image, stats, started.elapsed().as_secs_f64()))
