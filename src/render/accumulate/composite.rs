@@ -7,14 +7,13 @@
 use glam::DVec3;
 
 use super::shade::emission;
+use super::transparent::TransparentSkip;
 use super::{Accumulate, Emission, Open, RayResult, Sample, Segment};
-use crate::accel::skip::CellMarks;
 use crate::accel::{Accel, Counters, RaySpan};
 use crate::render::cast::steps::FixedSteps;
 use crate::render::frame::Frame;
 use crate::render::ray::Ray;
 use crate::render::stats::RenderStats;
-use crate::render::transparency::TransparentCells;
 
 /// The opacity of a segment `frac` steps long made of a medium whose opacity over a full
 /// step is `alpha_step`: `1 − (1 − α_step)^frac` (exactly `alpha_step` at `frac == 1`).
@@ -34,10 +33,8 @@ pub(crate) fn partial_opacity(alpha_step: f64, frac: f64) -> f64 {
 /// Front-to-back accumulation along one ray.
 pub(crate) struct Composite<'f> {
     frame: &'f Frame<'f>,
-    /// The cells the table makes wholly transparent (the fast path passes over them).
-    transparent: Option<&'f TransparentCells>,
-    /// Where the structure holds cells that are not (for the fast path's jumps).
-    visible: Option<&'f CellMarks>,
+    /// The cells the fast path passes over, and where the structure holds the others.
+    skip: TransparentSkip<'f>,
     transmittance: f64,
     color: [f64; 3],
     depth: f64,
@@ -48,8 +45,7 @@ impl<'f> Composite<'f> {
     pub(crate) fn new(frame: &'f Frame<'f>) -> Composite<'f> {
         Composite {
             frame,
-            transparent: frame.transparent,
-            visible: frame.visible,
+            skip: TransparentSkip::of(frame),
             transmittance: 1.0,
             color: [0.0; 3],
             depth: f64::INFINITY,
@@ -81,7 +77,7 @@ impl Accumulate for Composite<'_> {
 
     #[inline]
     fn adds_nothing(&self, cell: u32) -> bool {
-        self.transparent.is_some_and(|m| m.contains(cell))
+        self.skip.adds_nothing(cell)
     }
 
     fn chord_adds_nothing(&self, cell: u32) -> bool {
@@ -102,8 +98,7 @@ impl Accumulate for Composite<'_> {
         span: RaySpan,
         counters: &mut Counters,
     ) -> Option<Option<(f64, f64, Option<u32>)>> {
-        let visible = self.visible?;
-        Some(accel.next_marked(span, visible, |c| !self.adds_nothing(c), counters))
+        self.skip.next_adding(accel, span, counters)
     }
 
     #[inline]

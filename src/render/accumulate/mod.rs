@@ -19,6 +19,7 @@ pub(crate) mod composite;
 pub(crate) mod extreme;
 pub(crate) mod integrate;
 pub(crate) mod shade;
+pub(crate) mod transparent;
 
 use glam::DVec3;
 

@@ -39,13 +39,12 @@ use self::guard::Guard;
 use self::model::{Crossed, Field, Knot, Light, Look, MAX_SHAPE_PIECES};
 use self::table::Extinction;
 use super::{Accumulate, Ask, Emission, Open, RayResult, Sample, Segment};
-use crate::accel::skip::CellMarks;
 use crate::accel::{Accel, Counters, RaySpan};
+use crate::render::accumulate::transparent::TransparentSkip;
 use crate::render::cast::steps::AdaptiveSteps;
 use crate::render::frame::Frame;
 use crate::render::ray::Ray;
 use crate::render::stats::RenderStats;
-use crate::render::transparency::TransparentCells;
 
 /// The share of the error allowed that the integration between samples may spend.
 pub(crate) const QUADRATURE_SHARE: f64 = 0.5;
@@ -125,8 +124,8 @@ enum Part {
 pub(crate) struct Integrate<'f> {
     frame: &'f Frame<'f>,
     bounded: Bounded<'f>,
-    transparent: Option<&'f TransparentCells>,
-    visible: Option<&'f CellMarks>,
+    /// The cells the fast path passes over, and where the structure holds the others.
+    skip: TransparentSkip<'f>,
     light: Light,
     depth: f64,
     /// The error allowed per unit length of the ray (set at its first sample).
@@ -170,8 +169,7 @@ impl<'f> Integrate<'f> {
         Integrate {
             frame,
             bounded,
-            transparent: frame.transparent,
-            visible: frame.visible,
+            skip: TransparentSkip::of(frame),
             light: Light::CLEAR,
             depth: f64::INFINITY,
             tolerance: f64::NAN,
@@ -414,7 +412,7 @@ impl Accumulate for Integrate<'_> {
 
     #[inline]
     fn adds_nothing(&self, cell: u32) -> bool {
-        self.transparent.is_some_and(|m| m.contains(cell))
+        self.skip.adds_nothing(cell)
     }
 
     fn chord_adds_nothing(&self, cell: u32) -> bool {
@@ -435,8 +433,7 @@ impl Accumulate for Integrate<'_> {
         span: RaySpan,
         counters: &mut Counters,
     ) -> Option<Option<(f64, f64, Option<u32>)>> {
-        let visible = self.visible?;
-        Some(accel.next_marked(span, visible, |c| !self.adds_nothing(c), counters))
+        self.skip.next_adding(accel, span, counters)
     }
 
     fn take(&mut self, sample: &Sample, ray: &Ray, _stats: &mut RenderStats) -> Option<Emission> {
