@@ -1150,16 +1150,8 @@ fn singular_free_matrices(c: &CylvolCamera, w: u32, h: u32) -> CylvolCamera {
     }
 }
 
-/// The same scene through the Rust API: mesh, Cartesian BVH, face neighbours, fast path.
-fn rust_image(
-    a: &Arrays,
-    values: Vec<f64>,
-    tables: &Tables,
-    camera: &Camera,
-    w: u32,
-    h: u32,
-    tweak: impl Fn(&mut RenderOptions),
-) -> (Vec<f32>, RenderStats) {
+/// The mesh of the caller arrays `a` with the point scalar `values` named `s`, for the Rust API.
+fn rust_mesh(a: &Arrays, values: Vec<f64>) -> Mesh {
     let cells = cells_from_vtk(
         &a.conn,
         &a.offsets,
@@ -1168,7 +1160,7 @@ fn rust_image(
         a.n_points(),
     )
     .unwrap();
-    let mesh = Mesh::from_parts(MeshParts {
+    Mesh::from_parts(MeshParts {
         points: a
             .points
             .chunks(3)
@@ -1179,7 +1171,20 @@ fn rust_image(
         point_data: vec![DataArray::scalar("s", values)],
         cell_data: vec![],
     })
-    .unwrap();
+    .unwrap()
+}
+
+/// The same scene through the Rust API: mesh, Cartesian BVH, face neighbours, fast path.
+fn rust_image(
+    a: &Arrays,
+    values: Vec<f64>,
+    tables: &Tables,
+    camera: &Camera,
+    w: u32,
+    h: u32,
+    tweak: impl Fn(&mut RenderOptions),
+) -> (Vec<f32>, RenderStats) {
+    let mesh = rust_mesh(a, values);
     let accel = Accel::build(
         &mesh,
         StructureKind::CartBvh,
@@ -1988,26 +1993,7 @@ fn periodic_copies_are_built_said_and_drawn_as_the_rust_api_draws_them() {
     let alone = render_f32(sector, &c, &tables.c(), &params(w, h), None);
     let part = render_f32(three, &c, &tables.c(), &params(w, h), None);
     assert!(lit(&drawn.f32) > lit(&part.f32) && lit(&part.f32) > lit(&alone.f32));
-    let cells = cells_from_vtk(
-        &a.conn,
-        &a.offsets,
-        OffsetStyle::Starts,
-        &a.types,
-        a.n_points(),
-    )
-    .unwrap();
-    let mesh = Mesh::from_parts(MeshParts {
-        points: a
-            .points
-            .chunks(3)
-            .map(|p| DVec3::new(p[0], p[1], p[2]))
-            .collect(),
-        cells: cells.cells,
-        kinds: cells.kinds,
-        point_data: vec![DataArray::scalar("s", field(&a))],
-        cell_data: vec![],
-    })
-    .unwrap();
+    let mesh = rust_mesh(&a, field(&a));
     let accel = Accel::build(
         &mesh,
         StructureKind::CartBvh,
