@@ -504,6 +504,17 @@ typedef struct CylvolRenderParams {
    * the image is the same either way. ≥ 0, not NaN. Added after the fields above.
    */
   double march_reach;
+  /**
+   * The largest colour error allowed, in 1/255 of a pixel's premultiplied RGBA against the
+   * converged image (what the samples approach as they get denser); 0 (the default) for
+   * samples every `step`. Above 0, compositing places its samples along each ray where the
+   * field and the transfer function need them, starting each ray at `step` (the largest
+   * step it takes where the field allows), and early termination stops a ray no earlier
+   * than its share of the error allows (`CylvolRenderStats::refined_samples`,
+   * `slopes` and `integrated_stretches` count its work). MAXIMUM and MINIMUM keep the fixed
+   * `step` and ignore it. Finite and ≥ 0. Added after the fields above.
+   */
+  double max_error;
 } CylvolRenderParams;
 
 /**
@@ -622,6 +633,24 @@ typedef struct CylvolRenderStats {
    * left out of the samples' segments.
    */
   uint64_t gaps;
+  /**
+   * Samples an error-bounded render (`CylvolRenderParams::max_error` above 0) added between
+   * two others where the stretch between them was too long for the error allowed, or
+   * crossed an active cell; also counted in `samples` and `samples_located`. 0 at the
+   * fixed step.
+   */
+  uint64_t refined_samples;
+  /**
+   * Gradients of the scalar taken for its slope along the ray at the samples of an
+   * error-bounded render (shading and gradient opacity use the same gradient). 0 at the
+   * fixed step.
+   */
+  uint64_t slopes;
+  /**
+   * Stretches of rays an error-bounded render integrated through the transfer function,
+   * between two samples or from a sample to a crossing. 0 at the fixed step.
+   */
+  uint64_t integrated_stretches;
 } CylvolRenderStats;
 
 #ifdef __cplusplus
@@ -843,7 +872,7 @@ void cylvol_camera_default(struct CylvolCamera *camera);
  *
  * Errors: NULL_POINTER (volume, camera, transfer, params, pixels, a table),
  * INVALID_ARGUMENT (a bad enum value, a zero image size, NaN or infinite camera, table,
- * range, step or depth values, tables of fewer than 2 entries or values outside [0, 1], a
+ * range, step or depth values, a negative, NaN or infinite max_error, tables of fewer than 2 entries or values outside [0, 1], a
  * degenerate camera), LENGTH_MISMATCH
  * (`pixels_len`), NO_SCALARS (no scalars set).
  *
@@ -864,7 +893,7 @@ enum CylvolStatus cylvol_render(struct CylvolVolume *volume,
 /**
  * Fills `params` with the defaults: 512 × 512, the default step, FAST, LINEAR, no shading
  * (coefficients 0.1, 0.7, 0.2, 10), early termination at 0.99, rows top-down, compositing,
- * no clipping plane.
+ * no clipping plane, a march reach of 6 cells, the fixed step (`max_error` 0).
  *
  * # Safety
  * `params` NULL (nothing happens) or valid for writing a `CylvolRenderParams`.

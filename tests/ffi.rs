@@ -940,6 +940,27 @@ fn render_reports_every_bad_input() {
         ),
         (
             CylvolRenderParams {
+                max_error: f64::NAN,
+                ..p
+            },
+            "params->max_error = NaN (must be a finite number of 1/255",
+        ),
+        (
+            CylvolRenderParams {
+                max_error: -1.0,
+                ..p
+            },
+            "params->max_error = -1 (must",
+        ),
+        (
+            CylvolRenderParams {
+                max_error: f64::INFINITY,
+                ..p
+            },
+            "params->max_error = inf (must",
+        ),
+        (
+            CylvolRenderParams {
                 shading: 1,
                 ambient: -1e-300,
                 ..p
@@ -1846,6 +1867,70 @@ fn march_reach_changes_the_work_not_the_image() {
         .map(|(x, y)| (x - y).abs())
         .fold(0.0f32, f32::max);
     assert!(diff <= 1e-6, "the reach changed the image by {diff}");
+    unsafe { cylvol_volume_free(v) };
+}
+
+/// The error bound through the C ABI: off (0) by default; at 2/255 the image equals the Rust
+/// API's at `max_error` 2, bit for bit, with the same counters, and refines where the fixed
+/// step (`max_error` 0) refines nothing and integrates nothing; a tighter bound takes more
+/// samples; an intensity projection ignores the bound, as the Rust API does.
+#[test]
+fn an_error_bound_matches_the_rust_api_and_refines_only_when_asked() {
+    let (a, v, tables, c, camera) = sector_scene();
+    let (w, h) = (20, 14);
+    assert_eq!(params(w, h).max_error, 0.0);
+    let render = |p: &CylvolRenderParams| {
+        let out = render_f32(v, &c, &tables.c(), p, None);
+        assert_eq!(out.status, S::Ok, "{}", last_error());
+        let mut stats = CylvolRenderStats::default();
+        assert_eq!(unsafe { cylvol_volume_render_stats(v, &mut stats) }, S::Ok);
+        (out.f32, stats)
+    };
+    let with_error = |e: f64| CylvolRenderParams {
+        max_error: e,
+        ..params(w, h)
+    };
+    let (fixed, fixed_stats) = render(&params(w, h));
+    assert_eq!(
+        (
+            fixed_stats.refined_samples,
+            fixed_stats.slopes,
+            fixed_stats.integrated_stretches
+        ),
+        (0, 0, 0),
+        "the fixed step does no error-bounded work"
+    );
+    let (bounded, stats) = render(&with_error(2.0));
+    let (reference, rust) = rust_image(&a, field(&a), &tables, &camera, w, h, |o| {
+        o.max_error = Some(2.0)
+    });
+    assert_eq!(bounded, reference);
+    assert_eq!(
+        stats,
+        CylvolRenderStats {
+            seconds: stats.seconds,
+            ..CylvolRenderStats::from((0.0, rust))
+        }
+    );
+    assert!(stats.refined_samples > 0, "{stats:?}");
+    assert!(
+        stats.slopes > 0 && stats.integrated_stretches > 0,
+        "{stats:?}"
+    );
+    assert_ne!(bounded, fixed);
+    let (_, tight) = render(&with_error(0.25));
+    assert!(tight.samples > stats.samples, "{tight:?} vs {stats:?}");
+    assert!(tight.refined_samples > stats.refined_samples);
+    // An intensity projection keeps the fixed step: the same image and work either way.
+    let maximum = |e: f64| CylvolRenderParams {
+        blend: CylvolBlend::Maximum.into(),
+        ..with_error(e)
+    };
+    let (mip, mip_stats) = render(&maximum(0.0));
+    let (mip_bounded, mip_bounded_stats) = render(&maximum(2.0));
+    assert_eq!(mip, mip_bounded);
+    assert_eq!(mip_bounded_stats.refined_samples, 0);
+    assert_eq!(mip_bounded_stats.samples, mip_stats.samples);
     unsafe { cylvol_volume_free(v) };
 }
 

@@ -93,6 +93,15 @@ pub struct CylvolRenderParams {
     /// instead (`CylvolRenderStats::far_locates`);
     /// the image is the same either way. ≥ 0, not NaN. Added after the fields above.
     pub march_reach: f64,
+    /// The largest colour error allowed, in 1/255 of a pixel's premultiplied RGBA against the
+    /// converged image (what the samples approach as they get denser); 0 (the default) for
+    /// samples every `step`. Above 0, compositing places its samples along each ray where the
+    /// field and the transfer function need them, starting each ray at `step` (the largest
+    /// step it takes where the field allows), and early termination stops a ray no earlier
+    /// than its share of the error allows (`CylvolRenderStats::refined_samples`,
+    /// `slopes` and `integrated_stretches` count its work). MAXIMUM and MINIMUM keep the fixed
+    /// `step` and ignore it. Finite and ≥ 0. Added after the fields above.
+    pub max_error: f64,
 }
 
 /// The most clipping planes a render takes (`CylvolRenderParams::clip_planes`).
@@ -102,7 +111,7 @@ const _: () = assert!(CYLVOL_MAX_CLIP_PLANES == crate::render::MAX_CLIP_PLANES);
 impl Default for CylvolRenderParams {
     /// 512 × 512, the default step, FAST, LINEAR, no shading (coefficients 0.1, 0.7, 0.2, 10),
     /// early termination at 0.99, rows top-down, compositing, no clipping plane, a march
-    /// reach of 6 cells.
+    /// reach of 6 cells, the fixed step (no error bound).
     fn default() -> Self {
         let s = Shading::default();
         CylvolRenderParams {
@@ -122,6 +131,7 @@ impl Default for CylvolRenderParams {
             clip_plane_count: 0,
             clip_planes: [[0.0; 4]; CYLVOL_MAX_CLIP_PLANES],
             march_reach: crate::render::DEFAULT_MARCH_REACH,
+            max_error: 0.0,
         }
     }
 }
@@ -192,6 +202,18 @@ pub struct CylvolRenderStats {
     /// Stretches of rays outside the mesh between two samples in it (a thin blade crossed),
     /// left out of the samples' segments.
     pub gaps: u64,
+    /// Samples an error-bounded render (`CylvolRenderParams::max_error` above 0) added between
+    /// two others where the stretch between them was too long for the error allowed, or
+    /// crossed an active cell; also counted in `samples` and `samples_located`. 0 at the
+    /// fixed step.
+    pub refined_samples: u64,
+    /// Gradients of the scalar taken for its slope along the ray at the samples of an
+    /// error-bounded render (shading and gradient opacity use the same gradient). 0 at the
+    /// fixed step.
+    pub slopes: u64,
+    /// Stretches of rays an error-bounded render integrated through the transfer function,
+    /// between two samples or from a sample to a crossing. 0 at the fixed step.
+    pub integrated_stretches: u64,
 }
 
 impl From<(f64, RenderStats)> for CylvolRenderStats {
@@ -222,6 +244,9 @@ impl From<(f64, RenderStats)> for CylvolRenderStats {
             far_locates: s.far_locates,
             chord_samples: s.chord_samples,
             gaps: s.gaps,
+            refined_samples: s.refined_samples,
+            slopes: s.slopes,
+            integrated_stretches: s.integrated_stretches,
         }
     }
 }
@@ -402,7 +427,9 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
             show_number(p.march_reach)
         )));
     }
+    let max_error = max_error(p.max_error)?;
     let mut o = RenderOptions::new(p.width, p.height, step);
+    o.max_error = max_error;
     o.clip_planes = clip_planes;
     o.path = path;
     o.shading = shading;
@@ -411,6 +438,20 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
     o.blend = blend;
     o.march_reach = p.march_reach;
     Ok(o)
+}
+
+/// The error bound of `params->max_error`: `None` at 0 (the fixed step), the error above;
+/// fails unless finite and ≥ 0.
+fn max_error(e: f64) -> Result<Option<f64>, Failure> {
+    match e {
+        e if e == 0.0 => Ok(None),
+        e if e > 0.0 && e.is_finite() => Ok(Some(e)),
+        e => Err(Failure::invalid(format!(
+            "params->max_error = {} (must be a finite number of 1/255 of a pixel's RGBA, ≥ 0; \
+             0 uses the fixed step)",
+            show_number(e)
+        ))),
+    }
 }
 
 /// The row of image row `j` in the caller's order.
@@ -431,7 +472,7 @@ fn caller_row(j: u32, height: u32, bottom_up: bool) -> usize {
 ///
 /// Errors: NULL_POINTER (volume, camera, transfer, params, pixels, a table),
 /// INVALID_ARGUMENT (a bad enum value, a zero image size, NaN or infinite camera, table,
-/// range, step or depth values, tables of fewer than 2 entries or values outside [0, 1], a
+/// range, step or depth values, a negative, NaN or infinite max_error, tables of fewer than 2 entries or values outside [0, 1], a
 /// degenerate camera), LENGTH_MISMATCH
 /// (`pixels_len`), NO_SCALARS (no scalars set).
 ///
@@ -598,7 +639,7 @@ unsafe fn write_pixels(
 
 /// Fills `params` with the defaults: 512 × 512, the default step, FAST, LINEAR, no shading
 /// (coefficients 0.1, 0.7, 0.2, 10), early termination at 0.99, rows top-down, compositing,
-/// no clipping plane.
+/// no clipping plane, a march reach of 6 cells, the fixed step (`max_error` 0).
 ///
 /// # Safety
 /// `params` NULL (nothing happens) or valid for writing a `CylvolRenderParams`.

@@ -315,9 +315,11 @@ static void test_mixed_cells(void) {
   size_t np = 0, nc = 0, k;
   double bounds[6], range[2];
   enum { W = 16, H = 12 };
-  float f[W * H * 4];
+  float f[W * H * 4], bounded[W * H * 4];
   float ramp[3] = {0.0f, 0.4f, 0.8f};
   int seen = 0;
+  double largest = 0.0;
+  CylvolRenderStats stats;
 
   sector(&a);
   mesh = mesh_with_scalars(&a);
@@ -368,6 +370,33 @@ static void test_mixed_cells(void) {
   CHECK(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, f, W * H * 4) ==
             CYLVOL_STATUS_INVALID_ARGUMENT,
         "a negative march reach");
+  /* The error bound: off (0) by default, with no error-bounded work; at 2/255 the picture is
+     within a few 1/255 of the fixed step's, samples are refined, and NaN is refused. */
+  p.march_reach = 6.0;
+  CHECK(p.max_error == 0.0, "default max error %g", p.max_error);
+  CHECK(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, f, W * H * 4) ==
+            CYLVOL_STATUS_OK,
+        "fixed-step render: %s", cylvol_last_error());
+  CHECK(cylvol_volume_render_stats(v, &stats) == CYLVOL_STATUS_OK && stats.refined_samples == 0 &&
+            stats.slopes == 0 && stats.integrated_stretches == 0,
+        "the fixed step refined %llu samples", (unsigned long long)stats.refined_samples);
+  p.max_error = 2.0;
+  CHECK(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, bounded,
+                      W * H * 4) == CYLVOL_STATUS_OK,
+        "error-bounded render: %s", cylvol_last_error());
+  CHECK(cylvol_volume_render_stats(v, &stats) == CYLVOL_STATUS_OK && stats.refined_samples > 0 &&
+            stats.integrated_stretches > 0,
+        "an error-bounded render refined %llu samples", (unsigned long long)stats.refined_samples);
+  for (k = 0; k < W * H * 4; ++k) {
+    double d = fabs((double)bounded[k] - (double)f[k]) * 255.0;
+    if (d > largest) largest = d;
+  }
+  CHECK(largest < 8.0, "the bounded picture is %g/255 from the fixed step's", largest);
+  p.max_error = NAN;
+  CHECK(cylvol_render(v, &camera, &t, &p, NULL, NULL, CYLVOL_PIXELS_RGBA_F32, f, W * H * 4) ==
+                CYLVOL_STATUS_INVALID_ARGUMENT &&
+            strstr(cylvol_last_error(), "params->max_error = NaN") != NULL,
+        "a NaN max error: %s", cylvol_last_error());
   cylvol_volume_free(v);
   cylvol_mesh_free(mesh);
   arrays_free(&a);
