@@ -429,6 +429,7 @@ vtkCylVolMapper::vtkCylVolMapper()
     CylvolRenderParams defaults;
     cylvol_render_params_default(&defaults);
     this->MarchReach = defaults.march_reach;
+    this->MaximumError = defaults.max_error;
   }
   this->ImageSampleDistance = 1.0f;
   this->MinimumImageSampleDistance = 1.0f;
@@ -448,6 +449,7 @@ vtkCylVolMapper::vtkCylVolMapper()
   this->LastExtremeSkips = 0;
   this->LastExtremeJumps = 0;
   this->LastFarLocates = 0;
+  this->LastRefinedSamples = this->LastSlopes = this->LastIntegratedStretches = 0;
   this->LastImageSize[0] = this->LastImageSize[1] = 0;
   this->BuildCount = 0;
   this->ScalarUpdateCount = 0;
@@ -712,6 +714,7 @@ void vtkCylVolMapper::ResetRenderStatistics()
   this->LastExtremeSkips = 0;
   this->LastExtremeJumps = 0;
   this->LastFarLocates = 0;
+  this->LastRefinedSamples = this->LastSlopes = this->LastIntegratedStretches = 0;
   this->LastRaySeconds = 0.0;
 }
 
@@ -1291,6 +1294,7 @@ void vtkCylVolMapper::SetRenderParameters(Frame& frame, vtkVolume* vol)
   params.rows_bottom_up = 1;
   params.blend = frame.Blend;
   params.march_reach = this->MarchReach;
+  params.max_error = this->MaximumError;
   // Clipping planes (vtkAbstractMapper::AddClippingPlane) in the data's coordinates, where the
   // rays are cast: the side each plane's normal points into is kept. More than cylvol takes
   // are passed on as a count, which cylvol_render refuses with a message (nothing drawn).
@@ -1404,6 +1408,9 @@ void vtkCylVolMapper::AddRenderStatistics()
   this->LastExtremeSkips += rs.extreme_skips;
   this->LastExtremeJumps += rs.extreme_jumps;
   this->LastFarLocates += rs.far_locates;
+  this->LastRefinedSamples += rs.refined_samples;
+  this->LastSlopes += rs.slopes;
+  this->LastIntegratedStretches += rs.integrated_stretches;
 }
 
 //------------------------------------------------------------------------------
@@ -1469,6 +1476,7 @@ void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "RelativeSampleDistance: " << this->RelativeSampleDistance << "\n";
   os << indent << "MarchReach: " << this->MarchReach << "\n";
+  os << indent << "MaximumError: " << this->MaximumError << "\n";
   os << indent << "ImageSampleDistance: " << this->ImageSampleDistance << "\n";
   os << indent << "MinimumImageSampleDistance: " << this->MinimumImageSampleDistance << "\n";
   os << indent << "MaximumImageSampleDistance: " << this->MaximumImageSampleDistance << "\n";
@@ -1488,4 +1496,7 @@ void vtkCylVolMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastExtremeSkips: " << this->LastExtremeSkips << "\n";
   os << indent << "LastExtremeJumps: " << this->LastExtremeJumps << "\n";
   os << indent << "LastFarLocates: " << this->LastFarLocates << "\n";
+  os << indent << "LastRefinedSamples: " << this->LastRefinedSamples << "\n";
+  os << indent << "LastSlopes: " << this->LastSlopes << "\n";
+  os << indent << "LastIntegratedStretches: " << this->LastIntegratedStretches << "\n";
 }

@@ -33,6 +33,11 @@
  * there (read by the opacity convention below); it shades nothing, applies no gradient opacity
  * and does not stop rays early. Any other blend mode is an error and nothing is drawn.
  *
+ * Error-bounded rendering: SetMaximumError(E) with E above 0 keeps each pixel within E/255 of
+ * the converged image (what the samples approach as they get denser), compositing with
+ * samples placed along each ray where the field and the transfer function need them; 0 (the
+ * default) samples every sample distance.
+ *
  * Opacity convention: by default the scalar opacity is read the way
  * vtkUnstructuredGridVolumeRayCastMapper reads it, as an attenuation coefficient per
  * unit distance (transmittance exp(-opacity * length / unit distance));
@@ -188,6 +193,25 @@ public:
 
   ///@{
   /**
+   * The largest colour error allowed, in 1/255 of a pixel's premultiplied RGBA, against the
+   * converged image (what the samples approach as they get denser); 0 (the default) samples
+   * every sample distance. Above 0, compositing places its samples along each ray where the
+   * field and the transfer function need them: the sample distance (SampleDistance, or
+   * cylvol's default step times RelativeSampleDistance) is then the step each ray starts
+   * with, and the steps adapt from 1/64 to 32 times it to hold the error, so the error wins
+   * over the sample distance; rays stop early no sooner than their share of the error allows
+   * (the stricter of that and EarlyTermination). 2 is measured at least as accurate as VTK's
+   * ray caster. Intensity projections keep the fixed sample distance and ignore it. A
+   * negative, NaN or infinite value is an error at the next render, and nothing is drawn.
+   * GetLastRefinedSamples, GetLastSlopes and GetLastIntegratedStretches count the work of an
+   * error-bounded render (all 0 at the fixed step).
+   */
+  vtkSetMacro(MaximumError, double);
+  vtkGetMacro(MaximumError, double);
+  ///@}
+
+  ///@{
+  /**
    * How many cells ahead, about, a ray still marches from cell to cell to its next sample
    * (default 6), times the cells a look-up through the structure tests on average (about 1
    * on a BVH of well-shaped cells, 7-19 on a grid): a sample further ahead, where the ray
@@ -297,6 +321,19 @@ public:
 
   ///@{
   /**
+   * The work of the last error-bounded render (MaximumError above 0; all 0 at the fixed
+   * step): samples added between two others where the stretch between them was too long for
+   * the error allowed or crossed an active cell (also counted in GetLastSamples), slopes of
+   * the scalar along the rays taken at the samples, and stretches of rays integrated
+   * through the transfer function.
+   */
+  vtkGetMacro(LastRefinedSamples, vtkTypeUInt64);
+  vtkGetMacro(LastSlopes, vtkTypeUInt64);
+  vtkGetMacro(LastIntegratedStretches, vtkTypeUInt64);
+  ///@}
+
+  ///@{
+  /**
    * Statistics of the structure: how many times it has been built by this mapper, how many
    * times only the scalars were replaced, the last build's time (seconds) and memory
    * (bytes), the structure built (a StructureType, never AUTO; -1 before the first build),
@@ -365,6 +402,7 @@ protected:
   double EarlyTermination;
   double SampleDistance;
   double RelativeSampleDistance;
+  double MaximumError;
   double MarchReach;
   float ImageSampleDistance;
   float MinimumImageSampleDistance;
@@ -391,6 +429,9 @@ protected:
   vtkTypeUInt64 LastExtremeSkips;
   vtkTypeUInt64 LastExtremeJumps;
   vtkTypeUInt64 LastFarLocates;
+  vtkTypeUInt64 LastRefinedSamples;
+  vtkTypeUInt64 LastSlopes;
+  vtkTypeUInt64 LastIntegratedStretches;
   int LastImageSize[2];
   int BuildCount;
   int ScalarUpdateCount;

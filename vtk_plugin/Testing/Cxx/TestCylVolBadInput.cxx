@@ -1,7 +1,8 @@
 // Every bad input through vtkCylVolMapper: an unsupported cell type, missing scalars,
 // multi-component scalars without a chosen component, an empty grid, scalars of the wrong
 // length, NaN coordinates, an input that is no vtkUnstructuredGrid (given as data or from a
-// pipeline, where the error names the type given)... Each must raise a
+// pipeline, where the error names the type given), a negative, NaN or infinite maximum
+// error... Each must raise a
 // vtkErrorMacro naming the problem (caught by an error observer), draw nothing (the window
 // stays at its background) and not crash; a good input drawn afterwards by the same mapper
 // must still work.
@@ -233,6 +234,14 @@ int TestCylVolBadInput(int, char*[])
     ok &= scene.Check("unknown array name", grid, "No scalars");
     scene.Mapper->SetScalarModeToDefault();
   }
+  // A maximum error that is negative, NaN or infinite: cylvol refuses the render.
+  for (const double bad :
+    { -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity() })
+  {
+    scene.Mapper->SetMaximumError(bad);
+    ok &= scene.Check("maximum error", Block(), "params->max_error");
+  }
+  scene.Mapper->SetMaximumError(0.0);
   // The mapper is still usable after all that.
   ok &= scene.Check("good block again", Block(), "");
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
