@@ -12,7 +12,9 @@ Cases:
                               "Volume" with its Bunyk ray caster (the VTK CTest's bound: mean <=
                               2/255 and >= 99 % within 8/255, pixels where Bunyk is the farther
                               from a converged cylvol image excused up to 5 %); the mapper got
-                              the mesh's own cells, no tetrahedra
+                              the mesh's own cells, no tetrahedra; on the mixer, Maximum Error 2
+                              reaches the mapper (refined samples) and its image is within 3/255
+                              of the fixed step's and of the render at 1/8 of the step
   mpi                         mpiexec -n 2 and -n 3 pvbatch draw the serial image (mean <=
                               0.2/255, >= 99.9 % within 8/255), every rank cut to its box, with
                               the serial structure and axis
@@ -45,6 +47,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 PV_SCENE = os.path.join(HERE, "pv_scene.py")
 VTK_SCENE = os.path.join(HERE, "vtk_scene.py")
 TOLERANCE = 8
+# The largest difference of one pixel, in 1/255, between the mixer at Maximum Error 2 and the
+# fixed step (or 1/8 of it): the setting and 1/255 for rounding both images to 8 bits (the
+# fixed step of this scene is within about 1/255 of its converged image; the VTK CTest
+# CylVol-Python-MaximumError checks the bound itself against a converged reference).
+MAXIMUM_ERROR_DIFFERENCE = 3
 
 
 class Failure(Exception):
@@ -312,6 +319,8 @@ def case_compare(args, pv, work, dataset):
               {"out": base + "-bunyk", "dataset": dataset, "representation": "Volume",
                "mapper": "Bunyk ray cast", "merge_blocks": dataset != "mixer"},
               {"out": base + "-converged", "dataset": dataset, "step_factor": 0.125}]
+    if dataset == "mixer":
+        scenes.append({"out": base + "-bounded", "dataset": dataset, "max_error": 2.0})
     text = pv.pvbatch(scenes, dataset)
     check(not errors_in(text), "ParaView reports no error (%s)" % errors_in(text)[:3])
     fig = figures(base + "-cylvol")["figures"]
@@ -344,6 +353,29 @@ def case_compare(args, pv, work, dataset):
     excusable = rest_mean <= 2.0 and rest_within >= 0.99 and excused <= len(ours) // 20
     check(strict or excusable, "CylVol Volume agrees with ParaView's Bunyk ray cast as the VTK "
           "CTest bounds it")
+    if dataset == "mixer":
+        check_maximum_error(base, fig, ours, fine)
+
+
+def check_maximum_error(base, fixed_figures, fixed, fine):
+    """The Maximum Error property reaches the mapper: 0 by default with no error-bounded work;
+    at 2 the mapper renders to the bound (refined samples, slopes, integrated stretches), and
+    its image is within a few 1/255 of the fixed step's and of the render at 1/8 of the step."""
+    check(fixed_figures["ErrorBounded"] == [0, 0, 0, 0],
+          "by default the mapper's maximum error is 0, with no error-bounded work (%s)"
+          % fixed_figures["ErrorBounded"])
+    bounded_figures = figures(base + "-bounded")["figures"]
+    error, refined, slopes, stretches = bounded_figures["ErrorBounded"]
+    check(error == 2.0 and refined > 0 and slopes > 0 and stretches > 0,
+          "Maximum Error 2 reaches the mapper, which refines %d samples (%s)"
+          % (refined, bounded_figures["ErrorBounded"]))
+    bounded = load_rgb(base + "-bounded.png")
+    for name, other in (("the fixed step's", fixed), ("the render at 1/8 of the step", fine)):
+        largest = max(pixel_difference(a, b) for a, b in zip(bounded, other))
+        mean, within = agreement(bounded, other)
+        check(largest <= MAXIMUM_ERROR_DIFFERENCE, "at Maximum Error 2 the image is within "
+              "%d/255 of %s (largest %d/255, mean %.3f/255)"
+              % (MAXIMUM_ERROR_DIFFERENCE, name, largest, mean))
 
 
 def whole_dataset_figures(grid, array):

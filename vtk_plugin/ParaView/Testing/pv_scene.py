@@ -11,7 +11,7 @@ For each scene of --scenes, writes OUT.png (the view; the first rank's under MPI
 OUT.rank<R>.json on every rank: the representations offered, the camera, the transfer
 function's range and unit distance, and the representation's figures (structure and axis
 built, cells by type, the rank's box, clipping planes, samples, sample distance, the whole
-dataset's figures). "pv_scene: begin OUT" and "pv_scene: end OUT" frame what ParaView prints
+dataset's figures, the error bound and its work). "pv_scene: begin OUT" and "pv_scene: end OUT" frame what ParaView prints
 while it draws the scene.
 """
 import argparse
@@ -39,7 +39,7 @@ COLORS = [(0.0, (0.1, 0.2, 0.9)), (0.35, (0.1, 0.8, 0.8)), (0.7, (0.95, 0.85, 0.
 OPACITIES = [0.0, 0.1, 0.5, 1.0]
 SIZE = 200
 FIGURES = ["BuiltStructure", "BuiltAxis", "CellTypeCounts", "PieceBox", "RenderStatistics",
-           "WholeDataset", "BuiltPeriodicCopies"]
+           "WholeDataset", "BuiltPeriodicCopies", "ErrorBounded"]
 
 
 def parse():
@@ -51,7 +51,7 @@ def parse():
                    help="a JSON file: a list of scenes, each {out, dataset, representation "
                         "(default CylVol Volume), mapper (ParaView's Volume's SelectMapper), "
                         "step_factor (the CylVol sample distance as a multiple of the whole "
-                        "dataset's default step), opacity (a constant opacity: the slab), "
+                        "dataset's default step), max_error (the CylVol maximum error), opacity (a constant opacity: the slab), "
                         "merge_blocks (Merge Blocks first), range and diagonal (the scalar "
                         "range and the bounds' diagonal, else ParaView's data information), view "
                         "(x: a parallel view along +x; else turned by azimuth 30 and elevation "
@@ -134,6 +134,8 @@ def render(scene, args):
         display.SetRepresentationType(representation)
         if scene.get("mapper"):
             display.SelectMapper = scene["mapper"]
+        if "max_error" in scene:
+            display.CylVolMaximumError = scene["max_error"]
         if "periodic" in scene:
             display.CylVolPeriodicCopies = scene["periodic"]
             display.CylVolCopyRange = scene.get("copy_range", [0, 0])

@@ -152,6 +152,7 @@ public:
   double CellTypeCounts[5] = { 0.0, 0.0, 0.0, 0.0, 0.0 };
   double RenderStatistics[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
   double WholeDataset[4] = { 0.0, 0.0, 0.0, 0.0 };
+  double ErrorBounded[4] = { 0.0, 0.0, 0.0, 0.0 };
   int BuiltPeriodicCopies[3] = { 0, 0, 0 };
 };
 
@@ -452,6 +453,7 @@ void vtkCylVolRepresentation::UpdateMapperParameters()
   mapper->SetSampleDistance(this->SampleDistance > 0.0 ? this->SampleDistance
       : choice.Valid                                    ? choice.DefaultStep
                                                         : 0.0);
+  mapper->SetMaximumError(this->MaximumError);
   mapper->SetPeriodicCopies(Ranks() ? 0 : this->PeriodicCopies);
   mapper->SetCopyRange(this->CopyRange[0], this->CopyRange[1]);
   mapper->SetEarlyTermination(in.EarlyTermination);
@@ -543,6 +545,11 @@ void vtkCylVolRepresentation::SetAxisDirection(double x, double y, double z)
 void vtkCylVolRepresentation::SetSampleDistance(double distance)
 {
   this->SampleDistance = distance;
+}
+
+void vtkCylVolRepresentation::SetMaximumError(double value)
+{
+  this->MaximumError = value;
 }
 
 void vtkCylVolRepresentation::SetPeriodicCopies(int copies)
@@ -655,6 +662,16 @@ double* vtkCylVolRepresentation::GetWholeDataset()
   return in.WholeDataset;
 }
 
+double* vtkCylVolRepresentation::GetErrorBounded()
+{
+  double* e = this->Internals->ErrorBounded;
+  e[0] = this->Mapper->GetMaximumError();
+  e[1] = static_cast<double>(this->Mapper->GetLastRefinedSamples());
+  e[2] = static_cast<double>(this->Mapper->GetLastSlopes());
+  e[3] = static_cast<double>(this->Mapper->GetLastIntegratedStretches());
+  return e;
+}
+
 //------------------------------------------------------------------------------
 void vtkCylVolRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
@@ -666,4 +683,5 @@ void vtkCylVolRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AxisDirection: " << this->AxisDirection[0] << " " << this->AxisDirection[1]
      << " " << this->AxisDirection[2] << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
+  os << indent << "MaximumError: " << this->MaximumError << "\n";
 }

@@ -50,7 +50,10 @@ public:
    * cylvol's settings (vtkCylVolMapper's of the same names). The structure (0 auto, 1
    * Cartesian grid, 2 cylindrical grid, 3 Cartesian BVH, 4 cylindrical BVH) and the axis
    * (detected when AxisAuto is on) are chosen for the whole dataset. SampleDistance 0 (the
-   * default) takes cylvol's default step for the whole dataset.
+   * default) takes cylvol's default step for the whole dataset. MaximumError 0 (the default)
+   * samples every sample distance; above 0 it is the largest colour error allowed, in 1/255
+   * of a pixel, against the converged image, the sample distance then the step each ray
+   * starts with (under MPI each rank holds its own part of a ray to it).
    */
   void SetStructure(int structure);
   vtkGetMacro(Structure, int);
@@ -62,6 +65,8 @@ public:
   vtkGetVector3Macro(AxisDirection, double);
   void SetSampleDistance(double distance);
   vtkGetMacro(SampleDistance, double);
+  void SetMaximumError(double value);
+  vtkGetMacro(MaximumError, double);
   void SetEarlyTermination(double value);
   void SetImageSampleDistance(double value);
   ///@}
@@ -108,6 +113,8 @@ public:
    * - GetWholeDataset: the whole dataset's cells, the cells sampled from it, its default
    *   step (0 when there was nothing to sample), and the volume cells this rank's input held
    *   (before the view moved any between ranks).
+   * - GetErrorBounded: the mapper's MaximumError, and the last render's refined samples,
+   *   slopes and integrated stretches (all 0 at the fixed step).
    */
   int GetBuiltStructure();
   double* GetBuiltAxis() VTK_SIZEHINT(6);
@@ -115,6 +122,7 @@ public:
   double* GetPieceBox() VTK_SIZEHINT(6);
   double* GetRenderStatistics() VTK_SIZEHINT(6);
   double* GetWholeDataset() VTK_SIZEHINT(4);
+  double* GetErrorBounded() VTK_SIZEHINT(4);
   ///@}
 
   /**
@@ -143,6 +151,7 @@ protected:
   double AxisOrigin[3] = { 0.0, 0.0, 0.0 };
   double AxisDirection[3] = { 0.0, 0.0, 1.0 };
   double SampleDistance = 0.0;
+  double MaximumError = 0.0;
   int PeriodicCopies = 0;
   int CopyRange[2] = { 0, 0 };
 
