@@ -96,9 +96,9 @@ pub struct CylvolRenderParams {
     /// The largest colour error allowed, in 1/255 of a pixel's premultiplied RGBA against the
     /// converged image (what the samples approach as they get denser); 0 (the default) for
     /// samples every `step`. Above 0, compositing places its samples along each ray where the
-    /// field and the transfer function need them, starting each ray at `step` (the largest
-    /// step it takes where the field allows), and early termination stops a ray no earlier
-    /// than its share of the error allows (`CylvolRenderStats::refined_samples`,
+    /// field and the transfer function need them: each ray starts at `step`, and its steps
+    /// adapt from 1/64 to 32 times it to hold the error; early termination stops a ray no
+    /// earlier than its share of the error allows (`CylvolRenderStats::refined_samples`,
     /// `slopes` and `integrated_stretches` count its work). MAXIMUM and MINIMUM keep the fixed
     /// `step` and ignore it. Finite and ≥ 0. Added after the fields above.
     pub max_error: f64,
