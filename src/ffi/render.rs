@@ -443,14 +443,16 @@ fn options(p: &CylvolRenderParams, default_step: f64) -> Result<RenderOptions, F
 /// The error bound of `params->max_error`: `None` at 0 (the fixed step), the error above;
 /// fails unless finite and ≥ 0.
 fn max_error(e: f64) -> Result<Option<f64>, Failure> {
-    match e {
-        e if e == 0.0 => Ok(None),
-        e if e > 0.0 && e.is_finite() => Ok(Some(e)),
-        e => Err(Failure::invalid(format!(
+    if e == 0.0 {
+        Ok(None)
+    } else if e > 0.0 && e.is_finite() {
+        Ok(Some(e))
+    } else {
+        Err(Failure::invalid(format!(
             "params->max_error = {} (must be a finite number of 1/255 of a pixel's RGBA, ≥ 0; \
              0 uses the fixed step)",
             show_number(e)
-        ))),
+        )))
     }
 }
 
