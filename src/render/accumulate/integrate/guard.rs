@@ -4,7 +4,8 @@
 //! feature smaller than a step could hide between two samples that agree (a thin layer the
 //! field rises and falls across) — the total variation of the extinction and of the emission
 //! density over the cell's range, times its extent (its box diagonal), exceeds a share of the
-//! error allowed. A sample in an active cell takes a step no longer than the cell is thin;
+//! error allowed. A sample in an active cell takes a step no longer than the cell is thin
+//! (twice that where the transfer function is straight over its range: [`STRAIGHT`]);
 //! elsewhere the samples alone choose. A sample's tangent is not followed much further than its
 //! cell is thin, active or not.
 //!
@@ -19,10 +20,20 @@ use crate::Mesh;
 
 use glam::DVec3;
 
+/// An active cell is *straight* where the steepest slope of the transfer function over its
+/// scalar range, times that range, is within this factor of the variation over it: no band
+/// of the transfer function narrower than the range lies in it, so what the field does
+/// between two samples reaches the light about linearly, as the error estimate takes it.
+const STRAIGHT: f64 = 1.5;
+
+/// The longest step in a straight active cell, in its thicknesses.
+const STRAIGHT_CELLS: f64 = 2.0;
+
 /// Per cell, its thickness and whether it is active.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Guard {
-    /// The thickness, negative where the cell is active.
+    /// The thickness, negative where the cell is active (times [`STRAIGHT_CELLS`] where it
+    /// is straight).
     thickness: Vec<f32>,
 }
 
@@ -44,7 +55,11 @@ impl Guard {
                 let thin = thickness(&corners) as f32;
                 let variation = table.variation(lo, hi);
                 if variation > 0.0 && variation * cell_bounds(&corners).diagonal() > threshold {
-                    -thin
+                    if table.steepest(lo, hi) * (hi - lo) <= STRAIGHT * variation {
+                        -thin * STRAIGHT_CELLS as f32
+                    } else {
+                        -thin
+                    }
                 } else {
                     thin
                 }
@@ -53,7 +68,8 @@ impl Guard {
         Guard { thickness }
     }
 
-    /// The longest step a sample in `cell` takes: its thickness where it is active, else `∞`.
+    /// The longest step a sample in `cell` takes: its thickness (or [`STRAIGHT_CELLS`] of them)
+    /// where it is active, else `∞`.
     #[inline]
     pub(crate) fn cap(&self, cell: u32) -> f64 {
         match self.thickness.get(cell as usize) {

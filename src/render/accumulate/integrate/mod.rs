@@ -23,7 +23,12 @@
 //! smooth. Where it exceeds the stretch's share of the tolerance, or where the stretch is
 //! longer than a cell at either end is thin and that cell is *active* ([`guard`]), the middle
 //! of the stretch is located (from the cell of one end, without moving the ray's march on) and
-//! each half is integrated in turn ([`crate::render::RenderStats::refined_samples`]). The next
+//! each half is integrated in turn ([`crate::render::RenderStats::refined_samples`]). A tangent
+//! followed from one sample whose curvature is unknown (from a run's start to its first
+//! sample, or past a run's only sample) is taken to be off by a share of what it adds, falling
+//! with the square of its length below the options' step; where that is too much, the sample
+//! asked for lies near its far end ([`NEAR_FRACTION`]), which leaves a cubic and a short
+//! tangent instead of halving it again and again. The next
 //! sample is placed from the estimate of the last stretch: the step grows where it was small
 //! against the tolerance, at most twofold per sample, and shrinks where it was large, within
 //! [`MIN_STEP_FRACTION`] and [`MAX_STEP_FACTOR`] of the options' step, and never beyond a cap
@@ -71,12 +76,17 @@ const CAP_SLACK: f64 = 2.0;
 const LINE_SHARE: f64 = 0.125;
 
 /// The share of what a stretch followed along one sample's tangent adds that is taken as
-/// its error (its curvature unknown).
+/// its error where its curvature is unknown, at the options' step (less, with the square of
+/// its length, below).
 const TANGENT_SHARE: f64 = 0.25;
 
 /// Most samples a refinement may stack up (the halvings from the longest step to the
 /// shortest, and one more).
 const STACK: usize = 16;
+
+/// Where a tangent of unknown curvature is too long, the sample asked for lies this share of
+/// its length from its far end.
+const NEAR_FRACTION: f64 = 1.0 / 32.0;
 
 /// What the error-bounded integration reads, made once per render: the transfer table as
 /// extinction, the active cells, the error allowed per ray, and the options' step.
@@ -152,6 +162,8 @@ pub(crate) struct Integrate<'f> {
     loose_start: bool,
     /// The stretch being integrated is taken as it is (its middle was not found).
     as_is: bool,
+    /// The sample asked for lies near the far end of a tangent (see [`NEAR_FRACTION`]).
+    near: bool,
     /// The curvature of the scalar along the ray at the last sample, where known.
     curvature: f64,
     /// The step the last stretch suggests.
@@ -185,6 +197,7 @@ impl<'f> Integrate<'f> {
             loose_close: false,
             loose_start: false,
             as_is: false,
+            near: false,
             curvature: f64::NAN,
             suggested: bounded.step,
             stretches: 0,
@@ -255,10 +268,15 @@ impl<'f> Integrate<'f> {
         if part != Part::Known {
             // Where the run really ends within it is unknown: all it adds may be wrong.
             estimate = estimate.max(crossed.light.difference(&self.light));
-        } else if ends_run {
-            // A tangent followed from one sample: its curvature unknown, what it adds may be
-            // off by a share of it.
-            estimate = estimate.max(TANGENT_SHARE * crossed.light.difference(&self.light));
+        } else if let Field::Tangent(_, curvature) = field {
+            if curvature == 0.0 {
+                // A tangent followed from one sample, its curvature unknown: what it adds may
+                // be off by a share of it, falling with the square of its length from the
+                // options' step (which resolves the field) down.
+                let reach = (len / self.bounded.step).min(1.0);
+                let whole = crossed.light.difference(&self.light);
+                estimate = estimate.max(TANGENT_SHARE * reach * reach * whole);
+            }
         }
         let allowed = self.tolerance * len;
         let guard = self.bounded.guard;
@@ -266,10 +284,28 @@ impl<'f> Integrate<'f> {
         let (min_step, _) = self.step_limits();
         let too_long = len > CAP_SLACK * cap;
         if !self.as_is && len > 2.0 * min_step && (estimate > allowed || too_long) {
-            let ask = Ask {
-                from: t0,
-                to: t1,
-                cell: cells.0,
+            let ask = match field {
+                Field::Tangent(knot, 0.0) if part == Part::Known && !too_long => {
+                    // Its curvature unknown: a sample near its far end makes the stretch a
+                    // cubic and leaves a short tangent.
+                    let near = NEAR_FRACTION * len;
+                    let (from, to) = if knot.t >= t1 {
+                        (t0, t0 + 2.0 * near)
+                    } else {
+                        (t1 - 2.0 * near, t1)
+                    };
+                    self.near = true;
+                    Ask {
+                        from,
+                        to,
+                        cell: cells.0,
+                    }
+                }
+                _ => Ask {
+                    from: t0,
+                    to: t1,
+                    cell: cells.0,
+                },
             };
             self.asked = Some((ask, ends_run, part));
             return Some(ask);
@@ -538,6 +574,10 @@ impl Accumulate for Integrate<'_> {
             return;
         };
         let middle = 0.5 * (ask.from + ask.to);
+        if std::mem::take(&mut self.near) && sample.is_none() {
+            self.as_is = true;
+            return;
+        }
         // A loose end's middle in a cell that adds nothing, or outside the mesh: the run ends
         // (starts) before (after) it.
         let adds_nothing = sample.map_or(true, |s| self.adds_nothing(s.cell));
