@@ -75,13 +75,15 @@ COMPETITORS = MAPPERS[1:]
 # The mappers that render VTK's tetrahedralization of the mesh.
 ON_TETRAHEDRA = ("vtk-raycast", "zsweep", "projected-tetra")
 # A worker's memory need: (bytes, bytes per hexahedron of the mesh), rounded up from the peak
-# resident memory this benchmark measured (mixer:4, 2.15 M cells: VTK's ray caster 6.2 GB).
+# resident memory this benchmark measured on the 2.15 M-cell refined mixer (cylvol 1.27 GB,
+# VTK's ray caster 6.15 GB, Z-sweep 8.1 GB when stopped, projected tetrahedra 2.9 GB, resample
+# and smart mapper 0.85 GB).
 MEMORY_MODEL = {
-    "cylvol": (200e6, 600),
+    "cylvol": (200e6, 650),
     "vtk-raycast": (250e6, 3000),
-    "zsweep": (250e6, 3000),
-    "projected-tetra": (250e6, 2500),
-    "resample-smart": (250e6, 600),
+    "zsweep": (250e6, 4000),
+    "projected-tetra": (250e6, 1500),
+    "resample-smart": (250e6, 450),
 }
 # A cylvol run whose error setting this build of the module cannot take.
 UNAVAILABLE = "not available in this build (vtkCylVolMapper has no SetMaximumError)"
@@ -454,9 +456,9 @@ def run_worker(mapper, dataset, args, workdir, png, relative_step=1.0, frames=No
 
 
 def wants_cylvol_module(args):
+    """Whether the runs need the cylvol module (the converged reference is a cylvol run)."""
     mappers = getattr(args, "mappers", None)
-    if mappers is not None:
-        # The converged reference is a cylvol run.
+    if isinstance(mappers, list):
         return "cylvol" in mappers or not getattr(args, "no_reference", False)
     return getattr(args, "only", None) != "vtk"
 
@@ -675,6 +677,8 @@ def main():
                    help="folder holding the cylvol package (default: the build tree's)")
     p.add_argument("--mappers", default=",".join(MAPPERS),
                    help="comma-separated, of %s (default all)" % ", ".join(MAPPERS))
+    p.add_argument("--only", choices=["vtk", "cylvol"],
+                   help="one mapper only (vtk: vtk-raycast), without the reference")
     p.add_argument("--relative-steps", default="1",
                    help="cylvol runs at these multiples of its default step, comma-separated (default 1)")
     p.add_argument("--max-errors", default="",
@@ -710,6 +714,10 @@ def main():
         worker(args)
         return 0
     args.mappers = [m for m in args.mappers.split(",") if m]
+    if args.only:
+        # One mapper's figures alone, without the reference.
+        args.mappers = ["vtk-raycast" if args.only == "vtk" else "cylvol"]
+        args.no_reference = True
     unknown = [m for m in args.mappers if m not in MAPPERS]
     if unknown:
         p.error("unknown mapper(s) %s; known: %s" % (", ".join(unknown), ", ".join(MAPPERS)))

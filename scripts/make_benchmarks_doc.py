@@ -14,9 +14,10 @@ Usage (Debian's /usr/bin/python3 with python3-vtk9, from anywhere):
                                                                    # render, accuracy)
     /usr/bin/python3 scripts/make_benchmarks_doc.py --from-json    # rewrite the docs, run nothing
     /usr/bin/python3 scripts/make_benchmarks_doc.py --large        # also the 2 M-cell meshes
-                                                                   # against VTK (~7 GB, long)
+                                                                   # against VTK (~7 GB, hours)
     /usr/bin/python3 scripts/make_benchmarks_doc.py --only vtk --large mixer:4 \
         --large-mappers cylvol,vtk-raycast,projected-tetra,resample-smart
+                                  # the VTK section with one 2 M-cell mesh and some mappers
 It builds what it measures first (`cargo build --release`; scripts/bench_vtk.py builds the VTK
 module); --no-build skips that.
 
@@ -169,7 +170,9 @@ def machine():
 def machine_line(m):
     return ("%s, %d cores, %.0f GB, %s; %s, VTK %s; code %s; %s, load average %s at the start"
             % (m["cpu"], m["cores"], m["memory_gb"], m["os"], m["rustc"], m["vtk"], m["commit"],
-               m["date"], " / ".join("%.1f" % x for x in m["load_average"])))
+               m["date"], " / ".join("%.1f" % x for x in m["load_average"])) + (
+                   ", %s at the end" % " / ".join("%.1f" % x for x in m["load_average_end"])
+                   if m.get("load_average_end") else ""))
 
 
 # ---------------------------------------------------------------------------------------
@@ -338,8 +341,23 @@ MAPPER_LABELS = {
 }
 MAPPER_COLORS = {"cylvol": PALETTE[0], "vtk-raycast": PALETTE[3], "zsweep": PALETTE[4],
                  "projected-tetra": PALETTE[1], "resample-smart": PALETTE[2]}
-# Markers of cylvol's settings in the error-against-time plot, in the order they come.
-MARKERS = ["circle", "square", "diamond", "triangle", "down"]
+# Markers of cylvol's settings in the error-against-time plot: the default step, longer
+# steps, then the error settings in the order they come.
+STEP_MARKER = "square"
+ERROR_MARKERS = ["triangle", "down", "diamond"]
+
+
+def ordered_runs(entry):
+    """(key, run) of a dataset's runs, reference left out: cylvol's default, its longer steps,
+    its error settings, then the competitors in MAPPER_LABELS's order."""
+    def rank(item):
+        key, r = item
+        mapper = r.get("mapper", key)
+        order = list(MAPPER_LABELS).index(mapper) if mapper in MAPPER_LABELS else len(MAPPER_LABELS)
+        kind = 0 if key == "cylvol" else 1 if key.startswith("cylvol@step") else 2
+        return (order, kind, r.get("relative_step") or 0.0, r.get("max_error") or 0.0)
+
+    return sorted(((k, r) for k, r in entry["runs"].items() if k != "reference"), key=rank)
 
 
 class VtkSection(Section):
@@ -419,9 +437,7 @@ class VtkSection(Section):
     def runs_table(self, entry):
         rows = []
         timeout = entry.get("timeout_s", self.TIMEOUT)
-        for key, r in entry["runs"].items():
-            if key == "reference":
-                continue
+        for key, r in ordered_runs(entry):
             head = [MAPPER_LABELS.get(r.get("mapper"), r.get("mapper", key)),
                     self.setting(key, r, entry)]
             why = self.status(r, timeout)
@@ -446,12 +462,14 @@ class VtkSection(Section):
                      rows)
 
     def ratios_table(self, entry):
-        cyl = [k for k in entry["runs"] if k.startswith("cylvol")
-               and "first_frame_s" in entry["runs"][k]]
+        cyl = [k for k, r in ordered_runs(entry) if k.startswith("cylvol") and "first_frame_s" in r]
         header = ["competitor ÷ cylvol: first / steady frame, memory"] + [
             "cylvol " + self.setting(k, entry["runs"][k], entry) for k in cyl]
         rows = []
-        for comp, per in entry.get("ratios", {}).items():
+        for comp in MAPPER_LABELS:
+            per = entry.get("ratios", {}).get(comp)
+            if per is None:
+                continue
             rows.append([MAPPER_LABELS[comp]] + [
                 "**%s** / **%s**, %s" % (ratio(per[k]["first_frame"]), ratio(per[k]["steady"]),
                                           ratio(per[k]["peak_rss"])) if k in per else "–"
@@ -462,14 +480,11 @@ class VtkSection(Section):
         """(series label, colour, marker, steady frame s, mean error /255) of every run with
         both figures."""
         out = []
-        marker = iter(MARKERS)
-        for key, r in entry["runs"].items():
-            if key == "reference":
-                continue
+        errors = iter(ERROR_MARKERS * 4)
+        for key, r in ordered_runs(entry):
             mapper = r.get("mapper", key)
-            shape = next(marker) if mapper == "cylvol" else "circle"
-            if mapper == "cylvol" and "first_frame_s" not in r:
-                continue
+            shape = ("circle" if key == "cylvol" or mapper != "cylvol"
+                     else STEP_MARKER if key.startswith("cylvol@step") else next(errors))
             err = (r.get("error_vs_reference") or {}).get("mean_abs_255")
             if r.get("steady_s") is None or err is None:
                 continue
@@ -530,13 +545,15 @@ class VtkSection(Section):
             "",
             "A refined mixer is the OpenFOAM mixer with every hexahedron cut into N × N × N "
             "(`cylvol gen tests/data/mixer.vtk --refine N`). The plot shows the runs that "
-            "finished their steady frames, on log scales. VTK's tetrahedral mappers integrate "
-            "once per tetrahedron crossed; cylvol samples at steps and inverts the trilinear map "
-            "of a hexahedron at each sample, so on small meshes VTK can be faster, and cylvol's "
-            "lead grows with the mesh (set-up and memory of the tetrahedral mappers grow with "
-            "the six tetrahedra of each hexahedron). The resampled image renders fast at any "
-            "mesh size, at the price of its error: %d³ points are coarser than the mesh, and "
-            "the resampling itself is paid in the first frame." % dims,
+            "finished their steady frames, on log scales. VTK's ray caster integrates once per "
+            "tetrahedron crossed, projected tetrahedra sorts and draws every tetrahedron each "
+            "frame, Z-sweep sweeps their faces; cylvol samples at steps and inverts the "
+            "trilinear map of a hexahedron at each sample. So on small meshes VTK's ray caster "
+            "and projected tetrahedra can be faster than cylvol's default step, and cylvol's "
+            "lead grows with the mesh (set-up, frame and memory of the tetrahedral mappers grow "
+            "with the six tetrahedra of each hexahedron). The resampled image renders fast at "
+            "any mesh size, at the price of its error (%d³ points are coarser than the mesh "
+            "where its cells are small), and the resampling is paid in the first frame." % dims,
         ]
         return "\n".join(text)
 
@@ -955,6 +972,7 @@ def main():
             commands = []
             where = machine()
             data = section.run(opts, commands)
+            where["load_average_end"] = [round(x, 2) for x in os.getloadavg()]
             results["sections"][section.name] = {"machine": where, "commands": commands, "data": data}
             with open(RESULTS, "w") as f:
                 json.dump(results, f, indent=1, sort_keys=True)
