@@ -341,6 +341,8 @@ MAPPER_LABELS = {
 }
 MAPPER_COLORS = {"cylvol": PALETTE[0], "vtk-raycast": PALETTE[3], "zsweep": PALETTE[4],
                  "projected-tetra": PALETTE[1], "resample-smart": PALETTE[2]}
+# vtkSmartVolumeMapper's GetLastUsedRenderMode values.
+SMART_RENDER_MODES = {1: "CPU ray cast", 2: "GPU ray cast", 3: "OSPRay"}
 # Markers of cylvol's settings in the error-against-time plot: the default step, longer
 # steps, then the error settings in the order they come.
 STEP_MARKER = "square"
@@ -414,7 +416,8 @@ class VtkSection(Section):
             return "default step"
         if key == "resample-smart":
             n = entry.get("resample_dims", 100)
-            return "%d³ points" % n
+            mode = SMART_RENDER_MODES.get(r.get("render_mode"))
+            return "%d³ points" % n + (", %s" % mode if mode else "")
         if key in ("vtk-raycast", "zsweep", "projected-tetra"):
             tets = r.get("tetrahedra")
             return "{:,} tetrahedra".format(tets) if tets else "tetrahedra"
@@ -454,7 +457,7 @@ class VtkSection(Section):
                 "%.2f" % r["first_frame_s"],
                 "%.3f" % steady if steady is not None else why,
                 "{:,.0f}".format(r["peak_rss_bytes"] / 1e6),
-                "%s / %s / %s" % (f3(e.get("mean_abs_255")), fmt_num(e.get("p99_255")),
+                "%s / %s / %s" % (fmt_err(e.get("mean_abs_255")), fmt_num(e.get("p99_255")),
                                   fmt_num(e.get("max_255"))),
                 pct(e.get("percent_within_8"))])
         return table(["mapper", "setting", "prepare s (cylvol: build)", "first frame s", "steady frame s",
@@ -568,7 +571,7 @@ class VtkSection(Section):
                 ce = (entry["runs"]["cylvol"].get("error_vs_reference") or {}).get("mean_abs_255")
                 rows.append([self.mesh_label(entry), MAPPER_LABELS[comp],
                              "**%s**" % ratio(x["first_frame"]), "**%s**" % ratio(x["steady"]),
-                             ratio(x["peak_rss"]), "%s; %s" % (f3(ce), f3(e))])
+                             ratio(x["peak_rss"]), "%s; %s" % (fmt_err(ce), fmt_err(e))])
         return {("README.md", "vtk-table"): (table(
             ["mesh (cells)", "competitor", "competitor ÷ cylvol: first frame", "steady frame",
              "peak memory", "error /255 cylvol; competitor"], rows), True)}
@@ -582,6 +585,11 @@ class VtkSection(Section):
         if mappers and len(mappers) < len(MAPPER_LABELS):
             out += " --large-mappers %s" % ",".join(mappers)
         return out
+
+
+def fmt_err(x):
+    """A mean error in /255: three decimals, four below 0.01."""
+    return "–" if x is None else ("%.3f" % x if x >= 0.01 else "%.4f" % x)
 
 
 def fmt_num(x):
