@@ -19,14 +19,13 @@ turning by one degree a frame. The first frame is counted from the loaded mesh t
 image: it includes the tetrahedralization or the resampling (also reported apart as
 prepare_s). The steady frame is the median of the steady frames. The same camera, transfer
 function and unit distance as the CTest comparison are used; VTK's two CPU ray casters render
-every pixel (AutoAdjustSampleDistances off). Each image is compared with a converged reference,
-cylvol at 1/8 of its default step: per pixel, the largest of the R, G, B differences; reported
-are the mean difference over the channels, the 99th percentile and the maximum of the per-pixel
-difference (all in 1/255) and the share of pixels within 8/255. The script prints, per dataset,
-every run's times, peak resident memory (ru_maxrss of the worker) and the error of its first
-frame, and the ratios
-competitor / cylvol (first frame, steady frame, peak memory) for cylvol's default and each of
-its settings.
+every pixel (AutoAdjustSampleDistances off). Each mapper's first image is compared with a
+converged reference, cylvol at 1/8 of its default step: per pixel, the largest of the R, G, B
+differences; reported are the mean difference over the channels, the 99th percentile and the
+maximum of the per-pixel difference (all in 1/255) and the share of pixels within 8/255. The
+script prints, per dataset, every run's times, peak resident memory (ru_maxrss of the worker)
+and error, and the ratios competitor / cylvol (first frame, steady frame, peak memory) for
+cylvol's default and each of its settings.
 
 A worker that does not finish within --timeout seconds is stopped and reported as not finished
 (with its first frame if it had one). A mapper whose memory need, estimated from the cells
@@ -47,7 +46,8 @@ Datasets: mixer, hexa, comb, post (from tests/data), mixer:N or hexa:N (that mes
 hexahedron cut into N x N x N by `cylvol gen FILE --refine N`; mixer:4 is the 2.15 M-cell refined
 mixer) or rotor[:CELLS] (generated with `cylvol gen pump-rotor:CELLS`; rotor alone is
 rotor:2100000).
---keep DIR keeps the generated meshes and the images. --json prints, after the text report and
+--only vtk (or cylvol) runs that one mapper without the reference. --keep DIR keeps the
+generated meshes and the images. --json prints, after the text report and
 the line naming that folder, the results as a JSON array (one object per dataset: `runs` per
 mapper and setting, each with its `error_vs_reference`, and `ratios`, competitor / cylvol);
 scripts/make_benchmarks_doc.py reads it to write docs/benchmarks.md. Times depend on the
