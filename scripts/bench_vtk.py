@@ -1,33 +1,58 @@
 #!/usr/bin/python3
-"""VTK's unstructured ray caster and cylvol's vtkCylVolMapper, side by side.
+"""cylvol's vtkCylVolMapper against VTK's unstructured volume mappers, side by side.
 
-For each dataset, each mapper runs in its own subprocess (so that its peak memory can be
-read on its own): load the mesh, (for VTK) tetrahedralize it with vtkDataSetTriangleFilter,
-render a first frame (cylvol builds its structure inside it), then steady frames with the
-camera turning by one degree per frame (each frame's wall time and the process's CPU time over
-it, `steady_frames_s` and `steady_cpu_s`). The same camera, transfer function and unit
-distance as the CTest comparison are used. The script prints, per dataset, both mappers'
-times, their peak resident memory (ru_maxrss of the worker), the image difference between
-the two final frames, and the ratios VTK ÷ cylvol.
+Mappers (--mappers, default all):
+    cylvol           vtkCylVolMapper on the hexahedra, at its default step, at multiples of it
+                     (--relative-steps) and at error settings (--max-errors, SetMaximumError)
+    vtk-raycast      vtkUnstructuredGridVolumeRayCastMapper on vtkDataSetTriangleFilter's
+                     tetrahedra (VTK needs them)
+    zsweep           vtkUnstructuredGridVolumeZSweepMapper on the same tetrahedra
+    projected-tetra  vtkProjectedTetrahedraMapper on the same tetrahedra (OpenGL; ParaView's
+                     default for unstructured volumes)
+    resample-smart   vtkResampleToImage onto a regular grid of N x N x N points (--resample-dims,
+                     default 100: the default SamplingDimensions of ParaView's Resample To Image
+                     filter), then vtkSmartVolumeMapper (OpenGL): ParaView's usual workaround
+For each dataset, each mapper runs in its own subprocess (so that its peak memory is its own):
+load the mesh, prepare what the mapper needs (tetrahedralize or resample; cylvol builds its
+structure inside its first render), render the first frame, then steady frames with the camera
+turning by one degree a frame. The first frame is counted from the loaded mesh to the first
+image: it includes the tetrahedralization or the resampling (also reported apart as
+prepare_s). The steady frame is the median of the steady frames. The same camera, transfer
+function and unit distance as the CTest comparison are used; VTK's two CPU ray casters render
+every pixel (AutoAdjustSampleDistances off). Each mapper's first image is compared with a
+converged reference, cylvol at 1/8 of its default step: per pixel, the largest of the R, G, B
+differences; reported are the mean difference over the channels, the 99th percentile and the
+maximum of the per-pixel difference (all in 1/255) and the share of pixels within 8/255. The
+script prints, per dataset, every run's times, peak resident memory (ru_maxrss of the worker)
+and error, and the ratios competitor / cylvol (first frame, steady frame, peak memory) for
+cylvol's default and each of its settings.
 
-Usage (Debian's python3-vtk9 and the build tree's cylvol package):
-    /usr/bin/python3 scripts/bench_vtk.py                      # mixer and rotor:200000
-    /usr/bin/python3 scripts/bench_vtk.py mixer rotor:2100000 --size 512 --frames 3
+A worker that does not finish within --timeout seconds is stopped and reported as not finished
+(with its first frame if it had one). A mapper whose memory need, estimated from the cells
+(MEMORY_MODEL, from this benchmark's own runs), exceeds the memory available at its start is
+skipped, and the report says so.
+
+Usage (Debian's python3-vtk9 and the build tree's cylvol package; re-runs itself under
+xvfb-run when there is no display, as the OpenGL mappers need one):
+    /usr/bin/python3 scripts/bench_vtk.py                      # mixer and rotor:200000, all mappers
+    /usr/bin/python3 scripts/bench_vtk.py mixer:4 --mappers cylvol,vtk-raycast --timeout 600
+    /usr/bin/python3 scripts/bench_vtk.py mixer --max-errors 1,4 --relative-steps 1,4
 Before measuring, the script brings what it measures up to date with the sources: `cargo build
 --release` (the cylvol command that generates meshes) and `cmake --build build/vtk_plugin`
 (configured first if need be; it rebuilds libcylvol.a through cargo and relinks the module), so
 the figures are never those of a stale module. --no-build skips both; with --pythonpath the
 package given is used as it is (only the cylvol command is built).
 Datasets: mixer, hexa, comb, post (from tests/data), mixer:N or hexa:N (that mesh with every
-hexahedron cut into N x N x N by `cylvol gen FILE --refine N`; mixer:4 is the 2.15 M-cell refined mixer)
-or rotor[:CELLS] (generated with `cylvol gen pump-rotor:CELLS`).
---relative-steps F1,F2,... runs cylvol at those multiples of its default step (the mapper's
-SetRelativeSampleDistance), each compared with VTK; --only runs one mapper; --keep DIR keeps the
-generated meshes and the images. --json prints, after the text report and the line naming that
-folder, the results as a JSON array (one object per dataset: `runs` per mapper and step,
-`comparisons` with the ratios and image errors); scripts/make_benchmarks_doc.py reads it to
-write docs/benchmarks.md and the README's table. Times depend on the machine and on what else
-runs on it: compare the ratios of one run, in which both mappers ran side by side.
+hexahedron cut into N x N x N by `cylvol gen FILE --refine N`; mixer:4 is the 2.15 M-cell refined
+mixer) or rotor[:CELLS] (generated with `cylvol gen pump-rotor:CELLS`; rotor alone is
+rotor:2100000).
+--only vtk (or cylvol) runs that one mapper without the reference. --keep DIR keeps the
+generated meshes and the images. --json prints, after the text report and
+the line naming that folder, the results as a JSON array (one object per dataset: `runs` per
+mapper and setting, each with its `error_vs_reference`, and `ratios`, competitor / cylvol);
+scripts/make_benchmarks_doc.py reads it to write docs/benchmarks.md. Times depend on the
+machine and on what else runs on it: compare the ratios of one run, in which the mappers ran
+side by side.
 """
 import argparse
 import json
@@ -45,6 +70,23 @@ BUILD = os.path.join(REPO, "build", "vtk_plugin")
 CYLVOL = os.path.join(REPO, "target", "release", "cylvol")
 # vtkCylVolMapper's StructureType values.
 STRUCTURES = {"auto": 0, "cart-grid": 1, "cyl-grid": 2, "cart-bvh": 3, "cyl-bvh": 4}
+MAPPERS = ["cylvol", "vtk-raycast", "zsweep", "projected-tetra", "resample-smart"]
+COMPETITORS = MAPPERS[1:]
+# The mappers that render VTK's tetrahedralization of the mesh.
+ON_TETRAHEDRA = ("vtk-raycast", "zsweep", "projected-tetra")
+# A worker's memory need: (bytes, bytes per hexahedron of the mesh), rounded up from the peak
+# resident memory this benchmark measured on the 2.15 M-cell refined mixer (cylvol 1.27 GB,
+# VTK's ray caster 6.15 GB, Z-sweep 8.1 GB when stopped, projected tetrahedra 2.9 GB, resample
+# and smart mapper 0.85 GB).
+MEMORY_MODEL = {
+    "cylvol": (200e6, 650),
+    "vtk-raycast": (250e6, 3000),
+    "zsweep": (250e6, 4000),
+    "projected-tetra": (250e6, 1500),
+    "resample-smart": (250e6, 450),
+}
+# A cylvol run whose error setting this build of the module cannot take.
+UNAVAILABLE = "not available in this build (vtkCylVolMapper has no SetMaximumError)"
 
 
 def default_pythonpath():
@@ -141,54 +183,87 @@ def make_property(lo, hi, diagonal):
     return prop
 
 
-def worker(args):
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
-    import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
-    from vtkmodules.vtkIOImage import vtkPNGWriter
-    from vtkmodules.vtkRenderingCore import (
-        vtkRenderer,
-        vtkRenderWindow,
-        vtkVolume,
-        vtkWindowToImageFilter,
-    )
+def tetrahedralize(grid, out):
+    """VTK's tetrahedralization of the mesh, as VTK's unstructured mappers need (and as
+    ParaView's Volume representation does before them)."""
+    from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
 
-    out = {"mapper": args.worker, "dataset": args.dataset}
-    rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    t = time.perf_counter()
-    grid, scalar = load(args.dataset, args.workdir)
-    out["load_s"] = time.perf_counter() - t
-    out["cells"] = grid.GetNumberOfCells()
-    grid.GetPointData().SetActiveScalars(scalar)
-    lo, hi = grid.GetPointData().GetArray(scalar).GetRange()
+    tets = vtkDataSetTriangleFilter()
+    tets.SetInputData(grid)
+    tets.Update()
+    tet_grid = tets.GetOutput()
+    out["tetrahedra"] = tet_grid.GetNumberOfCells()
+    return tet_grid
 
-    t = time.perf_counter()
-    if args.worker == "vtk":
-        from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
-        from vtkmodules.vtkRenderingVolume import vtkUnstructuredGridVolumeRayCastMapper
 
-        tets = vtkDataSetTriangleFilter()
-        tets.SetInputData(grid)
-        tets.Update()
-        tet_grid = tets.GetOutput()
-        out["tetrahedra"] = tet_grid.GetNumberOfCells()
-        del tets
-        mapper = vtkUnstructuredGridVolumeRayCastMapper()
+def resample(grid, scalar, dims, out):
+    """The mesh resampled onto a regular grid of dims^3 points over its bounds (the points
+    outside every cell are blanked by vtkResampleToImage)."""
+    from vtkmodules.vtkFiltersCore import vtkResampleToImage
+
+    r = vtkResampleToImage()
+    r.SetInputDataObject(grid)
+    r.UseInputBoundsOn()
+    r.SetSamplingDimensions(dims, dims, dims)
+    r.Update()
+    image = r.GetOutput()
+    image.GetPointData().SetActiveScalars(scalar)
+    out["resample_dims"] = [dims, dims, dims]
+    mask = image.GetPointData().GetArray(r.GetMaskArrayName())
+    if mask is not None:
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        out["resample_valid_points"] = int(vtk_to_numpy(mask).astype(bool).sum())
+    return image
+
+
+def make_mapper(args, grid, scalar, out):
+    """The mapper args.worker names, on what it renders (prepared here)."""
+    kind = "vtk-raycast" if args.worker == "vtk" else args.worker
+    if kind in ON_TETRAHEDRA:
+        from vtkmodules.vtkRenderingVolume import (
+            vtkProjectedTetrahedraMapper,
+            vtkUnstructuredGridVolumeRayCastMapper,
+            vtkUnstructuredGridVolumeZSweepMapper,
+        )
+
+        tet_grid = tetrahedralize(grid, out)
+        if kind == "projected-tetra":
+            mapper = vtkProjectedTetrahedraMapper()
+        else:
+            mapper = (vtkUnstructuredGridVolumeRayCastMapper() if kind == "vtk-raycast"
+                      else vtkUnstructuredGridVolumeZSweepMapper())
+            # Every pixel rendered, as cylvol does (no interactive coarsening).
+            mapper.AutoAdjustSampleDistancesOff()
+            mapper.SetImageSampleDistance(1.0)
         mapper.SetInputData(tet_grid)
-    else:
-        import cylvol
+        out["class"] = mapper.GetClassName()
+        return mapper
+    if kind == "resample-smart":
+        from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkSmartVolumeMapper
 
-        mapper = cylvol.vtkCylVolMapper()
-        mapper.SetInputData(grid)
-        mapper.SetRelativeSampleDistance(args.relative_step)
-        mapper.SetStructure(STRUCTURES[args.structure])
-        if args.periodic:
-            mapper.SetPeriodicCopies(args.periodic)
-    out["prepare_s"] = time.perf_counter() - t
-    mapper.SetScalarModeToUsePointFieldData()
-    mapper.SelectScalarArray(scalar)
-    # The scene's size: the drawn box's diagonal (the wheel's, with periodic copies).
-    b = mapper.GetBounds()
-    prop = make_property(lo, hi, sum((b[2 * k + 1] - b[2 * k]) ** 2 for k in range(3)) ** 0.5)
+        mapper = vtkSmartVolumeMapper()
+        mapper.SetInputData(resample(grid, scalar, args.resample_dims, out))
+        out["class"] = mapper.GetClassName()
+        return mapper
+    import cylvol
+
+    mapper = cylvol.vtkCylVolMapper()
+    mapper.SetInputData(grid)
+    mapper.SetRelativeSampleDistance(args.relative_step)
+    if args.max_error > 0.0:
+        mapper.SetMaximumError(args.max_error)
+    mapper.SetStructure(STRUCTURES[args.structure])
+    if args.periodic:
+        mapper.SetPeriodicCopies(args.periodic)
+    out["class"] = mapper.GetClassName()
+    return mapper
+
+
+def make_scene(args, mapper, prop):
+    """A window of args.size^2 with the volume, the camera turned by azimuth 30 and
+    elevation 20."""
+    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
 
     volume = vtkVolume()
     volume.SetMapper(mapper)
@@ -207,46 +282,13 @@ def worker(args):
     cam.OrthogonalizeViewUp()
     cam.Zoom(1.0)
     ren.ResetCameraClippingRange()
+    return win, cam
 
-    t = time.perf_counter()
-    win.Render()
-    out["first_frame_s"] = time.perf_counter() - t
-    # The camera turns one degree each frame, back and forth; `turned` is the net turn.
-    turned = 0
 
-    def next_frame():
-        nonlocal turned
-        step = 1 if turned == 0 else -1
-        cam.Azimuth(float(step))
-        turned += step
-        t = time.perf_counter()
-        c = time.process_time()
-        win.Render()
-        return time.perf_counter() - t, time.process_time() - c
+def save_image(win, path):
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
 
-    steady, steady_cpu = [], []
-    for _ in range(args.frames):
-        wall, cpu = next_frame()
-        steady.append(wall)
-        steady_cpu.append(cpu)
-    out["steady_frames_s"] = steady
-    out["steady_cpu_s"] = steady_cpu
-    out["steady_s"] = sorted(steady)[len(steady) // 2] if steady else None
-    if args.worker == "cylvol":
-        out["builds"] = mapper.GetBuildCount()
-        out["build_s"] = mapper.GetLastBuildSeconds()
-        out["structure_bytes"] = mapper.GetLastBuildBytes()
-        out["structure"] = mapper.GetBuiltStructure()
-        out["step"] = mapper.GetLastSampleDistance()
-        out["samples"] = mapper.GetLastSamples()
-        out["hex_tests"] = mapper.GetLastHexTests()
-        # The last frame: cylvol's own ray casting, and the mapper's whole Render().
-        out["last_ray_s"] = mapper.GetLastRaySeconds()
-        out["last_render_s"] = mapper.GetLastRenderSeconds()
-    # Back to the first frame's view for the image comparison.
-    if turned != 0:
-        cam.Azimuth(-float(turned))
-        win.Render()
     grab = vtkWindowToImageFilter()
     grab.SetInput(win)
     grab.SetInputBufferTypeToRGB()
@@ -254,10 +296,86 @@ def worker(args):
     grab.ShouldRerenderOff()
     grab.Update()
     writer = vtkPNGWriter()
-    writer.SetFileName(args.png)
+    writer.SetFileName(path)
     writer.SetInputConnection(grab.GetOutputPort())
     writer.Write()
-    out["peak_rss_bytes"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+
+
+def peak_rss():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+
+
+def cylvol_counters(mapper, out):
+    out["builds"] = mapper.GetBuildCount()
+    out["build_s"] = mapper.GetLastBuildSeconds()
+    out["structure_bytes"] = mapper.GetLastBuildBytes()
+    out["structure"] = mapper.GetBuiltStructure()
+    out["step"] = mapper.GetLastSampleDistance()
+    out["samples"] = mapper.GetLastSamples()
+    out["hex_tests"] = mapper.GetLastHexTests()
+    # The last frame: cylvol's own ray casting, and the mapper's whole Render().
+    out["last_ray_s"] = mapper.GetLastRaySeconds()
+    out["last_render_s"] = mapper.GetLastRenderSeconds()
+
+
+def worker(args):
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+    import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+
+    out = {"mapper": args.worker, "dataset": args.dataset, "relative_step": args.relative_step,
+           "max_error": args.max_error or None}
+    if args.worker == "cylvol" and args.max_error > 0.0:
+        import cylvol
+
+        if not hasattr(cylvol.vtkCylVolMapper, "SetMaximumError"):
+            out["unavailable"] = UNAVAILABLE
+            print("RESULT " + json.dumps(out), flush=True)
+            return
+    rss0 = peak_rss()
+    t = time.perf_counter()
+    grid, scalar = load(args.dataset, args.workdir)
+    out["load_s"] = time.perf_counter() - t
+    out["cells"] = grid.GetNumberOfCells()
+    grid.GetPointData().SetActiveScalars(scalar)
+    lo, hi = grid.GetPointData().GetArray(scalar).GetRange()
+
+    t = time.perf_counter()
+    mapper = make_mapper(args, grid, scalar, out)
+    out["prepare_s"] = time.perf_counter() - t
+    mapper.SetScalarModeToUsePointFieldData()
+    mapper.SelectScalarArray(scalar)
+    # The scene's size: the drawn box's diagonal (the wheel's, with periodic copies).
+    b = mapper.GetBounds()
+    prop = make_property(lo, hi, sum((b[2 * k + 1] - b[2 * k]) ** 2 for k in range(3)) ** 0.5)
+    win, cam = make_scene(args, mapper, prop)
+
+    t = time.perf_counter()
+    win.Render()
+    out["render_first_s"] = time.perf_counter() - t
+    # From the loaded mesh to the first image: tetrahedralization or resampling included.
+    out["first_frame_s"] = out["prepare_s"] + out["render_first_s"]
+    if args.worker == "resample-smart":
+        out["render_mode"] = mapper.GetLastUsedRenderMode()
+    # The first frame's image is the one compared with the reference (the view every mapper
+    # renders first); its figures are what a worker too slow for its steady frames reports.
+    save_image(win, args.png)
+    out["peak_rss_bytes"] = peak_rss()
+    print("PARTIAL " + json.dumps(out), flush=True)
+    # The camera turns one degree each frame, back and forth.
+    steady, steady_cpu = [], []
+    for i in range(args.frames):
+        cam.Azimuth(1.0 if i % 2 == 0 else -1.0)
+        t = time.perf_counter()
+        c = time.process_time()
+        win.Render()
+        steady.append(time.perf_counter() - t)
+        steady_cpu.append(time.process_time() - c)
+    out["steady_frames_s"] = steady
+    out["steady_cpu_s"] = steady_cpu
+    out["steady_s"] = sorted(steady)[len(steady) // 2] if steady else None
+    if args.worker == "cylvol":
+        cylvol_counters(mapper, out)
+    out["peak_rss_bytes"] = peak_rss()
     out["rss_before_load_bytes"] = rss0 * 1024
     print("RESULT " + json.dumps(out), flush=True)
 
@@ -266,47 +384,68 @@ def worker(args):
 # parent side
 
 
-def image_difference(png_a, png_b):
+def read_rgb(png):
+    """The image's pixels as an (n, 3) array of int16."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkIOImage import vtkPNGReader
 
-    arrays = []
-    for p in (png_a, png_b):
-        r = vtkPNGReader()
-        r.SetFileName(p)
-        r.Update()
-        arrays.append(r.GetOutput().GetPointData().GetScalars())
-    sa, sb = arrays
-    n = sa.GetNumberOfTuples()
-    total = 0
-    within = 0
-    for i in range(n):
-        ta = sa.GetTuple(i)
-        tb = sb.GetTuple(i)
-        m = 0
-        for ch in range(3):
-            d = abs(ta[ch] - tb[ch])
-            total += d
-            m = max(m, d)
-        within += m <= 8
-    return total / (3.0 * n), 100.0 * within / n
+    r = vtkPNGReader()
+    r.SetFileName(png)
+    r.Update()
+    a = vtk_to_numpy(r.GetOutput().GetPointData().GetScalars())
+    return a.reshape(a.shape[0], -1)[:, :3].astype("int16")
 
 
-def run_worker(mapper, dataset, args, workdir, png, relative_step=1.0, frames=None, periodic=0):
+def image_error(png, reference_png):
+    """An image against the reference, in 1/255: the mean difference over the channels; per
+    pixel the largest channel difference, its 99th percentile and maximum; the share of
+    pixels within 8/255 (per cent)."""
+    import numpy
+
+    d = numpy.abs(read_rgb(png) - read_rgb(reference_png))
+    per_pixel = d.max(axis=1)
+    return {"mean_abs_255": float(d.mean()),
+            "p99_255": float(numpy.percentile(per_pixel, 99)),
+            "max_255": int(per_pixel.max()),
+            "percent_within_8": 100.0 * float((per_pixel <= 8).mean())}
+
+
+def image_difference(png_a, png_b):
+    """(mean difference /255, per cent of pixels within 8/255) of two images."""
+    e = image_error(png_a, png_b)
+    return e["mean_abs_255"], e["percent_within_8"]
+
+
+def run_worker(mapper, dataset, args, workdir, png, relative_step=1.0, frames=None, periodic=0,
+               max_error=0.0):
+    """One mapper in its own process; its RESULT, or what it had reported (PARTIAL) when it
+    ran past args.timeout, or an error."""
     env = dict(os.environ)
     if args.pythonpath:
         env["PYTHONPATH"] = args.pythonpath + (":" + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     cmd = [sys.executable, os.path.abspath(__file__), "--worker", mapper, "--dataset", dataset,
            "--size", str(args.size), "--frames", str(args.frames if frames is None else frames),
-           "--workdir", workdir, "--png", png, "--relative-step", str(relative_step),
-           "--structure", args.structure, "--periodic", str(periodic)]
+           "--workdir", workdir, "--png", png, "--relative-step", repr(relative_step),
+           "--max-error", repr(max_error), "--structure", args.structure,
+           "--periodic", str(periodic),
+           "--resample-dims", str(getattr(args, "resample_dims", 100))]
+    if os.path.exists(png):
+        os.remove(png)
     t = time.perf_counter()
     try:
         proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                               timeout=args.timeout)
-    except subprocess.TimeoutExpired:
-        return {"mapper": mapper, "dataset": dataset, "error": "timed out after %d s" % args.timeout}
+        stdout = proc.stdout
+    except subprocess.TimeoutExpired as e:
+        stdout = e.stdout.decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
+        partial = [json.loads(line[8:]) for line in stdout.splitlines() if line.startswith("PARTIAL ")]
+        r = partial[0] if partial else {"mapper": mapper, "dataset": dataset}
+        r.update({"timed_out": True, "timeout_s": args.timeout, "steady_s": None,
+                  "not_finished": ("steady frames not finished in %d s" % args.timeout) if partial
+                  else ("> %d s, not finished (no first frame)" % args.timeout)})
+        return r
     wall = time.perf_counter() - t
-    for line in proc.stdout.splitlines():
+    for line in stdout.splitlines():
         if line.startswith("RESULT "):
             r = json.loads(line[7:])
             r["wall_s"] = wall
@@ -316,13 +455,21 @@ def run_worker(mapper, dataset, args, workdir, png, relative_step=1.0, frames=No
             "error": "exit status %d; stderr tail:\n%s" % (proc.returncode, tail)}
 
 
+def wants_cylvol_module(args):
+    """Whether the runs need the cylvol module (the converged reference is a cylvol run)."""
+    mappers = getattr(args, "mappers", None)
+    if isinstance(mappers, list):
+        return "cylvol" in mappers or not getattr(args, "no_reference", False)
+    return getattr(args, "only", None) != "vtk"
+
+
 def build_what_is_measured(args):
     """Brings the cylvol command and the build tree's VTK module up to date with the sources
     (cargo and CMake rebuild only what changed), so that a stale module is never measured.
     Exits with a message if a build fails."""
     steps = [["cargo", "build", "--release", "--quiet", "--manifest-path",
               os.path.join(REPO, "Cargo.toml")]]
-    if args.only != "vtk" and args.pythonpath == default_pythonpath():
+    if wants_cylvol_module(args) and args.pythonpath == default_pythonpath():
         if not os.path.exists(os.path.join(BUILD, "CMakeCache.txt")):
             steps.append(["cmake", "-S", os.path.join(REPO, "vtk_plugin"), "-B", BUILD,
                           "-DCMAKE_BUILD_TYPE=Release", "-Wno-dev"])
@@ -334,13 +481,189 @@ def build_what_is_measured(args):
             sys.stderr.write(done.stdout[-4000:])
             sys.exit("bench_vtk.py: '%s' failed (exit %d); --no-build measures the build tree "
                      "as it is" % (" ".join(cmd), done.returncode))
-    if args.pythonpath == "" and args.only != "vtk":
+    if args.pythonpath == "" and wants_cylvol_module(args):
         # Configured just now: the package's folder is known only after the first build.
         args.pythonpath = default_pythonpath()
 
 
+def prepare_dataset(dataset, workdir):
+    """Generates the mesh a dataset name stands for, once, into workdir."""
+    if dataset.startswith("rotor"):
+        path = rotor_file(dataset, workdir)
+        if not os.path.exists(path):
+            cells = dataset.split(":")[1] if ":" in dataset else "2100000"
+            print("generating pump-rotor:%s ..." % cells, file=sys.stderr, flush=True)
+            subprocess.run([CYLVOL, "gen", "pump-rotor:" + cells, "-o", path], check=True)
+    if dataset.split(":")[0] in ("mixer", "hexa") and ":" in dataset:
+        path = refined_file(dataset, workdir)
+        if not os.path.exists(path):
+            name, n = dataset.split(":")
+            print("refining %s by %s ..." % (name, n), file=sys.stderr, flush=True)
+            subprocess.run([CYLVOL, "gen", os.path.join(DATA, name + ".vtk"), "--refine", n,
+                            "-o", path], check=True)
+
+
+def estimated_cells(dataset):
+    """The mesh's cells, from its name (before any worker has read it)."""
+    name, _, n = dataset.partition(":")
+    if name == "rotor":
+        return int(n or 2100000)
+    base = {"mixer": 33600, "hexa": 1000}.get(name, 100000)
+    return base * (int(n) ** 3 if n else 1)
+
+
+def available_memory():
+    """MemAvailable of /proc/meminfo in bytes, or None where it cannot be read."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return None
+
+
+def memory_shortfall(mapper, cells):
+    """A sentence when the mapper's estimated need exceeds the memory available now."""
+    base, per_cell = MEMORY_MODEL[mapper]
+    need = base + per_cell * cells
+    free = available_memory()
+    if free is not None and need > free:
+        return ("skipped: needs about %.1f GB for %s cells, %.1f GB available"
+                % (need / 1e9, "{:,}".format(cells), free / 1e9))
+    return None
+
+
+def jobs_of(args):
+    """(key, mapper, relative step, max error, frames) of every run on a dataset: cylvol at
+    its default and each setting, the competitors, then the converged reference."""
+    jobs = []
+    if "cylvol" in args.mappers:
+        factors = [float(f) for f in args.relative_steps.split(",") if f] or [1.0]
+        for f in factors:
+            jobs.append(("cylvol" if f == 1.0 else "cylvol@step%g" % f, "cylvol", f, 0.0, None))
+        for e in [float(e) for e in args.max_errors.split(",") if e]:
+            jobs.append(("cylvol@error%g" % e, "cylvol", 1.0, e, None))
+    jobs += [(m, m, 1.0, 0.0, None) for m in COMPETITORS if m in args.mappers]
+    if not args.no_reference:
+        jobs.append(("reference", "cylvol", 0.125, 0.0, 0))
+    return jobs
+
+
+def run_dataset(dataset, args, workdir):
+    """Every run on one dataset, their errors against the reference and the ratios."""
+    prepare_dataset(dataset, workdir)
+    runs = {}
+    cells = estimated_cells(dataset)
+    for key, mapper, factor, max_error, frames in jobs_of(args):
+        png = os.path.join(workdir, "%s-%s.png" % (dataset.replace(":", "-"), key.replace("@", "-")))
+        short = memory_shortfall(mapper, cells)
+        if short:
+            runs[key] = {"mapper": mapper, "dataset": dataset, "skipped": short}
+            print("%s: %s %s" % (dataset, key, short), file=sys.stderr, flush=True)
+            continue
+        print("%s: %s ..." % (dataset, key), file=sys.stderr, flush=True)
+        r = run_worker(mapper, dataset, args, workdir, png, factor, frames, max_error=max_error)
+        if os.path.exists(png):
+            r["png"] = png
+        r.setdefault("relative_step", factor)
+        r.setdefault("max_error", max_error or None)
+        cells = r.get("cells", cells)
+        runs[key] = r
+    ref = runs.get("reference", {})
+    if ref.get("png"):
+        for key, r in runs.items():
+            if key != "reference" and r.get("png"):
+                r["error_vs_reference"] = image_error(r["png"], ref["png"])
+    return {"dataset": dataset, "size": args.size, "frames": args.frames,
+            "timeout_s": args.timeout, "resample_dims": args.resample_dims,
+            "mappers": args.mappers, "runs": runs, "ratios": ratios_of(runs)}
+
+
+def finished(r):
+    return r and "first_frame_s" in r and not r.get("unavailable")
+
+
+def ratios_of(runs):
+    """competitor / cylvol for each competitor and each cylvol run (first frame, steady frame,
+    peak memory); None where either did not give the figure."""
+    def div(a, b):
+        return a / b if a is not None and b else None
+
+    out = {}
+    for comp in COMPETITORS:
+        c = runs.get(comp)
+        if not finished(c):
+            continue
+        out[comp] = {}
+        for key, r in runs.items():
+            if not key.startswith("cylvol") or not finished(r):
+                continue
+            out[comp][key] = {
+                "first_frame": div(c["first_frame_s"], r["first_frame_s"]),
+                "steady": div(c.get("steady_s"), r.get("steady_s")),
+                "peak_rss": div(c.get("peak_rss_bytes"), r.get("peak_rss_bytes")),
+            }
+    return out
+
+
 def fmt_s(x):
-    return "-" if x is None else ("%.3f s" % x)
+    return "-" if x is None else ("%.3f s" % x if x < 10 else "%.1f s" % x)
+
+
+def status_of(r):
+    """Why a run has no figures (or no steady frame), or None."""
+    for k in ("skipped", "unavailable", "not_finished"):
+        if r.get(k):
+            return r[k]
+    if "error" in r:
+        return "ERROR: " + r["error"]
+    return None
+
+
+def setting_of(key, r):
+    if key == "reference":
+        return "1/8 step (reference)"
+    if key.startswith("cylvol@error"):
+        return "max error %g/255" % r["max_error"]
+    if key.startswith("cylvol@step"):
+        return "step x%g" % r["relative_step"]
+    if key == "cylvol":
+        return "default step"
+    if key == "resample-smart":
+        return "%d^3 points" % r.get("resample_dims", [0])[0] if r.get("resample_dims") else ""
+    return ""
+
+
+def report(entry):
+    print("\n== %s at %dx%d" % (entry["dataset"], entry["size"], entry["size"]))
+    print("  %-16s %-22s %10s %10s %10s %9s  %s" % ("mapper", "setting", "prepare", "first",
+                                                    "steady", "peak MB", "error /255: mean, p99, "
+                                                    "max; within 8/255"))
+    for key, r in entry["runs"].items():
+        mapper = r.get("mapper", key)
+        line = "  %-16s %-22s " % (mapper, setting_of(key, r))
+        why = status_of(r)
+        if why and not finished(r):
+            print(line + why.splitlines()[0] + ("" if "error" not in r else "\n" + r["error"]))
+            continue
+        e = r.get("error_vs_reference")
+        err = ("%.3f, %.0f, %d; %.2f %%" % (e["mean_abs_255"], e["p99_255"], e["max_255"],
+                                             e["percent_within_8"]) if e else "-")
+        print(line + "%10s %10s %10s %9.0f  %s%s" % (
+            fmt_s(r.get("prepare_s")), fmt_s(r["first_frame_s"]), fmt_s(r.get("steady_s")),
+            r["peak_rss_bytes"] / 1e6, err, "  (%s)" % why if why else ""))
+    for comp, per in entry["ratios"].items():
+        if not per:
+            continue
+        print("  %s / cylvol: " % comp + "; ".join(
+            "%s first %s, steady %s, memory %s" % (key, fx(x["first_frame"]), fx(x["steady"]),
+                                                   fx(x["peak_rss"])) for key, x in per.items()))
+
+
+def fx(x):
+    return "-" if x is None else "%.2fx" % x
 
 
 def main():
@@ -348,12 +671,22 @@ def main():
     p.add_argument("datasets", nargs="*", default=["mixer", "rotor:200000"])
     p.add_argument("--size", type=int, default=512, help="image size (square), default 512")
     p.add_argument("--frames", type=int, default=3, help="steady frames after the first, default 3")
-    p.add_argument("--timeout", type=int, default=7200, help="seconds per worker, default 7200")
+    p.add_argument("--timeout", type=int, default=7200,
+                   help="seconds per worker (a mapper, on a dataset), default 7200")
     p.add_argument("--pythonpath", default=default_pythonpath(),
                    help="folder holding the cylvol package (default: the build tree's)")
-    p.add_argument("--only", choices=["vtk", "cylvol"], help="run one mapper only")
+    p.add_argument("--mappers", default=",".join(MAPPERS),
+                   help="comma-separated, of %s (default all)" % ", ".join(MAPPERS))
+    p.add_argument("--only", choices=["vtk", "cylvol"],
+                   help="one mapper only (vtk: vtk-raycast), without the reference")
     p.add_argument("--relative-steps", default="1",
                    help="cylvol runs at these multiples of its default step, comma-separated (default 1)")
+    p.add_argument("--max-errors", default="",
+                   help="cylvol also runs at these error settings (SetMaximumError, in 1/255), "
+                        "comma-separated")
+    p.add_argument("--resample-dims", type=int, default=100,
+                   help="resample-smart's points along each axis (default 100, ParaView's "
+                        "Resample To Image default)")
     p.add_argument("--no-reference", action="store_true",
                    help="skip the converged cylvol reference (1/8 of the default step) used to measure "
                         "each image's error")
@@ -367,6 +700,7 @@ def main():
     p.add_argument("--workdir", help=argparse.SUPPRESS)
     p.add_argument("--png", help=argparse.SUPPRESS)
     p.add_argument("--relative-step", type=float, default=1.0, help=argparse.SUPPRESS)
+    p.add_argument("--max-error", type=float, default=0.0, help=argparse.SUPPRESS)
     p.add_argument("--periodic", type=int, default=0, help=argparse.SUPPRESS)
     p.add_argument("--structure", choices=sorted(STRUCTURES), default="auto",
                    help="cylvol's structure (the mapper's SetStructure), default auto")
@@ -374,11 +708,19 @@ def main():
     if not os.environ.get("DISPLAY") and not os.environ.get("CYLVOL_BENCH_NO_XVFB"):
         # VTK's render windows need an X server: run under xvfb-run (Mesa, off screen).
         os.environ["CYLVOL_BENCH_NO_XVFB"] = "1"
-        os.execvp("xvfb-run", ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", sys.executable,
-                               os.path.abspath(__file__)] + sys.argv[1:])
+        os.execvp("xvfb-run", ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24 -noreset",
+                               sys.executable, os.path.abspath(__file__)] + sys.argv[1:])
     if args.worker:
         worker(args)
         return 0
+    args.mappers = [m for m in args.mappers.split(",") if m]
+    if args.only:
+        # One mapper's figures alone, without the reference.
+        args.mappers = ["vtk-raycast" if args.only == "vtk" else "cylvol"]
+        args.no_reference = True
+    unknown = [m for m in args.mappers if m not in MAPPERS]
+    if unknown:
+        p.error("unknown mapper(s) %s; known: %s" % (", ".join(unknown), ", ".join(MAPPERS)))
     if not args.no_build:
         build_what_is_measured(args)
 
@@ -386,85 +728,8 @@ def main():
     os.makedirs(workdir, exist_ok=True)
     results = []
     for dataset in args.datasets:
-        if dataset.startswith("rotor"):
-            path = rotor_file(dataset, workdir)
-            if not os.path.exists(path):
-                cells = dataset.split(":")[1] if ":" in dataset else "2100000"
-                print("generating pump-rotor:%s ..." % cells, file=sys.stderr, flush=True)
-                subprocess.run([CYLVOL, "gen", "pump-rotor:" + cells, "-o", path], check=True)
-        if dataset.split(":")[0] in ("mixer", "hexa") and ":" in dataset:
-            path = refined_file(dataset, workdir)
-            if not os.path.exists(path):
-                name, n = dataset.split(":")
-                print("refining %s by %s ..." % (name, n), file=sys.stderr, flush=True)
-                subprocess.run([CYLVOL, "gen", os.path.join(DATA, name + ".vtk"), "--refine", n,
-                                "-o", path], check=True)
-        runs = {}
-        factors = [float(f) for f in args.relative_steps.split(",") if f]
-        jobs = []
-        if args.only != "vtk":
-            jobs += [("cylvol@%g" % f, "cylvol", f, None) for f in factors]
-        if args.only != "cylvol":
-            jobs.append(("vtk", "vtk", 1.0, None))
-        if not args.no_reference and not args.only:
-            jobs.append(("reference", "cylvol", 0.125, 0))
-        for key, mapper, factor, frames in jobs:
-            png = os.path.join(workdir, "%s-%s.png" % (dataset.replace(":", "-"), key.replace("@", "-")))
-            print("%s: %s ..." % (dataset, key), file=sys.stderr, flush=True)
-            runs[key] = run_worker(mapper, dataset, args, workdir, png, factor, frames)
-            runs[key]["png"] = png
-        entry = {"dataset": dataset, "size": args.size, "runs": runs}
-        print("\n== %s at %dx%d" % (dataset, args.size, args.size))
-        for name, r in runs.items():
-            if "error" in r:
-                print("  %-12s ERROR: %s" % (name, r["error"]))
-                continue
-            if name == "vtk":
-                extra = ", tetrahedralize %s (%d tets)" % (fmt_s(r["prepare_s"]), r.get("tetrahedra", 0))
-            else:
-                extra = ", step %.4g, build %s, structure %s, %.1f MB, last frame's rays %s of %s" % (
-                    r.get("step", 0.0), fmt_s(r.get("build_s")), r.get("structure"),
-                    r.get("structure_bytes", 0) / 1e6, fmt_s(r.get("last_ray_s")),
-                    fmt_s(r.get("last_render_s")))
-            print("  %-12s %d cells: load %s%s, first frame %s, steady %s (frames %s; CPU %s), "
-                  "peak RSS %.0f MB"
-                  % (name, r["cells"], fmt_s(r["load_s"]), extra, fmt_s(r["first_frame_s"]),
-                     fmt_s(r["steady_s"]), ", ".join("%.3f" % x for x in r["steady_frames_s"]),
-                     ", ".join("%.3f" % x for x in r.get("steady_cpu_s", [])),
-                     r["peak_rss_bytes"] / 1e6))
-        v = runs.get("vtk", {})
-        ref = runs.get("reference", {})
-        have_ref = ref and "error" not in ref
-        if v and "error" not in v and have_ref:
-            mean, pct = image_difference(v["png"], ref["png"])
-            entry["vtk_error_vs_reference"] = {"mean_abs_255": mean, "percent_within_8": pct}
-            print("  VTK vs converged cylvol reference: mean abs %.3f/255, %.2f %% within 8/255" % (mean, pct))
-        entry["comparisons"] = {}
-        for key, c in runs.items():
-            if not key.startswith("cylvol@") or "error" in c or not v or "error" in v:
-                continue
-            comp = {}
-            mean, pct = image_difference(c["png"], v["png"])
-            comp["difference_vs_vtk"] = {"mean_abs_255": mean, "percent_within_8": pct}
-            line = "  %s vs VTK: mean abs %.3f/255, %.2f %% within 8/255" % (key, mean, pct)
-            if have_ref:
-                rmean, rpct = image_difference(c["png"], ref["png"])
-                comp["error_vs_reference"] = {"mean_abs_255": rmean, "percent_within_8": rpct}
-                line += "; vs converged reference: mean abs %.3f/255, %.2f %% within" % (rmean, rpct)
-            print(line)
-            vtk_first = v["prepare_s"] + v["first_frame_s"]
-            ratios = {
-                "first_frame": v["first_frame_s"] / c["first_frame_s"],
-                "first_frame_incl_tetrahedralize": vtk_first / c["first_frame_s"],
-                "steady": v["steady_s"] / c["steady_s"] if c["steady_s"] else None,
-                "peak_rss_cylvol_over_vtk": c["peak_rss_bytes"] / v["peak_rss_bytes"],
-            }
-            comp["ratios"] = ratios
-            print("    VTK / %s: first frame %.2fx (%.2fx counting tetrahedralization), steady %.2fx;"
-                  " peak RSS = %.3f of VTK's"
-                  % (key, ratios["first_frame"], ratios["first_frame_incl_tetrahedralize"],
-                     ratios["steady"] or 0.0, ratios["peak_rss_cylvol_over_vtk"]))
-            entry["comparisons"][key] = comp
+        entry = run_dataset(dataset, args, workdir)
+        report(entry)
         results.append(entry)
     print("\nimages and meshes in", workdir)
     if args.json:

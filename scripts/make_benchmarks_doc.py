@@ -13,8 +13,11 @@ Usage (Debian's /usr/bin/python3 with python3-vtk9, from anywhere):
     /usr/bin/python3 scripts/make_benchmarks_doc.py --only vtk     # one section (vtk, structures,
                                                                    # render, accuracy)
     /usr/bin/python3 scripts/make_benchmarks_doc.py --from-json    # rewrite the docs, run nothing
-    /usr/bin/python3 scripts/make_benchmarks_doc.py --large        # also the 2.1 M-cell meshes
-                                                                   # against VTK (~7 GB, long)
+    /usr/bin/python3 scripts/make_benchmarks_doc.py --large        # also the 2 M-cell meshes
+                                                                   # against VTK (~7 GB, hours)
+    /usr/bin/python3 scripts/make_benchmarks_doc.py --only vtk --large mixer:4 \
+        --large-mappers cylvol,vtk-raycast,projected-tetra,resample-smart
+                                  # the VTK section with one 2 M-cell mesh and some mappers
 It builds what it measures first (`cargo build --release`; scripts/bench_vtk.py builds the VTK
 module); --no-build skips that.
 
@@ -167,7 +170,9 @@ def machine():
 def machine_line(m):
     return ("%s, %d cores, %.0f GB, %s; %s, VTK %s; code %s; %s, load average %s at the start"
             % (m["cpu"], m["cores"], m["memory_gb"], m["os"], m["rustc"], m["vtk"], m["commit"],
-               m["date"], " / ".join("%.1f" % x for x in m["load_average"])))
+               m["date"], " / ".join("%.1f" % x for x in m["load_average"])) + (
+                   ", %s at the end" % " / ".join("%.1f" % x for x in m["load_average_end"])
+                   if m.get("load_average_end") else ""))
 
 
 # ---------------------------------------------------------------------------------------
@@ -326,50 +331,63 @@ class Section:
         return ""
 
 
+# The mappers of scripts/bench_vtk.py, as the tables name them, and their colours in plots.
+MAPPER_LABELS = {
+    "cylvol": "cylvol (vtkCylVolMapper)",
+    "vtk-raycast": "VTK ray caster",
+    "zsweep": "Z-sweep",
+    "projected-tetra": "projected tetrahedra",
+    "resample-smart": "resample to image + smart mapper",
+}
+MAPPER_COLORS = {"cylvol": PALETTE[0], "vtk-raycast": PALETTE[3], "zsweep": PALETTE[4],
+                 "projected-tetra": PALETTE[1], "resample-smart": PALETTE[2]}
+# vtkSmartVolumeMapper's GetLastUsedRenderMode values.
+SMART_RENDER_MODES = {1: "CPU ray cast", 2: "GPU ray cast", 3: "OSPRay"}
+# Markers of cylvol's settings in the error-against-time plot: the default step, longer
+# steps, then the error settings in the order they come.
+STEP_MARKER = "square"
+ERROR_MARKERS = ["triangle", "down", "diamond"]
+
+
+def ordered_runs(entry):
+    """(key, run) of a dataset's runs, reference left out: cylvol's default, its longer steps,
+    its error settings, then the competitors in MAPPER_LABELS's order."""
+    def rank(item):
+        key, r = item
+        mapper = r.get("mapper", key)
+        order = list(MAPPER_LABELS).index(mapper) if mapper in MAPPER_LABELS else len(MAPPER_LABELS)
+        kind = 0 if key == "cylvol" else 1 if key.startswith("cylvol@step") else 2
+        return (order, kind, r.get("relative_step") or 0.0, r.get("max_error") or 0.0)
+
+    return sorted(((k, r) for k, r in entry["runs"].items() if k != "reference"), key=rank)
+
+
 class VtkSection(Section):
     name = "vtk"
-    title = "Against VTK's unstructured ray caster"
-    # The meshes every run compares; --large adds the 2.15 M-cell refined mixer.
+    title = "Against VTK's and ParaView's unstructured volume mappers"
+    # The meshes every run compares, and cylvol's settings on them.
     SMALL = ("mixer", "rotor:200000")
+    SMALL_SETTINGS = ["--relative-steps", "1,4", "--max-errors", "1,4"]
+    # The 2 M-cell meshes (--large): cylvol's default step is a quarter of the unrefined
+    # mixer's there, so the longer steps compared are longer too.
+    LARGE = ("mixer:4", "rotor:2100000")
+    LARGE_SETTINGS = ["--relative-steps", "1,8", "--max-errors", "1,4"]
+    # Long enough for VTK's ray caster on 2 M cells (a first frame of minutes).
+    TIMEOUT = 900
 
     def run(self, opts, commands):
         keep = tempfile.mkdtemp(prefix="cylvol-benchmarks-vtk-")
-        runs = [list(self.SMALL) + ["--relative-steps", "1,4"]]
-        if opts.large:
-            # The 2.15 M-cell refined mixer (VTK renders 12.9 M tetrahedra).
-            runs.append(["mixer:4", "--relative-steps", "8,12"])
+        common = ["--timeout", str(self.TIMEOUT)]
+        runs = [list(self.SMALL) + self.SMALL_SETTINGS + common]
+        for dataset in opts.large or []:
+            extra = ["--mappers", opts.large_mappers] if opts.large_mappers else []
+            runs.append([dataset] + self.LARGE_SETTINGS + extra + common)
         results = []
         for i, args in enumerate(runs):
             # The module is built (if need be) by the first run only.
             extra = ["--no-build"] if (opts.no_build or i > 0) else []
             results += run_bench_vtk(args + extra, commands, keep)
         return results
-
-    def rows(self, data):
-        rows = []
-        for entry in data:
-            v = entry["runs"].get("vtk", {})
-            for key, comp in entry.get("comparisons", {}).items():
-                c = entry["runs"][key]
-                r = comp["ratios"]
-                err = comp.get("error_vs_reference", {})
-                verr = entry.get("vtk_error_vs_reference", {})
-                rows.append({
-                    "dataset": entry["dataset"], "cells": c["cells"], "tets": v.get("tetrahedra"),
-                    "factor": float(key.split("@")[1]), "structure": c.get("structure"),
-                    "c_first": c["first_frame_s"], "c_steady": c["steady_s"],
-                    "v_first": v["first_frame_s"], "v_steady": v["steady_s"],
-                    "v_tets_s": v.get("prepare_s"),
-                    "r_first": r["first_frame"], "r_first_tets": r["first_frame_incl_tetrahedralize"],
-                    "r_steady": r["steady"], "mem": r["peak_rss_cylvol_over_vtk"],
-                    "c_mem": c["peak_rss_bytes"], "v_mem": v["peak_rss_bytes"],
-                    "c_err": err.get("mean_abs_255"), "c_within": err.get("percent_within_8"),
-                    "v_err": verr.get("mean_abs_255"), "v_within": verr.get("percent_within_8"),
-                    "size": entry["size"],
-                })
-        # Per mesh, coarse steps after fine ones (JSON keeps the comparisons in name order).
-        order = {e["dataset"]: i for i, e in enumerate(data)}
-        return sorted(rows, key=lambda r: (order[r["dataset"]], r["factor"]))
 
     @staticmethod
     def name_of(dataset):
@@ -379,68 +397,292 @@ class VtkSection(Section):
             name += ", refined ×%s³" % dataset.split(":")[1]
         return name
 
-    def table(self, rows, compact=False):
-        header = ["mesh (cells)", "cylvol step", "VTK ÷ cylvol: first frame", "steady frame",
-                  "peak memory cylvol ÷ VTK", "error /255 cylvol; VTK (pixels within 8/255)"]
-        if not compact:
-            header[2:2] = ["cylvol first / steady", "VTK first / steady"]
+    @staticmethod
+    def cells_of(entry):
+        return next((r["cells"] for r in entry["runs"].values() if r.get("cells")), None)
+
+    def mesh_label(self, entry):
+        cells = self.cells_of(entry)
+        return "%s (%s)" % (self.name_of(entry["dataset"]),
+                            "{:,}".format(cells) if cells else entry["dataset"])
+
+    @staticmethod
+    def setting(key, r, entry):
+        if key.startswith("cylvol@error"):
+            return "max error %g/255" % r["max_error"]
+        if key.startswith("cylvol@step"):
+            return "%g × default step" % r["relative_step"]
+        if key == "cylvol":
+            return "default step"
+        if key == "resample-smart":
+            n = entry.get("resample_dims", 100)
+            mode = SMART_RENDER_MODES.get(r.get("render_mode"))
+            return "%d³ points" % n + (", %s" % mode if mode else "")
+        if key in ("vtk-raycast", "zsweep", "projected-tetra"):
+            tets = r.get("tetrahedra")
+            return "{:,} tetrahedra".format(tets) if tets else "tetrahedra"
+        return ""
+
+    @staticmethod
+    def status(r, timeout):
+        if r.get("skipped"):
+            return r["skipped"]
+        if r.get("unavailable"):
+            return r["unavailable"]
+        if r.get("timed_out"):
+            if "first_frame_s" in r:
+                return "steady frame > %d s, not finished" % timeout
+            return "> %d s, not finished" % timeout
+        if "error" in r:
+            return "failed: " + r["error"].splitlines()[0]
+        return None
+
+    def runs_table(self, entry):
+        rows = []
+        timeout = entry.get("timeout_s", self.TIMEOUT)
+        for key, r in ordered_runs(entry):
+            head = [MAPPER_LABELS.get(r.get("mapper"), r.get("mapper", key)),
+                    self.setting(key, r, entry)]
+            why = self.status(r, timeout)
+            if "first_frame_s" not in r:
+                rows.append(head + [why or "–"] + [""] * 5)
+                continue
+            e = r.get("error_vs_reference") or {}
+            steady = r.get("steady_s")
+            # cylvol prepares nothing before its first frame: its structure build, inside that
+            # frame, takes the column.
+            prepare = r.get("build_s") if r.get("mapper") == "cylvol" else r.get("prepare_s")
+            rows.append(head + [
+                "–" if prepare is None else "%.2f" % prepare,
+                "%.2f" % r["first_frame_s"],
+                "%.3f" % steady if steady is not None else why,
+                "{:,.0f}".format(r["peak_rss_bytes"] / 1e6),
+                "%s / %s / %s" % (fmt_err(e.get("mean_abs_255")), fmt_num(e.get("p99_255")),
+                                  fmt_num(e.get("max_255"))),
+                pct(e.get("percent_within_8"))])
+        return table(["mapper", "setting", "prepare s (cylvol: build)", "first frame s", "steady frame s",
+                      "peak memory MB", "error /255: mean / p99 / max", "pixels within 8/255"],
+                     rows)
+
+    def ratios_table(self, entry):
+        cyl = [k for k, r in ordered_runs(entry) if k.startswith("cylvol") and "first_frame_s" in r]
+        header = ["competitor ÷ cylvol: first / steady frame, memory"] + [
+            "cylvol " + self.setting(k, entry["runs"][k], entry) for k in cyl]
+        rows = []
+        for comp in MAPPER_LABELS:
+            per = entry.get("ratios", {}).get(comp)
+            if per is None:
+                continue
+            rows.append([MAPPER_LABELS[comp]] + [
+                "**%s** / **%s**, %s" % (ratio(per[k]["first_frame"]), ratio(per[k]["steady"]),
+                                          ratio(per[k]["peak_rss"])) if k in per else "–"
+                for k in cyl])
+        return table(header, rows) if rows and cyl else ""
+
+    def points(self, entry):
+        """(series label, colour, marker, steady frame s, mean error /255) of every run with
+        both figures."""
         out = []
-        for r in rows:
-            row = ["%s (%s)" % (self.name_of(r["dataset"]), "{:,}".format(r["cells"])),
-                   "%g × default" % r["factor"],
-                   "**%s**" % ratio(r["r_first"]), "**%s**" % ratio(r["r_steady"]),
-                   "%.2f" % r["mem"],
-                   "%s; %s (%s; %s)" % (f3(r["c_err"]), f3(r["v_err"]), pct(r["c_within"]),
-                                        pct(r["v_within"]))]
-            if not compact:
-                row[2:2] = ["%.2f / %.3f s" % (r["c_first"], r["c_steady"]),
-                            "%.2f / %.3f s" % (r["v_first"], r["v_steady"])]
-            out.append(row)
-        return table(header, out)
+        errors = iter(ERROR_MARKERS * 4)
+        for key, r in ordered_runs(entry):
+            mapper = r.get("mapper", key)
+            shape = ("circle" if key == "cylvol" or mapper != "cylvol"
+                     else STEP_MARKER if key.startswith("cylvol@step") else next(errors))
+            err = (r.get("error_vs_reference") or {}).get("mean_abs_255")
+            if r.get("steady_s") is None or err is None:
+                continue
+            label = MAPPER_LABELS[mapper] if mapper != "cylvol" else "cylvol, " + self.setting(key, r, entry)
+            out.append((label, MAPPER_COLORS[mapper], shape, r["steady_s"], err))
+        return out
 
     def markdown(self, data):
-        rows = self.rows(data)
-        plot = os.path.join(OUT_DIR, "vtk-ratios.svg")
-        cats = ["%s, %g×" % (self.name_of(r["dataset"]), r["factor"]) for r in rows]
-        bar_chart(plot, "VTK's frame time ÷ cylvol's (above 1: cylvol faster)", cats,
-                  [("first frame", [r["r_first"] for r in rows]),
-                   ("steady frame", [r["r_steady"] for r in rows])],
-                  "VTK ÷ cylvol", log_scale=True, lines=[(1.0, "equal")])
-        size = rows[0]["size"] if rows else 512
+        plot = os.path.join(OUT_DIR, "vtk-error-time.svg")
+        error_time_plot(plot, "Error against steady frame time (%d×%d; lower left is better)"
+                        % ((data[0]["size"],) * 2 if data else (512, 512)),
+                        [(self.mesh_label(e), self.points(e)) for e in data])
+        size = data[0]["size"] if data else 512
+        dims = data[0].get("resample_dims", 100) if data else 100
         text = [
-            "`scripts/bench_vtk.py` renders one scene with VTK's own "
-            "`vtkUnstructuredGridVolumeRayCastMapper` (on `vtkDataSetTriangleFilter`'s tetrahedra, "
-            "as VTK requires) and with `vtkCylVolMapper`, each in its own process, at %d×%d: the "
-            "same camera, transfer function and unit distance; a first frame (cylvol builds its "
-            "structure in it, VTK's tetrahedralization is timed apart), then steady frames with the "
-            "camera turning a degree a frame (the median is shown); peak resident memory of each "
-            "process; and each image's error against cylvol at ⅛ of its default step, a converged "
-            "reference (mean difference in /255, and the share of pixels within 8/255). cylvol "
-            "runs at its default step (half the mean cell size) and at multiples of it "
-            "(`SetRelativeSampleDistance`): the longer step trades accuracy for speed." % (size, size),
+            "`scripts/bench_vtk.py` renders one scene, %d×%d, with `vtkCylVolMapper` and with "
+            "each of VTK's unstructured volume mappers, each in its own process (Debian's VTK "
+            "9.1, off screen under `xvfb-run`, Mesa's llvmpipe for the OpenGL mappers):" % (size, size),
             "",
-            self.table(rows),
+            "- **VTK ray caster**: `vtkUnstructuredGridVolumeRayCastMapper`,",
+            "- **Z-sweep**: `vtkUnstructuredGridVolumeZSweepMapper`,",
+            "- **projected tetrahedra**: `vtkProjectedTetrahedraMapper` (OpenGL; ParaView's "
+            "default for unstructured volumes),",
+            "  all three on `vtkDataSetTriangleFilter`'s tetrahedra (six per hexahedron), as "
+            "they need and as ParaView's Volume representation makes them; the two CPU ray "
+            "casters render every pixel (`AutoAdjustSampleDistancesOff`);",
+            "- **resample to image + smart mapper**: ParaView's usual workaround, "
+            "`vtkResampleToImage` onto %d×%d×%d points over the mesh's bounds (the default "
+            "`SamplingDimensions` of ParaView's *Resample To Image* filter; the Volume "
+            "representation's own *Resample To Image* mapper takes 128³), then "
+            "`vtkSmartVolumeMapper` (OpenGL)." % (dims, dims, dims),
             "",
-            "![VTK ÷ cylvol](%s)" % rel(plot),
+            "The same camera, transfer function and unit distance for all. The *first frame* "
+            "runs from the loaded mesh to the first image: it includes the tetrahedralization "
+            "or the resampling (*prepare*, also shown apart) and cylvol's structure build (shown "
+            "in its place). The "
+            "*steady frame* is the median of the frames that follow, the camera turning a "
+            "degree a frame. *Peak memory* is the worker process's peak resident memory. The "
+            "*error* of each mapper's first image is measured against a converged reference, cylvol at ⅛ of "
+            "its default step: the mean difference over the channels, and, per pixel the "
+            "largest channel difference, its 99th percentile and maximum, all in /255; and the "
+            "share of pixels within 8/255. A worker that runs past %d s is stopped and its row "
+            "says so; a mapper whose estimated memory exceeds what the machine has free is "
+            "skipped. cylvol runs at its default step (half the mean cell size), at a longer "
+            "step (`SetRelativeSampleDistance`) and at error settings (`SetMaximumError`, the "
+            "largest colour error allowed in /255)."
+            % (data[0].get("timeout_s", self.TIMEOUT) if data else self.TIMEOUT),
+        ]
+        for entry in data:
+            text += ["", "### %s" % self.mesh_label(entry), "", self.runs_table(entry)]
+            ratios = self.ratios_table(entry)
+            if ratios:
+                text += ["", "Ratios, competitor ÷ cylvol (above 1: cylvol faster or smaller):",
+                         "", ratios]
+        text += [
+            "",
+            "![mean error against steady frame time, per mesh](%s)" % rel(plot),
             "",
             "A refined mixer is the OpenFOAM mixer with every hexahedron cut into N × N × N "
-            "(`cylvol gen tests/data/mixer.vtk --refine N`); VTK renders six tetrahedra for each. "
-            "A longer step is a fair comparison as long as cylvol's error stays at or below "
-            "VTK's (the last column).",
-            "",
-            "VTK integrates once per tetrahedron crossed; cylvol samples at steps and inverts the "
-            "trilinear map of a hexahedron at each sample, so on small meshes VTK can be faster, "
-            "and cylvol's lead grows with the mesh (VTK's set-up and memory grow with the six "
-            "tetrahedra it makes of each hexahedron).",
+            "(`cylvol gen tests/data/mixer.vtk --refine N`). The plot shows the runs that "
+            "finished their steady frames, on log scales. VTK's ray caster integrates once per "
+            "tetrahedron crossed, projected tetrahedra sorts and draws every tetrahedron each "
+            "frame, Z-sweep sweeps their faces; cylvol samples at steps and inverts the "
+            "trilinear map of a hexahedron at each sample. So on small meshes VTK's ray caster "
+            "and projected tetrahedra can be faster than cylvol's default step, and cylvol's "
+            "lead grows with the mesh (set-up, frame and memory of the tetrahedral mappers grow "
+            "with the six tetrahedra of each hexahedron). The resampled image renders fast at "
+            "any mesh size, at the price of its error (%d³ points are coarser than the mesh "
+            "where its cells are small), and the resampling is paid in the first frame." % dims,
         ]
         return "\n".join(text)
 
     def blocks(self, data):
-        rows = self.rows(data)
-        return {("README.md", "vtk-table"): (self.table(rows, compact=True), True)}
+        rows = []
+        for entry in data:
+            for comp, per in entry.get("ratios", {}).items():
+                x = per.get("cylvol")
+                if not x:
+                    continue
+                e = (entry["runs"][comp].get("error_vs_reference") or {}).get("mean_abs_255")
+                ce = (entry["runs"]["cylvol"].get("error_vs_reference") or {}).get("mean_abs_255")
+                rows.append([self.mesh_label(entry), MAPPER_LABELS[comp],
+                             "**%s**" % ratio(x["first_frame"]), "**%s**" % ratio(x["steady"]),
+                             ratio(x["peak_rss"]), "%s; %s" % (fmt_err(ce), fmt_err(e))])
+        return {("README.md", "vtk-table"): (table(
+            ["mesh (cells)", "competitor", "competitor ÷ cylvol: first frame", "steady frame",
+             "peak memory", "error /255 cylvol; competitor"], rows), True)}
 
     def rerun_options(self, data):
-        return " --large" if any(e["dataset"] not in self.SMALL for e in data) else ""
+        large = [e for e in data if e["dataset"] not in self.SMALL]
+        if not large:
+            return ""
+        out = " --large %s" % ",".join(e["dataset"] for e in large)
+        mappers = large[0].get("mappers")
+        if mappers and len(mappers) < len(MAPPER_LABELS):
+            out += " --large-mappers %s" % ",".join(mappers)
+        return out
+
+
+def fmt_err(x):
+    """A mean error in /255: three decimals, four below 0.01."""
+    return "–" if x is None else ("%.3f" % x if x >= 0.01 else "%.4f" % x)
+
+
+def fmt_num(x):
+    return "–" if x is None else ("%.0f" % x if x >= 10 or float(x).is_integer() else "%.1f" % x)
+
+
+def marker_svg(shape, x, y, color, r=5):
+    """One marker of a scatter plot."""
+    if shape == "square":
+        return '<rect x="%.1f" y="%.1f" width="%d" height="%d" fill="%s"/>' % (x - r, y - r, 2 * r, 2 * r, color)
+    if shape in ("diamond", "triangle", "down"):
+        pts = {"diamond": [(0, -r - 1), (r + 1, 0), (0, r + 1), (-r - 1, 0)],
+               "triangle": [(0, -r - 1), (r + 1, r), (-r - 1, r)],
+               "down": [(0, r + 1), (r + 1, -r), (-r - 1, -r)]}[shape]
+        return '<polygon points="%s" fill="%s"/>' % (
+            " ".join("%.1f,%.1f" % (x + dx, y + dy) for dx, dy in pts), color)
+    return '<circle cx="%.1f" cy="%.1f" r="%d" fill="%s"/>' % (x, y, r, color)
+
+
+def log_range(values):
+    """Decades that hold the values: (lowest power of ten, highest), at least one apart."""
+    lo = math.floor(math.log10(min(values)))
+    hi = math.ceil(math.log10(max(values)))
+    return lo, max(hi, lo + 1)
+
+
+def error_time_plot(path, title, panels):
+    """A scatter plot per mesh, log-log: steady frame time (x) against mean error (y).
+    `panels` is [(mesh label, [(series label, colour, marker, x, y)])]; one legend for all.
+    Errors below 0.001/255 are drawn at 0.001. Writes the SVG to `path`."""
+    floor = 1e-3
+    panels = [(t, pts) for t, pts in panels if pts]
+    cols = 2 if len(panels) > 1 else 1
+    rows_n = max(1, (len(panels) + cols - 1) // cols)
+    pw, ph = 380, 280
+    left, top, bottom = 60, 40, 44
+    series = []
+    for _, pts in panels:
+        for label, color, shape, _, _ in pts:
+            if (label, color, shape) not in series:
+                series.append((label, color, shape))
+    legend_h = 20 * ((len(series) + 1) // 2) + 10
+    width = cols * pw + 20
+    height = top + rows_n * ph + legend_h
+    s = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" viewBox="0 0 %d %d" '
+         'font-family="sans-serif" font-size="12">' % (width, height, width, height),
+         '<rect width="100%" height="100%" fill="white"/>',
+         '<text x="%d" y="22" font-size="14" font-weight="bold">%s</text>' % (left, html.escape(title))]
+    for i, (mesh, pts) in enumerate(panels):
+        ox, oy = (i % cols) * pw, top + (i // cols) * ph
+        x0, x1 = ox + left, ox + pw - 16
+        y0, y1 = oy + 24, oy + ph - bottom
+        xlo, xhi = log_range([p[3] for p in pts])
+        ylo, yhi = log_range([max(p[4], floor) for p in pts])
+
+        def px(v, xlo=xlo, xhi=xhi, x0=x0, x1=x1):
+            return x0 + (x1 - x0) * (math.log10(v) - xlo) / (xhi - xlo)
+
+        def py(v, ylo=ylo, yhi=yhi, y0=y0, y1=y1):
+            return y1 - (y1 - y0) * (math.log10(max(v, floor)) - ylo) / (yhi - ylo)
+
+        s.append('<text x="%d" y="%d" font-weight="bold">%s</text>' % (x0, oy + 16, html.escape(mesh)))
+        s.append('<rect x="%d" y="%d" width="%d" height="%d" fill="none" stroke="#999"/>'
+                 % (x0, y0, x1 - x0, y1 - y0))
+        for e in range(xlo, xhi + 1):
+            x = px(10.0 ** e)
+            s.append('<line x1="%.1f" x2="%.1f" y1="%d" y2="%d" stroke="#ddd"/>' % (x, x, y0, y1))
+            s.append('<text x="%.1f" y="%d" text-anchor="middle">%g</text>' % (x, y1 + 14, 10.0 ** e))
+        for e in range(ylo, yhi + 1):
+            y = py(10.0 ** e)
+            s.append('<line x1="%d" x2="%d" y1="%.1f" y2="%.1f" stroke="#ddd"/>' % (x0, x1, y, y))
+            s.append('<text x="%d" y="%.1f" text-anchor="end">%g</text>' % (x0 - 4, y + 4, 10.0 ** e))
+        s.append('<text x="%.1f" y="%d" text-anchor="middle">steady frame (s)</text>'
+                 % ((x0 + x1) / 2, y1 + 30))
+        s.append('<text transform="translate(%d,%d) rotate(-90)" text-anchor="middle">mean error /255</text>'
+                 % (ox + 16, (y0 + y1) // 2))
+        for label, color, shape, x, y in pts:
+            s.append(marker_svg(shape, px(x), py(y), color).replace(
+                "/>", "><title>%s: %.3g s, %.3g/255</title></%s>" % (
+                    html.escape(label), x, y, marker_tag(shape)), 1))
+    ly = top + rows_n * ph + 4
+    for j, (label, color, shape) in enumerate(series):
+        lx = left + (j % 2) * (width // 2)
+        y = ly + 20 * (j // 2)
+        s.append(marker_svg(shape, lx, y, color))
+        s.append('<text x="%d" y="%d">%s</text>' % (lx + 12, y + 4, html.escape(label)))
+    s.append("</svg>")
+    with open(path, "w") as f:
+        f.write("\n".join(s) + "\n")
+
+
+def marker_tag(shape):
+    return {"square": "rect", "circle": "circle"}.get(shape, "polygon")
 
 
 def f3(x):
@@ -714,8 +956,14 @@ def main():
     p.add_argument("--only", action="append", choices=[s.name for s in SECTIONS],
                    help="run this section only (repeatable); the others keep their results")
     p.add_argument("--from-json", action="store_true", help="run nothing: rewrite the documents")
-    p.add_argument("--large", action="store_true",
-                   help="also run the 2.1 M-cell meshes against VTK (minutes, ~7 GB for VTK)")
+    p.add_argument("--large", nargs="?", const=",".join(VtkSection.LARGE), default="",
+                   type=lambda v: [d for d in v.split(",") if d],
+                   help="also run these 2 M-cell meshes against VTK's mappers, comma-separated "
+                        "(default %s; an hour or more, ~7 GB for VTK's ray caster)"
+                        % ",".join(VtkSection.LARGE))
+    p.add_argument("--large-mappers", default="",
+                   help="the mappers run on the --large meshes (bench_vtk.py's --mappers; "
+                        "default all)")
     p.add_argument("--no-build", action="store_true", help="measure the build as it is")
     opts = p.parse_args()
     os.makedirs(OUT_DIR, exist_ok=True)
@@ -732,6 +980,7 @@ def main():
             commands = []
             where = machine()
             data = section.run(opts, commands)
+            where["load_average_end"] = [round(x, 2) for x in os.getloadavg()]
             results["sections"][section.name] = {"machine": where, "commands": commands, "data": data}
             with open(RESULTS, "w") as f:
                 json.dump(results, f, indent=1, sort_keys=True)
