@@ -34,13 +34,26 @@ pub const AXIS_TOUCH_TOLERANCE: f64 = 1e-9;
 /// Relative padding of cell bounds, in units of the cell's extent.
 pub const BOUNDS_PADDING: f64 = 1e-12;
 
+/// `a.rem_euclid(2π)`, bit for bit, without the remainder's division where `|a| < 2π` (the
+/// angles of cells and arcs): there the remainder is `a` itself, exactly, so only the sign's
+/// correction is left.
+#[inline]
+pub fn rem_tau(a: f64) -> f64 {
+    let r = if a.abs() < TAU { a } else { a % TAU };
+    if r < 0.0 {
+        r + TAU
+    } else {
+        r
+    }
+}
+
 /// The angle `a` reduced to `(−π, π]`.
 #[inline]
 pub fn normalize_angle(a: f64) -> f64 {
     if !a.is_finite() {
         return a;
     }
-    let mut t = a.rem_euclid(TAU); // [0, 2π]
+    let mut t = rem_tau(a); // [0, 2π]
     if t > PI {
         t -= TAU;
     }
@@ -186,7 +199,7 @@ impl ThetaInterval {
     /// The arc from `lo` counter-clockwise to `hi` (so `from_range(3.0, -3.0)` is the short arc
     /// across the seam at π).
     pub fn from_range(lo: f64, hi: f64) -> Self {
-        Self::new(lo, (hi - lo).rem_euclid(TAU))
+        Self::new(lo, rem_tau(hi - lo))
     }
 
     /// The arc holding a single angle.
@@ -268,7 +281,7 @@ impl ThetaInterval {
         if self.is_full() {
             return true;
         }
-        let off = (theta - self.start).rem_euclid(TAU);
+        let off = rem_tau(theta - self.start);
         off <= self.width + ANGLE_SLACK || off >= TAU - ANGLE_SLACK
     }
 
@@ -300,8 +313,8 @@ impl ThetaInterval {
         if self.is_full() || other.is_full() {
             return Self::FULL;
         }
-        let from_self = ((other.start - self.start).rem_euclid(TAU) + other.width).max(self.width);
-        let from_other = ((self.start - other.start).rem_euclid(TAU) + self.width).max(other.width);
+        let from_self = (rem_tau(other.start - self.start) + other.width).max(self.width);
+        let from_other = (rem_tau(self.start - other.start) + self.width).max(other.width);
         if from_self <= from_other {
             Self::new(self.start, from_self)
         } else {
@@ -804,6 +817,25 @@ mod tests {
         assert_eq!(z.to_cylindrical(DVec3::new(-1.0, -0.0, 0.0)).1, PI);
         assert!(CylFrame::new(DVec3::ZERO, DVec3::ZERO).is_none());
         assert!(CylFrame::new(DVec3::NAN, DVec3::Z).is_none());
+    }
+
+    #[test]
+    fn rem_tau_is_rem_euclid_bit_for_bit() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut values = vec![0.0, -0.0, PI, -PI, TAU, -TAU, 1e-300, -1e-300, 7.0, -7.0];
+        values.extend([f64::NAN, f64::INFINITY, f64::NEG_INFINITY, f64::MAX, f64::MIN]);
+        let step = |x: f64, by: i64| f64::from_bits((x.to_bits() as i64 + by) as u64);
+        values.extend([step(TAU, 1), step(TAU, -1), step(-TAU, 1), step(-TAU, -1)]);
+        for _ in 0..100_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let unit = (state >> 11) as f64 / (1u64 << 53) as f64;
+            values.push((unit - 0.5) * [1e-9, 1.0, 7.0, 13.0, 1e6][(state % 5) as usize]);
+        }
+        for a in values {
+            assert_eq!(rem_tau(a).to_bits(), a.rem_euclid(TAU).to_bits(), "{a:e}");
+        }
     }
 
     #[test]
