@@ -28,7 +28,7 @@ use crate::axis::Axis;
 use crate::geometry::bounds::Aabb;
 use crate::geometry::containment::{reject_box, CONTAINMENT_TOLERANCE};
 use crate::geometry::cylindrical::{
-    cylindrical_bounds, normalize_angle, straddle_sectors, CylBounds, CylFrame, ThetaInterval,
+    normalize_angle, straddle_sectors, CylBounds, CylFrame, FramePoints, ThetaInterval,
 };
 use crate::geometry::pseudo_angle::padded_pseudo_arc;
 use crate::Mesh;
@@ -139,14 +139,18 @@ pub fn cylindrical_pieces(
 ) -> Pieces<CylBounds> {
     let margin =
         |corners: &[DVec3; 8]| 4.0 * CONTAINMENT_TOLERANCE * reject_box(corners).diagonal();
-    // One pass, no allocation per cell: the bounds of every cell.
+    // One pass, no allocation per cell: the bounds of every cell, from its points' coordinates
+    // in the frame (each point's made once).
+    let points = FramePoints::new(mesh.points(), frame);
     let whole: Vec<CylBounds> = (0..mesh.cell_count())
         .into_par_iter()
         .map(|c| {
             let corners = mesh.cell_corners(c);
-            pad(cylindrical_bounds(&corners, frame), margin(&corners))
+            let bounds = points.cell_bounds(&corners, &mesh.cells()[c]);
+            pad(bounds, margin(&corners))
         })
         .collect();
+    drop(points);
     let straddling: Vec<(usize, Vec<CylBounds>)> = whole
         .par_iter()
         .enumerate()
