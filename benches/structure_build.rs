@@ -1,8 +1,9 @@
 //! Build-time breakdown of the four structures (a plain program, not criterion: it prints a
 //! table).
 //!
-//! `cargo bench --bench structure_build -- [CELLS] [REPEATS] [--hash]` generates pump-rotor
-//! with `CELLS` cells (default 2 100 000, its default size), detects its axis, and times each
+//! `cargo bench --bench structure_build -- [CELLS] [REPEATS] [INPUT] [--hash]` generates
+//! pump-rotor with `CELLS` cells (default 2 100 000, its default size), or loads `INPUT` (what
+//! `cylvol render` takes: a dataset `NAME[:CELLS]` or a mesh file), detects its axis, and times each
 //! phase of the builds `REPEATS` times (default 3), printing the best time of each:
 //! Cartesian pieces, cylindrical pieces, the seam frame, the linear boxes, each structure alone,
 //! and `Accel::build` of each of the four (pieces included — the figure `cylvol stats` reports).
@@ -23,8 +24,8 @@ use cylvol::accel::space::{
     DEFAULT_STRADDLE_SECTORS,
 };
 use cylvol::accel::{Accel, AccelParams, BvhParams, GridParams, StructureKind};
-use cylvol::datasets::{generate, Dataset};
 use cylvol::geometry::cylindrical::CylFrame;
+use cylvol::io::ReadOptions;
 use timing::best;
 
 /// Hashes what is written to it, skipping every `build_s: VALUE` (a timing, not a result).
@@ -81,10 +82,15 @@ fn main() {
     let cells = nums.first().copied().unwrap_or(2_100_000);
     let repeats = nums.get(1).copied().unwrap_or(3).max(1);
 
-    let mesh = generate(Dataset::PumpRotor, cells).expect("pump-rotor generates");
+    let spec = args
+        .iter()
+        .find(|a| !a.starts_with("--") && a.parse::<usize>().is_err())
+        .cloned()
+        .unwrap_or_else(|| format!("pump-rotor:{cells}"));
+    let mesh = cylvol::input::load(&spec, &ReadOptions::default()).expect("a loadable INPUT");
     let axis = cylvol::axis::detect(&mesh);
     println!(
-        "pump-rotor, {} cells, {} threads, best of {repeats}",
+        "{spec}, {} cells, {} threads, best of {repeats}",
         mesh.cell_count(),
         rayon::current_num_threads()
     );

@@ -28,7 +28,7 @@ use crate::axis::Axis;
 use crate::geometry::bounds::Aabb;
 use crate::geometry::containment::{reject_box, CONTAINMENT_TOLERANCE};
 use crate::geometry::cylindrical::{
-    cylindrical_bounds, normalize_angle, straddle_sectors, CylBounds, CylFrame, ThetaInterval,
+    normalize_angle, straddle_sectors, CylBounds, CylFrame, FramePoints, ThetaInterval,
 };
 use crate::geometry::pseudo_angle::padded_pseudo_arc;
 use crate::Mesh;
@@ -139,40 +139,96 @@ pub fn cylindrical_pieces(
 ) -> Pieces<CylBounds> {
     let margin =
         |corners: &[DVec3; 8]| 4.0 * CONTAINMENT_TOLERANCE * reject_box(corners).diagonal();
-    // One pass, no allocation per cell: the bounds of every cell.
+    // One pass, no allocation per cell: the bounds of every cell, from its points' coordinates
+    // in the frame (each point's made once).
+    let points = FramePoints::new(mesh.points(), frame);
     let whole: Vec<CylBounds> = (0..mesh.cell_count())
         .into_par_iter()
         .map(|c| {
             let corners = mesh.cell_corners(c);
-            pad(cylindrical_bounds(&corners, frame), margin(&corners))
+            let bounds = points.cell_bounds(&corners, &mesh.cells()[c]);
+            pad(bounds, margin(&corners))
         })
         .collect();
-    let straddling = whole.iter().filter(|b| b.straddles_axis).count();
-    if straddling == 0 {
-        let cells = (0..whole.len() as u32).collect();
-        return Pieces {
-            bounds: whole,
-            cells,
-        };
-    }
-    // Cells on the axis (few: the O-grid's core) are cut into sectors.
-    let mut pieces = Pieces {
-        bounds: Vec::with_capacity(whole.len() + straddling * straddle_sectors_k),
-        cells: Vec::with_capacity(whole.len() + straddling * straddle_sectors_k),
-    };
-    for (c, b) in whole.into_iter().enumerate() {
-        if b.straddles_axis {
+    drop(points);
+    let straddling: Vec<(usize, Vec<CylBounds>)> = whole
+        .par_iter()
+        .enumerate()
+        .filter(|(_, b)| b.straddles_axis)
+        .map(|(c, _)| {
             let corners = mesh.cell_corners(c);
-            for sector in straddle_sectors(&corners, frame, straddle_sectors_k) {
-                pieces.bounds.push(pad(sector, margin(&corners)));
-                pieces.cells.push(c as u32);
-            }
-        } else {
-            pieces.bounds.push(b);
-            pieces.cells.push(c as u32);
-        }
+            let sectors = straddle_sectors(&corners, frame, straddle_sectors_k)
+                .into_iter()
+                .map(|sector| pad(sector, margin(&corners)))
+                .collect();
+            (c, sectors)
+        })
+        .collect();
+    let cells = piece_cells(whole.len(), &straddling);
+    Pieces {
+        bounds: splice_sectors(whole, straddling),
+        cells,
     }
-    pieces
+}
+
+/// The cell of every piece: each cell once, in order, a straddling cell (`straddling`, in
+/// increasing cell order, with its sectors) once per sector.
+fn piece_cells(cell_count: usize, straddling: &[(usize, Vec<CylBounds>)]) -> Vec<u32> {
+    let extra: usize = straddling.iter().map(|(_, s)| s.len()).sum();
+    let mut cells = Vec::with_capacity(cell_count - straddling.len() + extra);
+    let mut next = 0;
+    for (c, sectors) in straddling {
+        cells.extend(next as u32..*c as u32);
+        cells.extend(std::iter::repeat(*c as u32).take(sectors.len()));
+        next = c + 1;
+    }
+    cells.extend(next as u32..cell_count as u32);
+    cells
+}
+
+/// The bounds of every cell with each straddling cell's (in increasing cell order) replaced
+/// by its sectors, in place: the vector grows (without a copy where the allocator can extend
+/// it), then the runs of cells between straddling ones move to their places from the back.
+/// Cells on the axis are few (an O-grid's core), so this moves memory where a second vector
+/// of every piece would allocate and fill it anew.
+fn splice_sectors(
+    mut bounds: Vec<CylBounds>,
+    straddling: Vec<(usize, Vec<CylBounds>)>,
+) -> Vec<CylBounds> {
+    if straddling.iter().any(|(_, s)| s.is_empty()) {
+        // A cell with no sector moves the later ones down: not moved in place (never met in
+        // practice: a straddling cell's hull meets the wedges about the axis).
+        return spliced_copy(&bounds, &straddling);
+    }
+    let n = bounds.len();
+    let total = n - straddling.len() + straddling.iter().map(|(_, s)| s.len()).sum::<usize>();
+    bounds.resize(total, CylBounds::EMPTY);
+    // `end` is the end of the cells still to place (their old places), `to` the end of
+    // their new places; the straddling cells are placed from the last, so every run moves up
+    // and nothing is overwritten before it has moved.
+    let (mut end, mut to) = (n, total);
+    for (c, sectors) in straddling.into_iter().rev() {
+        let at = to - (end - c - 1);
+        bounds.copy_within(c + 1..end, at);
+        to = at - sectors.len();
+        bounds[to..at].copy_from_slice(&sectors);
+        end = c;
+    }
+    debug_assert_eq!(to, end, "the cells before the first straddling one stay");
+    bounds
+}
+
+/// [`splice_sectors`] into a new vector.
+fn spliced_copy(bounds: &[CylBounds], straddling: &[(usize, Vec<CylBounds>)]) -> Vec<CylBounds> {
+    let mut out = Vec::with_capacity(bounds.len());
+    let mut next = 0;
+    for (c, sectors) in straddling {
+        out.extend_from_slice(&bounds[next..*c]);
+        out.extend_from_slice(sectors);
+        next = c + 1;
+    }
+    out.extend_from_slice(&bounds[next..]);
+    out
 }
 
 /// Pads a sector by a distance `m` in every direction (θ by the angle `m` subtends at `r_min`).

@@ -34,13 +34,26 @@ pub const AXIS_TOUCH_TOLERANCE: f64 = 1e-9;
 /// Relative padding of cell bounds, in units of the cell's extent.
 pub const BOUNDS_PADDING: f64 = 1e-12;
 
+/// `a.rem_euclid(2π)`, bit for bit, without the remainder's division where `|a| < 2π` (the
+/// angles of cells and arcs): there the remainder is `a` itself, exactly, so only the sign's
+/// correction is left.
+#[inline]
+pub fn rem_tau(a: f64) -> f64 {
+    let r = if a.abs() < TAU { a } else { a % TAU };
+    if r < 0.0 {
+        r + TAU
+    } else {
+        r
+    }
+}
+
 /// The angle `a` reduced to `(−π, π]`.
 #[inline]
 pub fn normalize_angle(a: f64) -> f64 {
     if !a.is_finite() {
         return a;
     }
-    let mut t = a.rem_euclid(TAU); // [0, 2π]
+    let mut t = rem_tau(a); // [0, 2π]
     if t > PI {
         t -= TAU;
     }
@@ -186,7 +199,7 @@ impl ThetaInterval {
     /// The arc from `lo` counter-clockwise to `hi` (so `from_range(3.0, -3.0)` is the short arc
     /// across the seam at π).
     pub fn from_range(lo: f64, hi: f64) -> Self {
-        Self::new(lo, (hi - lo).rem_euclid(TAU))
+        Self::new(lo, rem_tau(hi - lo))
     }
 
     /// The arc holding a single angle.
@@ -268,7 +281,7 @@ impl ThetaInterval {
         if self.is_full() {
             return true;
         }
-        let off = (theta - self.start).rem_euclid(TAU);
+        let off = rem_tau(theta - self.start);
         off <= self.width + ANGLE_SLACK || off >= TAU - ANGLE_SLACK
     }
 
@@ -300,8 +313,8 @@ impl ThetaInterval {
         if self.is_full() || other.is_full() {
             return Self::FULL;
         }
-        let from_self = ((other.start - self.start).rem_euclid(TAU) + other.width).max(self.width);
-        let from_other = ((self.start - other.start).rem_euclid(TAU) + self.width).max(other.width);
+        let from_self = (rem_tau(other.start - self.start) + other.width).max(self.width);
+        let from_other = (rem_tau(self.start - other.start) + self.width).max(other.width);
         if from_self <= from_other {
             Self::new(self.start, from_self)
         } else {
@@ -469,13 +482,17 @@ struct Projected {
 }
 
 fn project(corners: &[DVec3; 8], frame: &CylFrame) -> Projected {
+    project_local(corners, &corners.map(|c| frame.to_local(c)), frame)
+}
+
+/// [`project`] with the corners' [`CylFrame::to_local`] coordinates given.
+fn project_local(corners: &[DVec3; 8], local: &[DVec3; 8], frame: &CylFrame) -> Projected {
     let mut xy = [DVec2::ZERO; 8];
     let mut h = [0.0; 8];
     let mut mag: f64 = 0.0;
-    for (i, c) in corners.iter().enumerate() {
+    for (i, (c, l)) in corners.iter().zip(local).enumerate() {
         let d = *c - frame.origin;
         mag = mag.max(d.abs().max_element());
-        let l = frame.to_local(*c);
         xy[i] = DVec2::new(l.x, l.y);
         h[i] = l.z;
     }
@@ -485,6 +502,37 @@ fn project(corners: &[DVec3; 8], frame: &CylFrame) -> Projected {
     Projected { xy, h, pad }
 }
 
+/// A mesh's points in a frame, for the bounds of all its cells: each point's
+/// [`CylFrame::to_local`] coordinates and the arc tangent `atan2(y, x)` of its angle, made
+/// once per point rather than once for each of the (about eight) cells that share it.
+/// [`FramePoints::cell_bounds`] gives, bit for bit, what [`cylindrical_bounds`] gives.
+pub struct FramePoints {
+    frame: CylFrame,
+    local: Vec<DVec3>,
+    atan2: Vec<f64>,
+}
+
+impl FramePoints {
+    /// The points in `frame` (in parallel).
+    pub fn new(points: &[DVec3], frame: &CylFrame) -> FramePoints {
+        use rayon::prelude::*;
+        let local: Vec<DVec3> = points.par_iter().map(|&p| frame.to_local(p)).collect();
+        let atan2 = local.par_iter().map(|l| l.y.atan2(l.x)).collect();
+        FramePoints {
+            frame: *frame,
+            local,
+            atan2,
+        }
+    }
+
+    /// [`cylindrical_bounds`] of the cell with these corners, whose point ids are `ids`
+    /// (indices into the points this was made of).
+    pub fn cell_bounds(&self, corners: &[DVec3; 8], ids: &[u32; 8]) -> CylBounds {
+        let local = ids.map(|i| self.local[i as usize]);
+        let pr = project_local(corners, &local, &self.frame);
+        bounds_of_projected(&pr, |k| self.atan2[ids[k] as usize])
+    }
+}
 fn cross(a: DVec2, b: DVec2) -> f64 {
     a.x * b.y - a.y * b.x
 }
@@ -602,6 +650,11 @@ fn hull_distance(hull: &[DVec2]) -> f64 {
 /// ```
 pub fn cylindrical_bounds(corners: &[DVec3; 8], frame: &CylFrame) -> CylBounds {
     let pr = project(corners, frame);
+    bounds_of_projected(&pr, |k| pr.xy[k].y.atan2(pr.xy[k].x))
+}
+
+/// [`cylindrical_bounds`] of projected corners; `atan2(k)` is `atan2(y, x)` of corner `k`.
+fn bounds_of_projected(pr: &Projected, atan2: impl Fn(usize) -> f64) -> CylBounds {
     // Squared radii: the extreme radii are the roots of the extreme squares (the square root
     // is monotone and correctly rounded), so one root each instead of eight.
     let r2 = pr.xy.map(|p| p.length_squared());
@@ -637,7 +690,7 @@ pub fn cylindrical_bounds(corners: &[DVec3; 8], frame: &CylFrame) -> CylBounds {
     // max over corners of pad / r is pad over the least r (division is monotone too).
     let r_min = r2.iter().copied().fold(f64::INFINITY, f64::min).sqrt();
     let dtheta = 0.0f64.max(pr.pad / r_min) + ANGLE_SLACK;
-    let theta = corner_arc(&pr.xy).padded(dtheta);
+    let theta = corner_arc(&pr.xy, atan2).padded(dtheta);
     CylBounds {
         r: [(dist - pr.pad).max(0.0), r_hi],
         theta,
@@ -653,15 +706,16 @@ pub fn cylindrical_bounds(corners: &[DVec3; 8], frame: &CylFrame) -> CylBounds {
 /// start and end are then the same angles as the sorted list's, and its width is computed by
 /// the same expression. Anything unusual (a corner a quarter turn away or more, NaN, ends
 /// that straddle the seam, an arc near half a turn) takes the full path.
-fn corner_arc(xy: &[DVec2; 8]) -> ThetaInterval {
-    corner_arc_fast(xy).unwrap_or_else(|| {
-        let mut angles = xy.map(|p| p.y.atan2(p.x));
+/// `atan2(k)` is `atan2(y, x)` of `xy[k]`.
+fn corner_arc(xy: &[DVec2; 8], atan2: impl Fn(usize) -> f64) -> ThetaInterval {
+    corner_arc_fast(xy, &atan2).unwrap_or_else(|| {
+        let mut angles: [f64; 8] = std::array::from_fn(atan2);
         ThetaInterval::from_angles_in(&mut angles)
     })
 }
 
 /// [`corner_arc`]'s quick path; `None` where it must sort all the angles.
-fn corner_arc_fast(xy: &[DVec2; 8]) -> Option<ThetaInterval> {
+fn corner_arc_fast(xy: &[DVec2; 8], atan2: impl Fn(usize) -> f64) -> Option<ThetaInterval> {
     let u = xy[0];
     let mut t = [0.0f64; 8];
     for (t, p) in t.iter_mut().zip(xy) {
@@ -684,13 +738,13 @@ fn corner_arc_fast(xy: &[DVec2; 8]) -> Option<ThetaInterval> {
         [f64::INFINITY, f64::NEG_INFINITY],
         [f64::INFINITY, f64::NEG_INFINITY],
     );
-    for (p, &tj) in xy.iter().zip(&t) {
+    for (k, &tj) in t.iter().enumerate() {
         let near_lo = tj <= lo + tol_lo;
         let near_hi = tj >= hi - tol_hi;
         if !(near_lo || near_hi) {
             continue;
         }
-        let a = normalize_angle(p.y.atan2(p.x));
+        let a = normalize_angle(atan2(k));
         if near_lo {
             if start.is_nan() || a.total_cmp(&start).is_lt() {
                 start = a;
@@ -807,6 +861,31 @@ mod tests {
     }
 
     #[test]
+    fn rem_tau_is_rem_euclid_bit_for_bit() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut values = vec![0.0, -0.0, PI, -PI, TAU, -TAU, 1e-300, -1e-300, 7.0, -7.0];
+        values.extend([
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::MAX,
+            f64::MIN,
+        ]);
+        let step = |x: f64, by: i64| f64::from_bits((x.to_bits() as i64 + by) as u64);
+        values.extend([step(TAU, 1), step(TAU, -1), step(-TAU, 1), step(-TAU, -1)]);
+        for _ in 0..100_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let unit = (state >> 11) as f64 / (1u64 << 53) as f64;
+            values.push((unit - 0.5) * [1e-9, 1.0, 7.0, 13.0, 1e6][(state % 5) as usize]);
+        }
+        for a in values {
+            assert_eq!(rem_tau(a).to_bits(), a.rem_euclid(TAU).to_bits(), "{a:e}");
+        }
+    }
+
+    #[test]
     fn theta_interval_basics() {
         let a = ThetaInterval::from_range(3.0, -3.0);
         assert!(a.contains(PI) && a.contains(-PI) && a.contains(-3.05) && !a.contains(0.0));
@@ -873,7 +952,7 @@ mod tests {
             if case % 7 == 0 {
                 xy[3] = xy[1] * 2.0; // exactly radial
             }
-            let fast = corner_arc(&xy);
+            let fast = corner_arc(&xy, |k| xy[k].y.atan2(xy[k].x));
             let mut angles = xy.map(|p| p.y.atan2(p.x));
             let full = ThetaInterval::from_angles_in(&mut angles);
             assert_eq!(
@@ -881,9 +960,54 @@ mod tests {
                 (full.start().to_bits(), full.width().to_bits()),
                 "case {case}: {xy:?}"
             );
-            fast_paths += usize::from(corner_arc_fast(&xy).is_some());
+            fast_paths += usize::from(corner_arc_fast(&xy, |k| xy[k].y.atan2(xy[k].x)).is_some());
         }
         assert!(fast_paths > 50_000);
+    }
+
+    #[test]
+    fn frame_points_give_cylindrical_bounds_bit_for_bit() {
+        let mut state = 0x853c_49e6_748f_ea9bu64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let unit = |x: u64| (x >> 11) as f64 / (1u64 << 53) as f64;
+        // Points on a ring and near the axis, shared by cells of random corners (some
+        // repeated, as collapsed cells repeat them), about a tilted axis.
+        let points: Vec<DVec3> = (0..500)
+            .map(|i| {
+                let r = if i % 10 == 0 {
+                    1e-3 * unit(next())
+                } else {
+                    1.0 + unit(next())
+                };
+                let t = TAU * unit(next());
+                DVec3::new(r * t.cos(), r * t.sin(), unit(next()) - 0.5)
+            })
+            .collect();
+        let frame = CylFrame::new(DVec3::new(0.0, 0.0, 0.1), DVec3::new(0.01, 0.0, 1.0)).unwrap();
+        let shared = FramePoints::new(&points, &frame);
+        let bits = |b: CylBounds| {
+            let [r0, r1, h0, h1] = [b.r[0], b.r[1], b.h[0], b.h[1]].map(f64::to_bits);
+            let t = [b.theta.start(), b.theta.width()].map(f64::to_bits);
+            (r0, r1, h0, h1, t, b.straddles_axis)
+        };
+        for _ in 0..20_000 {
+            let first = (next() % 500) as u32;
+            let ids: [u32; 8] = std::array::from_fn(|_| match next() % 4 {
+                0 => first,
+                _ => ((first as u64 + next() % 40) % 500) as u32,
+            });
+            let corners = ids.map(|i| points[i as usize]);
+            assert_eq!(
+                bits(shared.cell_bounds(&corners, &ids)),
+                bits(cylindrical_bounds(&corners, &frame)),
+                "{ids:?}"
+            );
+        }
     }
 
     #[test]

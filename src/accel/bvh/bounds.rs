@@ -9,7 +9,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::geometry::bounds::Aabb;
-use crate::geometry::cylindrical::{CylBounds, ThetaInterval, ANGLE_SLACK};
+use crate::geometry::cylindrical::{rem_tau, CylBounds, ThetaInterval, ANGLE_SLACK};
 use crate::geometry::pseudo_angle::{
     angle_of_pseudo, arc_width, padded_pseudo_arc, pseudo_of_angle, THETA_PAD, TURN,
 };
@@ -437,7 +437,7 @@ impl BvhBounds for CylBounds {
         let (lo, width) = if self.theta.is_full() {
             (0.0, TAU)
         } else {
-            let mut lo = (self.theta.start() - frame.theta0).rem_euclid(TAU);
+            let mut lo = rem_tau(self.theta.start() - frame.theta0);
             // Rounding may put a start just before θ₀ at the far end: bring it back.
             if lo > frame.theta_width {
                 lo -= TAU;
