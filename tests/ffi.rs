@@ -42,28 +42,30 @@ impl Arrays {
 
 /// The unit cube `[0, 1]³` cut into `n³` hexahedra.
 fn cube(n: usize) -> Arrays {
+    let f = |i: usize| i as f64 / n as f64;
+    block([n, n, n], |i, j, k| [f(i), f(j), f(k)])
+}
+
+/// A block of `n[0] × n[1] × n[2]` hexahedra whose point `(i, j, k)` lies at `at(i, j, k)`
+/// (points in VTK's order, `i` fastest).
+fn block(n: [usize; 3], at: impl Fn(usize, usize, usize) -> [f64; 3]) -> Arrays {
     let mut a = Arrays {
         points: Vec::new(),
         offsets: vec![0],
         conn: Vec::new(),
         types: Vec::new(),
     };
-    let m = n + 1;
-    for k in 0..m {
-        for j in 0..m {
-            for i in 0..m {
-                a.points.extend([
-                    i as f64 / n as f64,
-                    j as f64 / n as f64,
-                    k as f64 / n as f64,
-                ]);
+    for k in 0..=n[2] {
+        for j in 0..=n[1] {
+            for i in 0..=n[0] {
+                a.points.extend(at(i, j, k));
             }
         }
     }
-    let id = |i: usize, j: usize, k: usize| (i + m * (j + m * k)) as i64;
-    for k in 0..n {
-        for j in 0..n {
-            for i in 0..n {
+    let id = |i: usize, j: usize, k: usize| (i + (n[0] + 1) * (j + (n[1] + 1) * k)) as i64;
+    for k in 0..n[2] {
+        for j in 0..n[1] {
+            for i in 0..n[0] {
                 a.push_cell(
                     12,
                     &[
@@ -1981,43 +1983,11 @@ fn a_volume_and_its_mesh_keep_their_own_scalars_after_the_build() {
 
 /// A quarter annulus about z (r 1–2, θ 0–90°, z 0–1) of `nr × nt × nz` hexahedra.
 fn quarter_annulus(nr: usize, nt: usize, nz: usize) -> Arrays {
-    let mut a = Arrays {
-        points: Vec::new(),
-        offsets: vec![0],
-        conn: Vec::new(),
-        types: Vec::new(),
-    };
-    for k in 0..=nz {
-        for j in 0..=nt {
-            for i in 0..=nr {
-                let r = 1.0 + i as f64 / nr as f64;
-                let t = std::f64::consts::FRAC_PI_2 * j as f64 / nt as f64;
-                a.points
-                    .extend([r * t.cos(), r * t.sin(), k as f64 / nz as f64]);
-            }
-        }
-    }
-    let id = |i: usize, j: usize, k: usize| (i + (nr + 1) * (j + (nt + 1) * k)) as i64;
-    for k in 0..nz {
-        for j in 0..nt {
-            for i in 0..nr {
-                a.push_cell(
-                    12,
-                    &[
-                        id(i, j, k),
-                        id(i + 1, j, k),
-                        id(i + 1, j + 1, k),
-                        id(i, j + 1, k),
-                        id(i, j, k + 1),
-                        id(i + 1, j, k + 1),
-                        id(i + 1, j + 1, k + 1),
-                        id(i, j + 1, k + 1),
-                    ],
-                );
-            }
-        }
-    }
-    a
+    block([nr, nt, nz], |i, j, k| {
+        let r = 1.0 + i as f64 / nr as f64;
+        let t = std::f64::consts::FRAC_PI_2 * j as f64 / nt as f64;
+        [r * t.cos(), r * t.sin(), k as f64 / nz as f64]
+    })
 }
 
 /// Periodic copies through the build parameters: found (`-1`) or given, said in the build's
