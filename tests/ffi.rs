@@ -317,6 +317,17 @@ fn look_at(eye: [f64; 3], focal: [f64; 3], parallel: Option<f64>) -> CylvolCamer
     }
 }
 
+/// The Rust API's camera of a perspective [`look_at`] camera.
+fn rust_camera(c: &CylvolCamera) -> Camera {
+    Camera::perspective(
+        DVec3::from_array(c.eye),
+        DVec3::from_array(c.focal_point),
+        DVec3::from_array(c.view_up),
+        c.view_angle,
+    )
+    .unwrap()
+}
+
 fn params(width: u32, height: u32) -> CylvolRenderParams {
     CylvolRenderParams {
         width,
@@ -1255,13 +1266,7 @@ fn renders_equal_the_rust_api_and_agree_across_formats_types_and_row_orders() {
         S::NullPointer
     );
     // The Rust API's image, bit for bit.
-    let camera = Camera::perspective(
-        DVec3::from_array(c.eye),
-        DVec3::from_array(c.focal_point),
-        DVec3::Y,
-        35.0,
-    )
-    .unwrap();
+    let camera = rust_camera(&c);
     let (reference, reference_stats) = rust_image(&a, field(&a), &tables, &camera, w, h, |_| {});
     assert_eq!(out.f32, reference);
     // And its counters, every one of them.
@@ -1702,13 +1707,7 @@ fn sector_scene() -> (Arrays, *mut CylvolVolume, Tables, CylvolCamera, Camera) {
     unsafe { cylvol_mesh_free(m) };
     let tables = Tables::ramp([0.0, 4.0]);
     let c = look_at([0.4, 1.8, 4.0], [1.2, 0.6, 0.5], None);
-    let camera = Camera::perspective(
-        DVec3::from_array(c.eye),
-        DVec3::from_array(c.focal_point),
-        DVec3::Y,
-        35.0,
-    )
-    .unwrap();
+    let camera = rust_camera(&c);
     (a, v, tables, c, camera)
 }
 
@@ -2034,13 +2033,7 @@ fn periodic_copies_are_built_said_and_drawn_as_the_rust_api_draws_them() {
     // Drawn as the Rust API draws the copies, bit for bit.
     let tables = Tables::ramp([-4.0, 4.0]);
     let c = look_at([0.5, -1.0, 6.0], [0.0, 0.0, 0.5], None);
-    let camera = Camera::perspective(
-        DVec3::from_array(c.eye),
-        DVec3::from_array(c.focal_point),
-        DVec3::Y,
-        35.0,
-    )
-    .unwrap();
+    let camera = rust_camera(&c);
     let (w, h) = (24, 20);
     let lit = |img: &[f32]| img.chunks(4).filter(|p| p[3] > 0.01).count();
     let drawn = render_f32(wheel, &c, &tables.c(), &params(w, h), None);
